@@ -1,0 +1,79 @@
+#pragma once
+/// @file
+/// UMBmark (Borenstein & Feng, UM-MEAM-94-22, section 6): from the return position errors of the
+/// bidirectional square, the wheel-diameter ratio E_d, the wheelbase error E_b and the factors.
+/// Hardware-free, no heap: runs on the MCU console as well as in the host program.
+
+#include <cstddef>
+#include <cstdint>
+
+namespace odocal::calib {
+
+/// Return position error of one run, mm: measured (absolute) minus odometry (perceived), in the
+/// start frame (x along the initial heading, y to the left).
+struct ReturnError {
+  double x_mm = 0.0;
+  double y_mm = 0.0;
+};
+
+/// Most runs per direction the solver accepts (the paper uses 5).
+inline constexpr std::size_t umbmark_max_runs = 64;
+
+/// What the solver needs.
+struct UmbmarkInput {
+  const ReturnError* cw = nullptr;   ///< clockwise runs
+  std::size_t cw_count = 0;
+  const ReturnError* ccw = nullptr;  ///< counter-clockwise runs
+  std::size_t ccw_count = 0;
+  double side_mm = 4000.0;           ///< side L of the square
+  double wheelbase_mm = 0.0;         ///< wheelbase b the robot used during the runs
+  bool exact = false;                ///< solve the square geometry without small angles
+};
+
+/// Everything `odocal umbmark --json` prints (same names).
+struct UmbmarkResult {
+  double x_cg_cw = 0.0, y_cg_cw = 0.0, x_cg_ccw = 0.0, y_cg_ccw = 0.0;  ///< mm
+  double r_cg_cw = 0.0, r_cg_ccw = 0.0;                                  ///< mm
+  double e_max_syst_mm = 0.0;
+  double alpha_deg = 0.0;  ///< > 0: each nominal 90° turn under-rotates
+  double beta_deg = 0.0;   ///< > 0: a straight leg curves to the left
+  double radius_mm = 0.0;  ///< curvature radius of a leg; +inf-free: 0 when beta == 0
+  double e_d = 1.0;        ///< D_R / D_L
+  double e_b = 1.0;        ///< b_actual / b_nominal
+  double c_l = 1.0, c_r = 1.0;
+  double wheelbase_new_mm = 0.0;
+  double sem_mm = 0.0;     ///< standard error of the mean of the return errors
+  bool second_pass_recommended = false;  ///< E_max,syst >= 3·SEM
+};
+
+/// Why a solve was refused. Nothing is written to the result unless `ok`.
+enum class UmbmarkStatus : std::uint8_t {
+  ok,
+  too_few_runs,     ///< fewer than 2 runs in a direction, or more than umbmark_max_runs
+  bad_side,         ///< side not finite or not > 0
+  bad_wheelbase,    ///< wheelbase not finite or not > 0
+  non_finite,       ///< a NaN or Inf in the errors
+  error_too_large,  ///< an error larger than the path (4·L): not a return error
+  degenerate,       ///< the geometry has no solution (e.g. |β| so large that R < b/2)
+};
+
+/// A short lower-case message for a status ("too few runs", ...).
+[[nodiscard]] const char* to_string(UmbmarkStatus status);
+
+/// Solves UMBmark. Pure function; ISR-unsafe only in that it may take ~10 µs.
+[[nodiscard]] UmbmarkStatus solve_umbmark(const UmbmarkInput& input, UmbmarkResult& result);
+
+/// Calibration factors in the form the firmware stores them.
+struct WheelFactors {
+  double c_l = 1.0;
+  double c_r = 1.0;
+  double wheelbase_mm = 0.0;
+};
+
+/// Composes a result measured on a robot that already used `current` with those factors:
+/// c_L' = c_L·c_L,result, c_R' = c_R·c_R,result, b' = b_result (already E_b times the b used),
+/// then renormalises so that (c_L' + c_R')/2 = 1 keeps the average diameter. A second pass
+/// refines the first; it does not reset it.
+[[nodiscard]] WheelFactors compose(const WheelFactors& current, const UmbmarkResult& result);
+
+}  // namespace odocal::calib

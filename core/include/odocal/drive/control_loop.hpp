@@ -1,0 +1,121 @@
+#pragma once
+/// @file
+/// The fixed-rate control tick: encoders -> speed -> odometry -> motion -> kinematics -> PI -> PWM.
+
+#include <cstdint>
+
+#include "odocal/drive/diff_drive_kinematics.hpp"
+#include "odocal/drive/drive_config.hpp"
+#include "odocal/drive/motion_executor.hpp"
+#include "odocal/drive/odometry.hpp"
+#include "odocal/drive/quadrature_decoder.hpp"
+#include "odocal/drive/velocity_estimator.hpp"
+#include "odocal/drive/wheel_controller.hpp"
+#include "odocal/hal/critical_section.hpp"
+#include "odocal/hal/digital_output.hpp"
+#include "odocal/hal/pwm_output.hpp"
+
+namespace odocal::drive {
+
+/// Sticky fault bits. Any fault parks the motors (duty 0) until `stop()` acknowledges it.
+enum FaultBits : std::uint8_t {
+  fault_none = 0x00,
+  fault_encoder_left = 0x01,   ///< illegal transitions above `max_illegal`
+  fault_encoder_right = 0x02,
+  fault_stall_left = 0x04,     ///< duty above `stall_duty` with no edge for `stall_ms`
+  fault_stall_right = 0x08,
+};
+
+/// What the loop is doing.
+enum class Mode : std::uint8_t { idle, drive, path, fault };
+
+/// Name of a mode as the console prints it.
+[[nodiscard]] const char* mode_name(Mode mode);
+
+/// A consistent picture of the loop for the console.
+struct LoopStatus {
+  Mode mode = Mode::idle;
+  PathId path = PathId::none;
+  std::uint8_t segment = 0u;
+  std::uint8_t faults = fault_none;
+  std::uint32_t ticks = 0u;
+  std::uint32_t illegal_left = 0u;
+  std::uint32_t illegal_right = 0u;
+  float left_radps = 0.0f;
+  float right_radps = 0.0f;
+  float left_duty = 0.0f;
+  float right_duty = 0.0f;
+  float tick_us_avg = 0.0f;  ///< from `note_tick_duration_us`, exponential average
+  float tick_us_max = 0.0f;
+};
+
+/// One H-bridge channel: PWM magnitude and a direction line (high = forward).
+struct MotorChannel {
+  hal::PwmOutput& pwm;
+  hal::DigitalOutput& forward;
+};
+
+/// Owns the drive pipeline. The edge contexts feed `left_decoder()` / `right_decoder()`; the
+/// tick context calls `tick()`; the main loop calls the command methods, which take the critical
+/// section so the tick never sees half a command.
+class ControlLoop {
+ public:
+  ControlLoop(MotorChannel left, MotorChannel right, hal::CriticalSection& critical,
+              const DriveConfig& config = DriveConfig{});
+
+  /// Decoders for the edge ISRs. ISR context.
+  QuadratureDecoder& left_decoder() { return left_decoder_; }
+  QuadratureDecoder& right_decoder() { return right_decoder_; }
+
+  /// One control period. Tick context. @param now_us monotonic microseconds (wraps).
+  void tick(std::uint32_t now_us);
+
+  // --- main-loop API (each call is atomic with respect to the tick) ---
+
+  /// Replaces the configuration; refused (false, nothing changed) when `valid()` fails.
+  [[nodiscard]] bool configure(const DriveConfig& config);
+  [[nodiscard]] DriveConfig config() const;
+  /// Drives at a body twist. With `duration_ms` > 0 it stops after that long; with 0 it stops
+  /// when not renewed within `cmd_timeout_ms`. Cancels a running path. Refused in a fault.
+  [[nodiscard]] bool drive(const Twist& twist, std::uint32_t duration_ms);
+  /// Starts a path from the current pose. Refused (false) in a fault or for an empty path.
+  [[nodiscard]] bool run(const Path& path);
+  /// Stops at once (set-points to zero), abandons any path, and acknowledges faults.
+  void stop();
+  /// The odometry pose.
+  [[nodiscard]] Pose pose() const;
+  /// Sets the odometry pose to zero.
+  void reset_pose();
+  [[nodiscard]] LoopStatus status() const;
+  /// Records how long the last tick took, µs (the target measures it).
+  void note_tick_duration_us(float duration_us);
+
+ private:
+  void park();
+  void apply(MotorChannel& channel, float duty);
+
+  MotorChannel left_;
+  MotorChannel right_;
+  hal::CriticalSection& critical_;
+  DriveConfig config_;
+  DiffDriveKinematics kinematics_;
+  QuadratureDecoder left_decoder_;
+  QuadratureDecoder right_decoder_;
+  VelocityEstimator left_speed_;
+  VelocityEstimator right_speed_;
+  WheelController left_controller_;
+  WheelController right_controller_;
+  Odometry odometry_;
+  MotionExecutor motion_;
+  LoopStatus status_{};
+  Twist drive_twist_{};
+  std::uint32_t drive_ms_ = 0u;    ///< requested duration (0: until timeout)
+  std::uint32_t drive_age_us_ = 0u;
+  std::uint32_t last_tick_us_ = 0u;
+  std::uint32_t illegal_base_left_ = 0u;
+  std::uint32_t illegal_base_right_ = 0u;
+  bool started_ = false;
+  bool reset_pose_request_ = false;
+};
+
+}  // namespace odocal::drive

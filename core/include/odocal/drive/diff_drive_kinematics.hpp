@@ -1,0 +1,67 @@
+#pragma once
+/// @file
+/// Differential-drive kinematics with the UMBmark and Maddahi calibration factors.
+
+#include <Eigen/Core>
+
+#include "odocal/drive/drive_config.hpp"
+
+namespace odocal::drive {
+
+/// Body twist: forward speed and yaw rate (counter-clockwise positive).
+struct Twist {
+  float v_mps = 0.0f;
+  float w_radps = 0.0f;
+};
+
+/// Wheel angular speeds, rad/s, positive forward.
+struct WheelRates {
+  float left_radps = 0.0f;
+  float right_radps = 0.0f;
+};
+
+/// Maps between wheel rotation and body motion.
+///
+/// The calibrated robot is described by effective wheel diameters and a wheelbase:
+///   D_L,eff = D_a · c_L / (F_lat · F_lon),  D_R,eff = D_a · c_R / F_lon,  b = wheelbase_mm.
+/// c_L and c_R scale each wheel's counts-to-distance (UMBmark eq. 6.35); `wheelbase_mm` is the
+/// corrected wheelbase (UMBmark eq. 6.33, b_new = E_b · b). The inverse map is Maddahi eq. 7
+/// read as DESIGN says:
+///   θ̇_L = F_lon·F_lat·(2/D_L)·v − F_lon·F_lat·(b/D_L)·ω,   θ̇_R = F_lon·(2/D_R)·v + F_lon·(b/D_R)·ω
+/// with D_L = D_a·c_L, D_R = D_a·c_R. The forward map (odometry) uses the same effective
+/// diameters, so forward and inverse are exact inverses for any factors: the robot's belief
+/// about where it went matches what it commanded.
+class DiffDriveKinematics {
+ public:
+  explicit DiffDriveKinematics(const DriveConfig& config = DriveConfig{}) { configure(config); }
+
+  /// Recomputes the maps from a (valid) configuration.
+  void configure(const DriveConfig& config);
+
+  /// Body twist -> wheel rates (Maddahi eq. 7).
+  [[nodiscard]] WheelRates inverse(const Twist& twist) const;
+  /// Wheel rates -> body twist (Maddahi eq. 1-2 with the effective diameters).
+  [[nodiscard]] Twist forward(const WheelRates& rates) const;
+
+  /// Distance a wheel's contact point moves per encoder count, m.
+  [[nodiscard]] float left_m_per_count() const { return left_m_per_count_; }
+  [[nodiscard]] float right_m_per_count() const { return right_m_per_count_; }
+  /// Effective diameters and wheelbase, m.
+  [[nodiscard]] float left_diameter_m() const { return left_diameter_m_; }
+  [[nodiscard]] float right_diameter_m() const { return right_diameter_m_; }
+  [[nodiscard]] float wheelbase_m() const { return wheelbase_m_; }
+
+  /// The 2x2 map [θ̇_L; θ̇_R] = J·[v; ω] (eq. 7 in body frame: cos θ ẋ + sin θ ẏ = v).
+  [[nodiscard]] const Eigen::Matrix2f& inverse_jacobian() const { return inverse_; }
+
+ private:
+  Eigen::Matrix2f inverse_ = Eigen::Matrix2f::Identity();
+  Eigen::Matrix2f forward_ = Eigen::Matrix2f::Identity();
+  float left_diameter_m_ = 0.06f;
+  float right_diameter_m_ = 0.06f;
+  float wheelbase_m_ = 0.15f;
+  float left_m_per_count_ = 0.0f;
+  float right_m_per_count_ = 0.0f;
+};
+
+}  // namespace odocal::drive

@@ -9,7 +9,9 @@ std::atomic<std::size_t> g_allocations{0};  // test-only global: counts every al
 }
 
 namespace odocal::test {
-std::size_t allocation_count() { return g_allocations.load(std::memory_order_relaxed); }
+std::size_t allocation_count() {
+  return g_allocations.load(std::memory_order_relaxed);
+}
 }  // namespace odocal::test
 
 void* operator new(std::size_t size) {
@@ -19,8 +21,18 @@ void* operator new(std::size_t size) {
   }
   throw std::bad_alloc();
 }
-void* operator new[](std::size_t size) { return operator new(size); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void* operator new[](std::size_t size) {
+  return operator new(size);
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+  std::free(p);
+}

@@ -47,7 +47,8 @@ class FakeCritical final : public hal::CriticalSection {
   void do_enter() override {
     ++depth;
     ++entries;
-    if (depth > max_depth) max_depth = depth;
+    if (depth > max_depth)
+      max_depth = depth;
   }
   void do_exit() override { --depth; }
 };

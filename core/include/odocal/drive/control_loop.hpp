@@ -20,9 +20,9 @@ namespace odocal::drive {
 /// Sticky fault bits. Any fault parks the motors (duty 0) until `stop()` acknowledges it.
 enum FaultBits : std::uint8_t {
   fault_none = 0x00,
-  fault_encoder_left = 0x01,   ///< illegal transitions above `max_illegal`
+  fault_encoder_left = 0x01,  ///< illegal transitions above `max_illegal`
   fault_encoder_right = 0x02,
-  fault_stall_left = 0x04,     ///< duty above `stall_duty` with no edge for `stall_ms`
+  fault_stall_left = 0x04,  ///< duty above `stall_duty` with no edge for `stall_ms`
   fault_stall_right = 0x08,
 };
 
@@ -91,31 +91,62 @@ class ControlLoop {
   void note_tick_duration_us(float duration_us);
 
  private:
-  void park();
-  void apply(MotorChannel& channel, float duty);
+  /// What the main loop asks of the tick; written and read only under the critical section.
+  enum class Command : std::uint8_t { none, drive, run, stop };
+  struct Inbox {
+    DriveConfig config{};
+    bool config_pending = false;
+    Command command = Command::none;
+    Twist twist{};
+    std::uint32_t duration_ms = 0u;
+    Path path{};
+    bool reset_pose = false;
+  };
+  /// What the tick shows the main loop; written and read only under the critical section.
+  struct Published {
+    Odometry odometry{};
+    LoopStatus status{};
+  };
+
+  void apply_config(const DriveConfig& config);
+  void take_command(const Inbox& inbox, std::uint32_t now_us);
+  [[nodiscard]] Twist twist_for_mode(float dt_s, std::uint32_t dt_us);
+  void check_faults(const EncoderSnapshot& left, const EncoderSnapshot& right);
+  void drive_motors(float left_duty, float right_duty);
 
   MotorChannel left_;
   MotorChannel right_;
   hal::CriticalSection& critical_;
+
+  // Tick-owned state (only the tick touches it).
   DriveConfig config_;
   DiffDriveKinematics kinematics_;
-  QuadratureDecoder left_decoder_;
-  QuadratureDecoder right_decoder_;
   VelocityEstimator left_speed_;
   VelocityEstimator right_speed_;
   WheelController left_controller_;
   WheelController right_controller_;
   Odometry odometry_;
   MotionExecutor motion_;
-  LoopStatus status_{};
+  Mode mode_ = Mode::idle;
+  std::uint8_t faults_ = fault_none;
   Twist drive_twist_{};
-  std::uint32_t drive_ms_ = 0u;    ///< requested duration (0: until timeout)
+  std::uint32_t drive_ms_ = 0u;
   std::uint32_t drive_age_us_ = 0u;
   std::uint32_t last_tick_us_ = 0u;
+  std::uint32_t ticks_ = 0u;
   std::uint32_t illegal_base_left_ = 0u;
   std::uint32_t illegal_base_right_ = 0u;
+  float left_duty_ = 0.0f;
+  float right_duty_ = 0.0f;
   bool started_ = false;
-  bool reset_pose_request_ = false;
+
+  // Edge-owned state (the edge contexts write, the tick snapshots under the critical section).
+  QuadratureDecoder left_decoder_;
+  QuadratureDecoder right_decoder_;
+
+  // Shared with the main loop under the critical section.
+  Inbox inbox_{};
+  Published published_{};
 };
 
 }  // namespace odocal::drive

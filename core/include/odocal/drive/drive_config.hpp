@@ -30,16 +30,16 @@ struct DriveConfig {
   float cmd_timeout_ms = 500.0f;  ///< a `drive` command older than this stops the wheels
 
   // Motion limits used by paths.
-  float v_max_mps = 0.2f;        ///< cruise speed on lines and arcs
-  float w_max_radps = 1.5f;      ///< cruise turn rate for turns in place
-  float accel_mps2 = 0.5f;       ///< linear acceleration limit
-  float alpha_radps2 = 4.0f;     ///< angular acceleration limit
-  float settle_ms = 200.0f;      ///< pause at standstill between segments
+  float v_max_mps = 0.2f;     ///< cruise speed on lines and arcs
+  float w_max_radps = 1.5f;   ///< cruise turn rate for turns in place
+  float accel_mps2 = 0.5f;    ///< linear acceleration limit
+  float alpha_radps2 = 4.0f;  ///< angular acceleration limit
+  float settle_ms = 200.0f;   ///< pause at standstill between segments
 
   // Faults.
-  float stall_ms = 500.0f;             ///< duty above stall_duty with no encoder edge this long
-  float stall_duty = 0.3f;             ///< |duty| above which a wheel is expected to turn
-  std::uint32_t max_illegal = 16u;     ///< illegal encoder transitions before the fault trips
+  float stall_ms = 500.0f;          ///< duty above stall_duty with no encoder edge this long
+  float stall_duty = 0.3f;          ///< |duty| above which a wheel is expected to turn
+  std::uint32_t max_illegal = 16u;  ///< illegal encoder transitions before the fault trips
 };
 
 /// True when every field is finite and inside its documented range.

@@ -19,7 +19,7 @@ struct Pose {
 /// with compensation (Kahan), so millions of small single-precision steps lose no accuracy.
 class Odometry {
  public:
-  /// Sets the pose (odom reset).
+  /// Sets the pose (odom reset). The odometer (`distance_m`, `rotation_rad`) keeps counting.
   void reset(const Pose& pose = Pose{});
 
   /// Adds one tick of travel. @param left_m, @param right_m distance each wheel's contact point
@@ -28,9 +28,9 @@ class Odometry {
 
   /// The pose; θ is computed from the heading vector (atan2). Any context that owns the object.
   [[nodiscard]] Pose pose() const;
-  /// Path length of the robot centre since reset, m (backwards subtracts).
+  /// Odometer: path length of the robot centre since construction, m (backwards subtracts).
   [[nodiscard]] float distance_m() const { return distance_m_; }
-  /// Rotation since reset, rad, not wrapped.
+  /// Odometer: rotation since construction, rad, not wrapped.
   [[nodiscard]] float rotation_rad() const { return rotation_rad_; }
 
  private:

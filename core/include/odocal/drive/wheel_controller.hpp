@@ -6,10 +6,10 @@ namespace odocal::drive {
 
 /// Gains in physical units. Duty is the signed PWM fraction in [-1, 1].
 struct WheelGains {
-  float kp = 0.05f;        ///< duty per (rad/s) of speed error
-  float ki = 1.0f;         ///< duty per rad of integrated speed error
-  float kff = 0.033f;      ///< duty per (rad/s) of set-point
-  float max_duty = 1.0f;   ///< output saturation, in (0, 1]
+  float kp = 0.05f;       ///< duty per (rad/s) of speed error
+  float ki = 1.0f;        ///< duty per rad of integrated speed error
+  float kff = 0.033f;     ///< duty per (rad/s) of set-point
+  float max_duty = 1.0f;  ///< output saturation, in (0, 1]
 };
 
 /// PI + feed-forward: duty = kff·sp + kp·e + I, with I += ki·e·dt.
@@ -27,7 +27,11 @@ class WheelController {
   [[nodiscard]] const WheelGains& gains() const { return gains_; }
 
   /// Clears the integrator (call on enable and after a fault).
-  void reset() { integrator_ = 0.0f; }
+  void reset() {
+    integrator_ = 0.0f;
+    last_error_ = 0.0f;
+    last_setpoint_ = 0.0f;
+  }
 
   /// One step. @param setpoint_radps and @param measured_radps wheel speeds, rad/s;
   /// @param dt_s time since the previous step, s (<= 0 or non-finite: no integration).
@@ -41,6 +45,8 @@ class WheelController {
  private:
   WheelGains gains_;
   float integrator_ = 0.0f;
+  float last_error_ = 0.0f;     ///< rad/s, for bumpless gain changes
+  float last_setpoint_ = 0.0f;  ///< rad/s
   bool saturated_ = false;
 };
 

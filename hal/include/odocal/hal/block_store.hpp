@@ -10,9 +10,9 @@ namespace odocal::hal {
 /// Outcome of a block-store operation.
 enum class StoreStatus : std::uint8_t {
   ok,
-  out_of_range,   ///< address or size outside the device, or not aligned to the granularity
-  not_erased,     ///< program would need a 0 -> 1 transition (flash can only clear bits)
-  device_error,   ///< the backend failed (I/O error, flash controller error, power cut)
+  out_of_range,  ///< address or size outside the device, or not aligned to the granularity
+  not_erased,    ///< program would need a 0 -> 1 transition (flash can only clear bits)
+  device_error,  ///< the backend failed (I/O error, flash controller error, power cut)
 };
 
 /// A flash-like store: `sector_count()` sectors of `sector_size()` bytes each. Erase sets a whole

@@ -1,0 +1,327 @@
+#include "odocal/drive/control_loop.hpp"
+
+#include <cmath>
+
+namespace odocal::drive {
+namespace {
+
+WheelGains gains_of(const DriveConfig& config) {
+  WheelGains gains;
+  gains.kp = config.kp;
+  gains.ki = config.ki;
+  gains.kff = config.kff;
+  gains.max_duty = 1.0f;
+  return gains;
+}
+
+// The longest tick period the loop integrates over; a longer gap (debugger halt, first tick)
+// is treated as this long so the integrators do not jump.
+constexpr std::uint32_t kMaxTickGap_us = 100000u;
+
+}  // namespace
+
+const char* mode_name(Mode mode) {
+  switch (mode) {
+    case Mode::drive:
+      return "drive";
+    case Mode::path:
+      return "path";
+    case Mode::fault:
+      return "fault";
+    case Mode::idle:
+      break;
+  }
+  return "idle";
+}
+
+ControlLoop::ControlLoop(MotorChannel left, MotorChannel right, hal::CriticalSection& critical,
+                         const DriveConfig& config)
+    : left_(left), right_(right), critical_(critical) {
+  apply_config(valid(config) ? config : DriveConfig{});
+  inbox_.config = config_;
+  drive_motors(0.0f, 0.0f);
+}
+
+void ControlLoop::apply_config(const DriveConfig& config) {
+  config_ = config;
+  kinematics_.configure(config_);
+  left_speed_.set_counts_per_rev(config_.counts_per_rev);
+  right_speed_.set_counts_per_rev(config_.counts_per_rev);
+  left_controller_.set_gains(gains_of(config_));
+  right_controller_.set_gains(gains_of(config_));
+}
+
+void ControlLoop::take_command(const Inbox& inbox, std::uint32_t now_us) {
+  (void)now_us;
+  if (inbox.reset_pose) {
+    odometry_.reset();
+  }
+  switch (inbox.command) {
+    case Command::stop:
+      motion_.cancel();
+      mode_ = Mode::idle;
+      drive_twist_ = Twist{};
+      faults_ = fault_none;  // stop acknowledges faults
+      illegal_base_left_ = left_decoder_.snapshot().illegal;
+      illegal_base_right_ = right_decoder_.snapshot().illegal;
+      break;
+    case Command::drive:
+      if (mode_ != Mode::fault) {
+        motion_.cancel();
+        mode_ = Mode::drive;
+        drive_twist_ = inbox.twist;
+        drive_ms_ = inbox.duration_ms;
+        drive_age_us_ = 0u;
+      }
+      break;
+    case Command::run:
+      if (mode_ != Mode::fault) {
+        motion_.start(inbox.path, odometry_);
+        mode_ = motion_.busy() ? Mode::path : Mode::idle;
+        drive_twist_ = Twist{};
+      }
+      break;
+    case Command::none:
+      break;
+  }
+}
+
+void ControlLoop::check_faults(const EncoderSnapshot& left, const EncoderSnapshot& right) {
+  if (left.illegal - illegal_base_left_ > config_.max_illegal) {
+    faults_ |= fault_encoder_left;
+  }
+  if (right.illegal - illegal_base_right_ > config_.max_illegal) {
+    faults_ |= fault_encoder_right;
+  }
+  const float stall_us = config_.stall_ms * 1000.0f;
+  if (std::fabs(left_duty_) > config_.stall_duty &&
+      static_cast<float>(left_speed_.since_edge_us()) > stall_us) {
+    faults_ |= fault_stall_left;
+  }
+  if (std::fabs(right_duty_) > config_.stall_duty &&
+      static_cast<float>(right_speed_.since_edge_us()) > stall_us) {
+    faults_ |= fault_stall_right;
+  }
+}
+
+Twist ControlLoop::twist_for_mode(float dt_s, std::uint32_t dt_us) {
+  switch (mode_) {
+    case Mode::drive: {
+      drive_age_us_ += dt_us;
+      const float age_ms = static_cast<float>(drive_age_us_) * 1e-3f;
+      const bool expired = drive_ms_ > 0u ? age_ms >= static_cast<float>(drive_ms_)
+                                          : age_ms > config_.cmd_timeout_ms;
+      if (expired) {
+        mode_ = Mode::idle;
+        drive_twist_ = Twist{};
+      }
+      return drive_twist_;
+    }
+    case Mode::path: {
+      const Twist twist = motion_.update(odometry_, config_, dt_s);
+      if (!motion_.busy()) {
+        mode_ = Mode::idle;
+      }
+      return twist;
+    }
+    case Mode::idle:
+    case Mode::fault:
+      break;
+  }
+  return Twist{};
+}
+
+void ControlLoop::drive_motors(float left_duty, float right_duty) {
+  left_duty_ = left_duty;
+  right_duty_ = right_duty;
+  left_.forward.set(left_duty >= 0.0f);
+  left_.pwm.set_duty(std::fabs(left_duty));
+  right_.forward.set(right_duty >= 0.0f);
+  right_.pwm.set_duty(std::fabs(right_duty));
+}
+
+void ControlLoop::tick(std::uint32_t now_us) {
+  // 1. Snapshot the encoders and take the main loop's requests, in one short critical section.
+  EncoderSnapshot left_snap;
+  EncoderSnapshot right_snap;
+  Inbox inbox;
+  {
+    hal::CriticalGuard guard(critical_);
+    left_snap = left_decoder_.snapshot();
+    right_snap = right_decoder_.snapshot();
+    inbox.config_pending = inbox_.config_pending;
+    if (inbox_.config_pending) {
+      inbox.config = inbox_.config;
+      inbox_.config_pending = false;
+    }
+    inbox.command = inbox_.command;
+    inbox.twist = inbox_.twist;
+    inbox.duration_ms = inbox_.duration_ms;
+    if (inbox_.command == Command::run) {
+      inbox.path = inbox_.path;
+    }
+    inbox.reset_pose = inbox_.reset_pose;
+    inbox_.command = Command::none;
+    inbox_.reset_pose = false;
+  }
+
+  if (!started_) {
+    started_ = true;
+    last_tick_us_ = now_us;
+    left_speed_.reset(left_snap, now_us);
+    right_speed_.reset(right_snap, now_us);
+    illegal_base_left_ = left_snap.illegal;
+    illegal_base_right_ = right_snap.illegal;
+  }
+  std::uint32_t dt_us = now_us - last_tick_us_;
+  last_tick_us_ = now_us;
+  if (dt_us > kMaxTickGap_us) {
+    dt_us = kMaxTickGap_us;
+  }
+  const float dt_s = static_cast<float>(dt_us) * 1e-6f;
+  ++ticks_;
+
+  if (inbox.config_pending) {
+    apply_config(inbox.config);
+  }
+  take_command(inbox, now_us);
+
+  // 2. Estimate wheel speeds. 3. Odometry from the wheel increments.
+  left_speed_.update(left_snap, now_us);
+  right_speed_.update(right_snap, now_us);
+  odometry_.update(
+      static_cast<float>(left_speed_.delta_counts()) * kinematics_.left_m_per_count(),
+      static_cast<float>(right_speed_.delta_counts()) * kinematics_.right_m_per_count(),
+      kinematics_.wheelbase_m());
+
+  // Faults are sticky and park the motors.
+  check_faults(left_snap, right_snap);
+  if (faults_ != fault_none) {
+    mode_ = Mode::fault;
+    motion_.cancel();
+  }
+
+  // 4. Motion -> body twist. 5. Inverse kinematics (Maddahi eq. 7) with speed limiting that
+  // keeps the curvature. 6. Wheel PI. 7. Outputs.
+  float left_duty = 0.0f;
+  float right_duty = 0.0f;
+  if (mode_ == Mode::fault) {
+    left_controller_.reset();
+    right_controller_.reset();
+  } else {
+    const Twist twist = twist_for_mode(dt_s, dt_us);
+    WheelRates rates = kinematics_.inverse(twist);
+    const float peak = std::fmax(std::fabs(rates.left_radps), std::fabs(rates.right_radps));
+    if (peak > config_.max_wheel_radps) {
+      const float scale = config_.max_wheel_radps / peak;
+      rates.left_radps *= scale;
+      rates.right_radps *= scale;
+    }
+    const bool at_rest = mode_ == Mode::idle && left_speed_.speed_radps() == 0.0f &&
+                         right_speed_.speed_radps() == 0.0f;
+    if (at_rest) {
+      // Standing still with nothing to do: no holding current, no integrator creep.
+      left_controller_.reset();
+      right_controller_.reset();
+    } else {
+      left_duty = left_controller_.update(rates.left_radps, left_speed_.speed_radps(), dt_s);
+      right_duty = right_controller_.update(rates.right_radps, right_speed_.speed_radps(), dt_s);
+    }
+  }
+  drive_motors(left_duty, right_duty);
+
+  // 8. Publish for the main loop.
+  hal::CriticalGuard guard(critical_);
+  published_.odometry = odometry_;
+  LoopStatus& status = published_.status;
+  status.mode = mode_;
+  status.path = mode_ == Mode::path ? motion_.path_id() : PathId::none;
+  status.segment = motion_.segment_index();
+  status.faults = faults_;
+  status.ticks = ticks_;
+  status.illegal_left = left_snap.illegal;
+  status.illegal_right = right_snap.illegal;
+  status.left_radps = left_speed_.speed_radps();
+  status.right_radps = right_speed_.speed_radps();
+  status.left_duty = left_duty;
+  status.right_duty = right_duty;
+}
+
+bool ControlLoop::configure(const DriveConfig& config) {
+  if (!valid(config)) {
+    return false;
+  }
+  hal::CriticalGuard guard(critical_);
+  inbox_.config = config;
+  inbox_.config_pending = true;
+  return true;
+}
+
+DriveConfig ControlLoop::config() const {
+  hal::CriticalGuard guard(critical_);
+  return inbox_.config;
+}
+
+bool ControlLoop::drive(const Twist& twist, std::uint32_t duration_ms) {
+  if (!std::isfinite(twist.v_mps) || !std::isfinite(twist.w_radps)) {
+    return false;
+  }
+  hal::CriticalGuard guard(critical_);
+  if (published_.status.faults != fault_none) {
+    return false;
+  }
+  inbox_.command = Command::drive;
+  inbox_.twist = twist;
+  inbox_.duration_ms = duration_ms;
+  return true;
+}
+
+bool ControlLoop::run(const Path& path) {
+  if (path.count == 0u) {
+    return false;
+  }
+  hal::CriticalGuard guard(critical_);
+  if (published_.status.faults != fault_none) {
+    return false;
+  }
+  inbox_.command = Command::run;
+  inbox_.path = path;
+  return true;
+}
+
+void ControlLoop::stop() {
+  hal::CriticalGuard guard(critical_);
+  inbox_.command = Command::stop;
+}
+
+Pose ControlLoop::pose() const {
+  Odometry copy;
+  {
+    hal::CriticalGuard guard(critical_);
+    copy = published_.odometry;
+  }
+  return copy.pose();
+}
+
+void ControlLoop::reset_pose() {
+  hal::CriticalGuard guard(critical_);
+  inbox_.reset_pose = true;
+  published_.odometry.reset();
+}
+
+LoopStatus ControlLoop::status() const {
+  hal::CriticalGuard guard(critical_);
+  return published_.status;
+}
+
+void ControlLoop::note_tick_duration_us(float duration_us) {
+  hal::CriticalGuard guard(critical_);
+  LoopStatus& status = published_.status;
+  // Exponential average over about 64 ticks, and the largest seen since start-up.
+  status.tick_us_avg += (duration_us - status.tick_us_avg) * (1.0f / 64.0f);
+  if (duration_us > status.tick_us_max) {
+    status.tick_us_max = duration_us;
+  }
+}
+
+}  // namespace odocal::drive

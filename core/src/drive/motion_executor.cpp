@@ -1,0 +1,168 @@
+#include "odocal/drive/motion_executor.hpp"
+
+#include <cmath>
+
+namespace odocal::drive {
+namespace {
+
+constexpr float kPi = 3.14159265358979323846f;
+constexpr float kMaxPathLength_m = 20.0f;
+
+bool valid_length(float length_m) {
+  return std::isfinite(length_m) && length_m > 0.0f && length_m <= kMaxPathLength_m;
+}
+
+float sign_of(float value) {
+  return value < 0.0f ? -1.0f : 1.0f;
+}
+
+}  // namespace
+
+const char* path_name(PathId id) {
+  switch (id) {
+    case PathId::umbmark_cw:
+      return "umbmark-cw";
+    case PathId::umbmark_ccw:
+      return "umbmark-ccw";
+    case PathId::line:
+      return "line";
+    case PathId::unseen:
+      return "unseen";
+    case PathId::none:
+      break;
+  }
+  return "none";
+}
+
+bool Path::push(const Segment& segment) {
+  if (count >= capacity) {
+    return false;
+  }
+  segments[count] = segment;
+  ++count;
+  return true;
+}
+
+Path make_umbmark_square(bool clockwise, float side_m) {
+  Path path;
+  if (!valid_length(side_m)) {
+    return path;
+  }
+  path.id = clockwise ? PathId::umbmark_cw : PathId::umbmark_ccw;
+  const float corner = clockwise ? -0.5f * kPi : 0.5f * kPi;
+  for (int leg = 0; leg < 4; ++leg) {
+    path.push(Segment{side_m, 0.0f});
+    path.push(Segment{0.0f, corner});
+  }
+  return path;
+}
+
+Path make_line(float length_m) {
+  Path path;
+  if (!valid_length(length_m)) {
+    return path;
+  }
+  path.id = PathId::line;
+  path.push(Segment{length_m, 0.0f});
+  return path;
+}
+
+Path make_unseen_path() {
+  Path path;
+  path.id = PathId::unseen;
+  for (int side = 0; side < 4; ++side) {  // 100 cm square, left turns
+    path.push(Segment{1.0f, 0.0f});
+    path.push(Segment{0.0f, 0.5f * kPi});
+  }
+  for (int side = 0; side < 3; ++side) {  // 100 cm equilateral triangle, left turns
+    path.push(Segment{1.0f, 0.0f});
+    path.push(Segment{0.0f, 2.0f * kPi / 3.0f});
+  }
+  path.push(Segment{0.8f * kPi, kPi});  // 80 cm-radius left semicircle
+  return path;
+}
+
+void MotionExecutor::start(const Path& path, const Odometry& odometry) {
+  path_ = path;
+  index_ = 0u;
+  busy_ = path_.count > 0u;
+  settling_ = false;
+  speed_ = 0.0f;
+  if (busy_) {
+    begin_segment(odometry);
+  }
+}
+
+void MotionExecutor::cancel() {
+  busy_ = false;
+  settling_ = false;
+  speed_ = 0.0f;
+}
+
+void MotionExecutor::begin_segment(const Odometry& odometry) {
+  start_distance_m_ = odometry.distance_m();
+  start_rotation_rad_ = odometry.rotation_rad();
+  speed_ = 0.0f;
+  settling_ = false;
+  settle_s_ = 0.0f;
+}
+
+Twist MotionExecutor::update(const Odometry& odometry, const DriveConfig& limits, float dt_s) {
+  if (!busy_) {
+    return Twist{};
+  }
+  if (settling_) {
+    settle_s_ += dt_s;
+    if (settle_s_ * 1000.0f >= limits.settle_ms) {
+      ++index_;
+      if (index_ >= path_.count) {
+        busy_ = false;
+        return Twist{};
+      }
+      begin_segment(odometry);
+    } else {
+      return Twist{};
+    }
+  }
+
+  const Segment& segment = path_.segments[index_];
+  const bool by_distance = segment.distance_m != 0.0f;
+  const float target = by_distance ? std::fabs(segment.distance_m) : std::fabs(segment.angle_rad);
+  const float direction = by_distance ? sign_of(segment.distance_m) : sign_of(segment.angle_rad);
+  const float progress = direction * (by_distance ? odometry.distance_m() - start_distance_m_
+                                                  : odometry.rotation_rad() - start_rotation_rad_);
+  const float remaining = target - progress;
+  if (remaining <= 0.0f) {
+    // Odometry says the segment is covered: command standstill and settle.
+    settling_ = true;
+    settle_s_ = 0.0f;
+    speed_ = 0.0f;
+    return Twist{};
+  }
+
+  const float cruise = by_distance ? limits.v_max_mps : limits.w_max_radps;
+  const float accel = by_distance ? limits.accel_mps2 : limits.alpha_radps2;
+  // Trapezoidal profile on what remains: accelerate, cruise, and brake so the speed reaches
+  // zero at the end (v² = 2·a·remaining); a small creep speed guarantees the end is reached.
+  float speed = speed_ + accel * dt_s;
+  const float braking = std::sqrt(2.0f * accel * remaining);
+  if (speed > braking) {
+    speed = braking;
+  }
+  if (speed > cruise) {
+    speed = cruise;
+  }
+  const float creep = 0.02f * cruise;
+  if (speed < creep) {
+    speed = creep;
+  }
+  speed_ = speed;
+
+  if (!by_distance) {
+    return Twist{0.0f, direction * speed};
+  }
+  const float v = direction * speed;
+  return Twist{v, segment.angle_rad != 0.0f ? v * segment.angle_rad / segment.distance_m : 0.0f};
+}
+
+}  // namespace odocal::drive

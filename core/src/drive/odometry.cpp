@@ -1,0 +1,73 @@
+#include "odocal/drive/odometry.hpp"
+
+#include <cmath>
+
+namespace odocal::drive {
+namespace {
+
+// Kahan summation: adds `value` to `sum`, carrying the lost low-order bits in `compensation`.
+void add_compensated(float& sum, float& compensation, float value) {
+  const float y = value - compensation;
+  const float t = sum + y;
+  compensation = (t - sum) - y;
+  sum = t;
+}
+
+struct HalfAngle {
+  float cos;
+  float sin;
+  float sinc;  ///< sin(h)/h
+};
+
+// cos, sin and sinc of a half-increment. Per-tick angles are small, where a short series is exact
+// to single precision and much cheaper than sinf/cosf.
+HalfAngle half_angle(float h) {
+  const float h2 = h * h;
+  if (h2 < 4e-4f) {  // |h| < 0.02 rad: the next series terms are below 2^-24
+    const float sinc = 1.0f - h2 * (1.0f / 6.0f) * (1.0f - h2 * (1.0f / 20.0f));
+    const float c = 1.0f - h2 * 0.5f * (1.0f - h2 * (1.0f / 12.0f));
+    return HalfAngle{c, h * sinc, sinc};
+  }
+  const float s = std::sin(h);
+  return HalfAngle{std::cos(h), s, s / h};
+}
+
+}  // namespace
+
+void Odometry::reset(const Pose& pose) {
+  x_m_ = pose.x_m;
+  y_m_ = pose.y_m;
+  x_comp_ = 0.0f;
+  y_comp_ = 0.0f;
+  cos_ = std::cos(pose.theta_rad);
+  sin_ = std::sin(pose.theta_rad);
+}
+
+void Odometry::update(float left_m, float right_m, float wheelbase_m) {
+  const float ds = 0.5f * (left_m + right_m);
+  const float dtheta = (right_m - left_m) / wheelbase_m;
+  const HalfAngle half = half_angle(0.5f * dtheta);
+
+  // Heading at the middle of the arc: the chord of a circular arc points there.
+  const float mid_cos = cos_ * half.cos - sin_ * half.sin;
+  const float mid_sin = sin_ * half.cos + cos_ * half.sin;
+  const float chord = ds * half.sinc;  // chord length of an arc of length ds turning dtheta
+  add_compensated(x_m_, x_comp_, chord * mid_cos);
+  add_compensated(y_m_, y_comp_, chord * mid_sin);
+
+  // Rotate to the end heading and renormalise against rounding drift.
+  float c = mid_cos * half.cos - mid_sin * half.sin;
+  float s = mid_sin * half.cos + mid_cos * half.sin;
+  const float inverse_norm = 1.0f / std::sqrt(c * c + s * s);
+  cos_ = c * inverse_norm;
+  sin_ = s * inverse_norm;
+
+  add_compensated(distance_m_, distance_comp_, ds);
+  add_compensated(rotation_rad_, rotation_comp_, dtheta);
+}
+
+Pose Odometry::pose() const {
+  return Pose{x_m_, y_m_, std::atan2(sin_, cos_)};
+}
+
+}  // namespace odocal::drive

@@ -21,19 +21,19 @@ inline constexpr std::size_t umbmark_max_runs = 64;
 
 /// What the solver needs.
 struct UmbmarkInput {
-  const ReturnError* cw = nullptr;   ///< clockwise runs
+  const ReturnError* cw = nullptr;  ///< clockwise runs
   std::size_t cw_count = 0;
   const ReturnError* ccw = nullptr;  ///< counter-clockwise runs
   std::size_t ccw_count = 0;
-  double side_mm = 4000.0;           ///< side L of the square
-  double wheelbase_mm = 0.0;         ///< wheelbase b the robot used during the runs
-  bool exact = false;                ///< solve the square geometry without small angles
+  double side_mm = 4000.0;    ///< side L of the square
+  double wheelbase_mm = 0.0;  ///< wheelbase b the robot used during the runs
+  bool exact = false;         ///< solve the square geometry without small angles
 };
 
 /// Everything `odocal umbmark --json` prints (same names).
 struct UmbmarkResult {
   double x_cg_cw = 0.0, y_cg_cw = 0.0, x_cg_ccw = 0.0, y_cg_ccw = 0.0;  ///< mm
-  double r_cg_cw = 0.0, r_cg_ccw = 0.0;                                  ///< mm
+  double r_cg_cw = 0.0, r_cg_ccw = 0.0;                                 ///< mm
   double e_max_syst_mm = 0.0;
   double alpha_deg = 0.0;  ///< > 0: each nominal 90° turn under-rotates
   double beta_deg = 0.0;   ///< > 0: a straight leg curves to the left
@@ -42,8 +42,12 @@ struct UmbmarkResult {
   double e_b = 1.0;        ///< b_actual / b_nominal
   double c_l = 1.0, c_r = 1.0;
   double wheelbase_new_mm = 0.0;
-  double sem_mm = 0.0;     ///< standard error of the mean of the return errors
+  double sem_mm = 0.0;                   ///< standard error of the mean of the return errors
   bool second_pass_recommended = false;  ///< E_max,syst >= 3·SEM
+  // Added beyond the JSON contract keys (reported under `provenance` / extra keys):
+  double sigma_mm = 0.0;        ///< pooled radial scatter of the runs about their own centre, mm
+  bool exact = false;           ///< true when E_d, E_b, α, β come from the exact square solve
+  std::uint8_t iterations = 0;  ///< Gauss-Newton iterations used by the exact solve (0: approx)
 };
 
 /// Why a solve was refused. Nothing is written to the result unless `ok`.
@@ -75,5 +79,17 @@ struct WheelFactors {
 /// then renormalises so that (c_L' + c_R')/2 = 1 keeps the average diameter. A second pass
 /// refines the first; it does not reset it.
 [[nodiscard]] WheelFactors compose(const WheelFactors& current, const UmbmarkResult& result);
+
+/// Where a robot with the given real errors ends one bidirectional-square run, relative to where
+/// its odometry believes it is (the start). The model: odometry drives each leg until the mean
+/// wheel travel it sees is `side_mm` and each corner until it sees a 90° turn in place (4 legs,
+/// 4 turns); the real wheels have D_R/D_L = `e_d` (mean diameter unchanged) and the real
+/// wheelbase is `e_b`·`wheelbase_mm`. Every leg and turn is integrated as an exact arc, so this is
+/// the geometry without small-angle approximations that `exact` solves. Used by the exact solve,
+/// and offered to tests and simulators.
+/// @param clockwise true for the cw square (first corner turns right).
+/// @return the return error (measured minus perceived), mm, start frame.
+[[nodiscard]] ReturnError square_return_error(double side_mm, double wheelbase_mm, double e_d,
+                                              double e_b, bool clockwise);
 
 }  // namespace odocal::calib

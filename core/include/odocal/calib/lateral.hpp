@@ -1,0 +1,83 @@
+#pragma once
+/// @file
+/// Maddahi & Zareinia corrective factors (IEEE Access 8, 2020): the lateral factor F_lat (eq. 4)
+/// and the longitudinal factor F_lon (eq. 5) from straight-line trials, and the same factors from
+/// estimated wheel velocities through the inverse kinematics (eq. 7). Hardware-free, no heap.
+
+#include <cstddef>
+#include <cstdint>
+
+namespace odocal::calib {
+
+/// Where one straight trial stopped, mm, in the start frame: x along the commanded line,
+/// y to the left.
+struct StopPoint {
+  double x_mm = 0.0;
+  double y_mm = 0.0;
+};
+
+/// Most trials `solve_lateral` accepts.
+inline constexpr std::size_t lateral_max_trials = 1024;
+
+/// What eq. 4 and eq. 5 need.
+struct LateralInput {
+  const StopPoint* trials = nullptr;
+  std::size_t trial_count = 0;
+  double length_mm = 0.0;          ///< commanded length L of each straight trial, > 0
+  double wheelbase_mm = 0.0;       ///< wheelbase l, > 0
+  double left_diameter_mm = 0.0;   ///< nominal D_L, > 0
+  double right_diameter_mm = 0.0;  ///< nominal D_R, > 0
+  /// Left-wheel rotation over one trial, rad; 0 means the nominal 2L/D_L.
+  double theta_l_rad = 0.0;
+};
+
+/// The two corrective factors (dimensionless; 1 = no correction).
+struct LateralResult {
+  double f_lat = 1.0;        ///< scales the left wheel (eq. 7)
+  double f_lon = 1.0;        ///< scales both wheels (eq. 7)
+  double theta_l_rad = 0.0;  ///< the θ_L used in eq. 4
+};
+
+/// Why a lateral solve was refused. Nothing is written to the result unless `ok`.
+enum class LateralStatus : std::uint8_t {
+  ok,
+  too_few_trials,   ///< fewer than 2 trials, or more than lateral_max_trials
+  bad_geometry,     ///< a length, wheelbase, diameter or θ_L not finite or not > 0
+  non_finite,       ///< a NaN or Inf in the trials or the wheel rates
+  error_too_large,  ///< a stop point farther than L from the commanded end, or x <= 0
+  degenerate,       ///< no finite factor exists (mean stop point at the start, v = ±lω/2, ...)
+};
+
+/// A short lower-case message for a status.
+[[nodiscard]] const char* to_string(LateralStatus status);
+
+/// F_lat by eq. 4 (read as DESIGN says: D_L/D_R, chord angle atan(y_i/x_i)) and F_lon by eq. 5
+/// (shortfall x_e = L − x, so F_lon = L / |mean stop point|). A drift to the left (y > 0) gives
+/// F_lat > 1; stopping short gives F_lon > 1.
+[[nodiscard]] LateralStatus solve_lateral(const LateralInput& input, LateralResult& result);
+
+/// Body velocity and wheel velocities of one trial (Maddahi eq. 6-7 variables).
+struct WheelRateSample {
+  double xdot_mps = 0.0;        ///< ẋ_b, start frame
+  double ydot_mps = 0.0;        ///< ẏ_b, start frame
+  double thetadot_radps = 0.0;  ///< θ̇
+  double omega_l_radps = 0.0;   ///< θ̇_L (estimated, e.g. by the bootstrap)
+  double omega_r_radps = 0.0;   ///< θ̇_R
+};
+
+/// Nominal geometry for eq. 7, mm.
+struct WheelGeometry {
+  double wheelbase_mm = 0.0;
+  double left_diameter_mm = 0.0;
+  double right_diameter_mm = 0.0;
+};
+
+/// F_lat and F_lon that make eq. 7 (left row read with −F_lat·l/D_L) hold for the given wheel
+/// velocities: the heading follows from eq. 3 (tan θ = ẏ/ẋ), v = cos θ ẋ + sin θ ẏ, then
+/// F_lon = θ̇_R·D_R/(2v + lω) and F_lat = θ̇_L·D_L/(F_lon·(2v − lω)).
+/// @return `degenerate` when 2v ± lω is ~0 or a factor is not > 0.
+[[nodiscard]] LateralStatus factors_from_wheel_rates(const WheelRateSample& sample,
+                                                     const WheelGeometry& geometry,
+                                                     LateralResult& result);
+
+}  // namespace odocal::calib

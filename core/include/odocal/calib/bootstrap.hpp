@@ -33,6 +33,8 @@ struct UnknownRow {
 inline constexpr std::size_t bootstrap_parameters = 3;
 /// Fewest training rows accepted (m − p must leave residual degrees of freedom).
 inline constexpr std::size_t bootstrap_min_training = 5;
+/// Most training rows accepted.
+inline constexpr std::size_t bootstrap_max_training = 100000;
 /// Replicate count limits.
 inline constexpr std::uint32_t bootstrap_min_replicates = 100;
 inline constexpr std::uint32_t bootstrap_max_replicates = 1000000;
@@ -90,7 +92,7 @@ struct BootstrapFit {
 /// Why a fit or bootstrap was refused. Nothing is written to the outputs unless `ok`.
 enum class BootstrapStatus : std::uint8_t {
   ok,
-  too_few_rows,         ///< fewer than bootstrap_min_training training rows, or no unknowns
+  too_few_rows,         ///< training rows outside [min, max]_training, or no unknowns
   non_finite,           ///< a NaN or Inf in a row
   degenerate,           ///< the training design Ẋ is rank deficient (or nearly so)
   bad_replicates,       ///< B outside [bootstrap_min_replicates, bootstrap_max_replicates]

@@ -1,0 +1,120 @@
+#include "odocal/calib/lateral.hpp"
+
+#include <cmath>
+
+namespace odocal::calib {
+namespace {
+
+bool positive(double v) {
+  return std::isfinite(v) && v > 0.0;
+}
+
+}  // namespace
+
+const char* to_string(LateralStatus status) {
+  switch (status) {
+    case LateralStatus::ok:
+      return "ok";
+    case LateralStatus::too_few_trials:
+      return "too few trials (need 2 to 1024)";
+    case LateralStatus::bad_geometry:
+      return "length, wheelbase, diameters and theta_L must be finite and > 0";
+    case LateralStatus::non_finite:
+      return "a value is NaN or infinite";
+    case LateralStatus::error_too_large:
+      return "a stop point is farther from the commanded end than the path length, or not ahead "
+             "of the start";
+    case LateralStatus::degenerate:
+      return "no finite positive factor fits these values";
+  }
+  return "unknown status";
+}
+
+LateralStatus solve_lateral(const LateralInput& input, LateralResult& result) {
+  if (input.trials == nullptr || input.trial_count < 2 || input.trial_count > lateral_max_trials) {
+    return LateralStatus::too_few_trials;
+  }
+  const double length = input.length_mm;
+  const double l = input.wheelbase_mm;
+  const double d_l = input.left_diameter_mm;
+  const double d_r = input.right_diameter_mm;
+  if (!positive(length) || !positive(l) || !positive(d_l) || !positive(d_r) ||
+      !std::isfinite(input.theta_l_rad) || input.theta_l_rad < 0.0) {
+    return LateralStatus::bad_geometry;
+  }
+  // θ_L: left-wheel rotation over the trial; nominally the wheel rolls L with radius D_L/2.
+  const double theta_l = input.theta_l_rad > 0.0 ? input.theta_l_rad : 2.0 * length / d_l;
+
+  double chord_angle_sum = 0.0;
+  double x_sum = 0.0;
+  double y_sum = 0.0;
+  for (std::size_t i = 0; i < input.trial_count; ++i) {
+    const StopPoint& p = input.trials[i];
+    if (!std::isfinite(p.x_mm) || !std::isfinite(p.y_mm)) {
+      return LateralStatus::non_finite;
+    }
+    if (p.x_mm <= 0.0 || std::hypot(length - p.x_mm, p.y_mm) > length) {
+      return LateralStatus::error_too_large;
+    }
+    chord_angle_sum += std::atan(p.y_mm / p.x_mm);  // chord angle of trial i (eq. 4)
+    x_sum += p.x_mm;
+    y_sum += p.y_mm;
+  }
+  const double n = static_cast<double>(input.trial_count);
+  // Maddahi eq. 4: a chord leaning by φ means the heading turned 2φ; 4lφ/(D·θ_L) is the share of
+  // extra left-wheel rotation that cancels it.
+  const double f_lat = d_l / d_r + 4.0 * l / (n * d_r * theta_l) * chord_angle_sum;
+  // Maddahi eq. 5 with x_e = L − x: the denominator is the distance to the mean stop point.
+  const double reach = std::hypot(x_sum / n, y_sum / n);
+  if (!(reach > 0.0)) {
+    return LateralStatus::degenerate;
+  }
+  const double f_lon = length / reach;
+  if (!positive(f_lat) || !positive(f_lon)) {
+    return LateralStatus::degenerate;
+  }
+  result = LateralResult{f_lat, f_lon, theta_l};
+  return LateralStatus::ok;
+}
+
+LateralStatus factors_from_wheel_rates(const WheelRateSample& sample, const WheelGeometry& geometry,
+                                       LateralResult& result) {
+  if (!std::isfinite(sample.xdot_mps) || !std::isfinite(sample.ydot_mps) ||
+      !std::isfinite(sample.thetadot_radps) || !std::isfinite(sample.omega_l_radps) ||
+      !std::isfinite(sample.omega_r_radps)) {
+    return LateralStatus::non_finite;
+  }
+  if (!positive(geometry.wheelbase_mm) || !positive(geometry.left_diameter_mm) ||
+      !positive(geometry.right_diameter_mm)) {
+    return LateralStatus::bad_geometry;
+  }
+  const double l = geometry.wheelbase_mm * 1e-3;  // m, like the velocities
+  const double d_l = geometry.left_diameter_mm * 1e-3;
+  const double d_r = geometry.right_diameter_mm * 1e-3;
+  // Maddahi eq. 3 (no side slip): the heading is the direction of travel, so
+  // v = cos θ ẋ + sin θ ẏ = |(ẋ, ẏ)| taken with the sign of ẋ.
+  const double speed = std::hypot(sample.xdot_mps, sample.ydot_mps);
+  const double v = sample.xdot_mps < 0.0 ? -speed : speed;
+  const double w = sample.thetadot_radps;
+  // Maddahi eq. 7 (left row read with −F_lat·l/D_L):
+  //   θ̇_R = F_lon·(2v + lω)/D_R,   θ̇_L = F_lon·F_lat·(2v − lω)/D_L.
+  const double right_term = 2.0 * v + l * w;
+  const double left_term = 2.0 * v - l * w;
+  const double scale = std::fabs(2.0 * v) + std::fabs(l * w);
+  if (!(scale > 0.0) || std::fabs(right_term) <= 1e-9 * scale ||
+      std::fabs(left_term) <= 1e-9 * scale) {
+    return LateralStatus::degenerate;
+  }
+  const double f_lon = sample.omega_r_radps * d_r / right_term;
+  if (!positive(f_lon)) {
+    return LateralStatus::degenerate;
+  }
+  const double f_lat = sample.omega_l_radps * d_l / (f_lon * left_term);
+  if (!positive(f_lat)) {
+    return LateralStatus::degenerate;
+  }
+  result = LateralResult{f_lat, f_lon, 0.0};
+  return LateralStatus::ok;
+}
+
+}  // namespace odocal::calib

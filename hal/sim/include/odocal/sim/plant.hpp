@@ -1,0 +1,211 @@
+#pragma once
+/// @file
+/// The simulated robot: two DC motors with quadrature encoders, rigid-body motion on the floor,
+/// slip and bumps, and the "absolute" measurement. It is the `sim` HAL backend: the firmware sees
+/// it only through hal::PwmOutput, hal::DigitalOutput, hal::DigitalInput and hal::MonotonicClock.
+///
+/// Fixed-size, no heap, no exceptions, no I/O: it also runs inside the QEMU firmware image.
+/// Single-threaded: the owner advances it with `advance_to_ns()` from one event loop, and edge
+/// handlers run from inside that call at the instants the encoder lines change.
+
+#include <cstdint>
+
+#include "odocal/hal/critical_section.hpp"
+#include "odocal/hal/digital_input.hpp"
+#include "odocal/hal/digital_output.hpp"
+#include "odocal/hal/monotonic_clock.hpp"
+#include "odocal/hal/pwm_output.hpp"
+#include "odocal/sim/random.hpp"
+#include "odocal/sim/robot_model.hpp"
+
+namespace odocal::sim {
+
+/// Simulated time as the firmware sees it: microseconds modulo 2^32, set by the plant.
+class SimClock final : public hal::MonotonicClock {
+ public:
+  /// Sets the time, ns since the start of the simulation.
+  void set_ns(std::uint64_t t_ns) { t_ns_ = t_ns; }
+  [[nodiscard]] std::uint64_t ns() const { return t_ns_; }
+
+ private:
+  std::uint32_t do_now_us() override { return static_cast<std::uint32_t>(t_ns_ / 1000u); }
+  std::uint64_t t_ns_ = 0u;
+};
+
+/// The simulator's event loop is one thread: edges and ticks never preempt each other, so the
+/// critical section has nothing to exclude.
+class SimCriticalSection final : public hal::CriticalSection {
+ private:
+  void do_enter() override {}
+  void do_exit() override {}
+};
+
+/// One encoder channel: a level the plant drives, and the handler the firmware registered.
+class EncoderLine final : public hal::DigitalInput {
+ public:
+  /// Sets the level; runs the handler when it changed. Plant-internal.
+  void drive(bool level) {
+    if (level != level_) {
+      level_ = level;
+      if (handler_ != nullptr) {
+        handler_(context_);
+      }
+    }
+  }
+  /// Sets the level without running the handler (initial state).
+  void preset(bool level) { level_ = level; }
+  [[nodiscard]] bool level() const { return level_; }
+
+ private:
+  bool do_read() override { return level_; }
+  void do_on_edge(hal::EdgeHandler handler, void* context) override {
+    handler_ = handler;
+    context_ = context;
+  }
+  bool level_ = false;
+  hal::EdgeHandler handler_ = nullptr;
+  void* context_ = nullptr;
+};
+
+/// PWM input of one H-bridge channel: the duty the firmware last set.
+class MotorPwm final : public hal::PwmOutput {
+ public:
+  [[nodiscard]] float duty() const { return duty_; }
+
+ private:
+  void do_set_duty(float duty) override { duty_ = duty; }
+  float duty_ = 0.0f;
+};
+
+/// Direction input of one H-bridge channel (high = forward).
+class MotorDirection final : public hal::DigitalOutput {
+ public:
+  [[nodiscard]] bool forward() const { return level_; }
+
+ private:
+  void do_set(bool level) override { level_ = level; }
+  bool level_ = true;
+};
+
+/// One driven wheel: motor, gearbox, encoder and its ground contact.
+class Wheel {
+ public:
+  hal::PwmOutput& pwm() { return pwm_; }
+  hal::DigitalOutput& forward() { return direction_; }
+  hal::DigitalInput& channel_a() { return a_; }
+  hal::DigitalInput& channel_b() { return b_; }
+
+  /// Shaft angle since the start, rad (forward positive).
+  [[nodiscard]] double angle_rad() const { return angle_rad_; }
+  /// Shaft speed, rad/s.
+  [[nodiscard]] double speed_radps() const { return speed_radps_; }
+  /// Encoder position in counts (x4) since the start: the edges generated so far, signed.
+  [[nodiscard]] std::int64_t encoder_count() const { return count_; }
+  /// Motor terminal voltage applied during the last step, V.
+  [[nodiscard]] double voltage_v() const { return voltage_v_; }
+  /// Ground distance the contact point travelled, m (signed, with slip and bumps).
+  [[nodiscard]] double ground_m() const { return ground_m_; }
+
+ private:
+  friend class Plant;
+  MotorPwm pwm_;
+  MotorDirection direction_;
+  EncoderLine a_;
+  EncoderLine b_;
+  MotorModel motor_{};
+  double decay_ = 0.0;        ///< 1/time constant, 1/s
+  double step_factor_ = 0.0;  ///< exp(−decay·h) for the standard step
+  double radius_m_ = 0.03;
+  double count_rad_ = 0.0;  ///< angle per count
+  double angle_rad_ = 0.0;
+  double speed_radps_ = 0.0;
+  double voltage_v_ = 0.0;
+  double ground_m_ = 0.0;
+  std::int64_t count_ = 0;  ///< floor(angle / count_rad)
+  double slip_ratio_ = 0.0;
+  double slip_left_m_ = 0.0;  ///< wheel travel until the slip ratio is redrawn
+  double bump_left_m_ = 0.0;  ///< wheel travel still on the current bump
+};
+
+/// Planar pose in the world frame: x, y in m, θ in rad (counter-clockwise, not wrapped).
+struct WorldPose {
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double theta_rad = 0.0;
+};
+
+/// The whole robot on its floor.
+class Plant {
+ public:
+  /// @param model a model for which `check(model)` is `ModelError::none` (otherwise the plant
+  ///        stays still: `ok()` is false); @param seed of every random term.
+  Plant(const RobotModel& model, std::uint64_t seed);
+
+  Plant(const Plant&) = delete;
+  Plant& operator=(const Plant&) = delete;
+
+  [[nodiscard]] bool ok() const { return ok_; }
+  [[nodiscard]] const RobotModel& model() const { return model_; }
+
+  // --- the HAL endpoints ---
+  Wheel& left() { return left_; }
+  Wheel& right() { return right_; }
+  [[nodiscard]] const Wheel& left() const { return left_; }
+  [[nodiscard]] const Wheel& right() const { return right_; }
+  SimClock& clock() { return clock_; }
+  hal::CriticalSection& critical_section() { return critical_; }
+
+  /// Simulated time since construction, ns.
+  [[nodiscard]] std::uint64_t now_ns() const { return clock_.ns(); }
+
+  /// Runs the physics up to `t_ns` in steps of at most `physics_step_ns` (the last one shorter if
+  /// needed). Encoder edges are delivered through the lines' handlers during the call, each with
+  /// the clock set to the instant the shaft crossed the edge. Does nothing if `t_ns` <= now.
+  void advance_to_ns(std::uint64_t t_ns);
+
+  /// The true pose (ground truth), world frame.
+  [[nodiscard]] const WorldPose& pose() const { return pose_; }
+  /// Path length of the robot centre, m (backwards counts negative).
+  [[nodiscard]] double distance_m() const { return distance_m_; }
+  /// How many bumps the robot has crossed since construction.
+  [[nodiscard]] std::uint32_t bumps_crossed() const { return bumps_; }
+
+  /// Puts the robot down at `pose` (a new run): wheels at rest, a fresh random offset of the first
+  /// bump. Wheel angles and encoder lines are kept (the firmware's decoders stay consistent).
+  void place(const WorldPose& pose = WorldPose{});
+
+  /// Both wheels slower than `radps`.
+  [[nodiscard]] bool at_rest(double radps = 1.0e-3) const;
+
+  /// The "absolute" measurement: the true pose plus independent normal noise of the model's
+  /// standard deviations (UMBmark's sonar calibrator).
+  [[nodiscard]] WorldPose measure();
+
+  /// Changes the floor: bump height (0 = smooth) and mean spacing, m. Both >= 0; spacing > 0.
+  void set_bumps(double height_m, double spacing_m);
+
+ private:
+  void step(std::uint32_t dt_ns);
+  void integrate_motor(Wheel& wheel, double dt_s, bool standard_step, double& delta_rad);
+  void deliver_edges(double left_from, double right_from, std::uint64_t t0_ns, std::uint32_t dt_ns);
+  double ground_travel(Wheel& wheel, double rolled_m);
+  void start_bump();
+
+  RobotModel model_;
+  bool ok_ = false;
+  Random random_;
+  Wheel left_;
+  Wheel right_;
+  SimClock clock_;
+  SimCriticalSection critical_;
+  WorldPose pose_{};
+  double cos_ = 1.0;
+  double sin_ = 0.0;
+  double distance_m_ = 0.0;
+  double bump_next_m_ = 0.0;  ///< centre travel until the next bump
+  double bump_ratio_ = 1.0;   ///< horizontal progress per unit of wheel travel on a bump
+  double bump_arc_m_ = 0.0;   ///< wheel travel spent climbing over one bump
+  std::uint32_t bumps_ = 0u;
+};
+
+}  // namespace odocal::sim

@@ -1,0 +1,281 @@
+// The simulated plant alone, driven open-loop through its HAL endpoints.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "odocal/drive/quadrature_decoder.hpp"
+#include "odocal/sim/encoder_wiring.hpp"
+#include "odocal/sim/plant.hpp"
+
+namespace odocal::sim {
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+
+/// A robot with no random terms, so geometry can be checked exactly.
+RobotModel quiet_robot() {
+  RobotModel m;
+  m.slip_sigma = 0.0;
+  m.bump_height_m = 0.0;
+  m.measure_sigma_m = 0.0;
+  m.measure_heading_sigma_rad = 0.0;
+  return m;
+}
+
+void set_wheel(Wheel& wheel, float duty) {
+  wheel.forward().set(duty >= 0.0f);
+  wheel.pwm().set_duty(std::fabs(duty));
+}
+
+/// Steady no-load speed of the motor model at a duty: (k·V/R − τ_c) / (k²/R + c).
+double steady_speed(const MotorModel& m, double duty) {
+  const double v = duty * m.supply_v;
+  return (m.k_v_per_radps * v / m.resistance_ohm - m.coulomb_nm) /
+         (m.k_v_per_radps * m.k_v_per_radps / m.resistance_ohm + m.viscous_nm_per_radps);
+}
+
+TEST(Plant, FullDutyReachesTheNoLoadSpeedTheFirmwareFeedForwardAssumes) {
+  Plant plant(quiet_robot(), 1u);
+  set_wheel(plant.left(), 1.0f);
+  set_wheel(plant.right(), 1.0f);
+  plant.advance_to_ns(2'000'000'000u);  // 20 time constants
+  const double expected = steady_speed(plant.model().left_motor, 1.0);
+  EXPECT_NEAR(plant.left().speed_radps(), expected, 1e-6 * expected);
+  // kff = 0.033 duty per rad/s means full duty ~ 30 rad/s: the model agrees within 5 %.
+  EXPECT_NEAR(expected, 1.0 / 0.033, 0.05 / 0.033);
+}
+
+TEST(Plant, WheelAtRestStaysThereBelowBreakawayTorque) {
+  Plant plant(quiet_robot(), 1u);
+  const MotorModel& m = plant.model().left_motor;
+  const double breakaway_duty = m.coulomb_nm * m.resistance_ohm / m.k_v_per_radps / m.supply_v;
+  set_wheel(plant.left(), static_cast<float>(0.9 * breakaway_duty));
+  plant.advance_to_ns(1'000'000'000u);
+  EXPECT_EQ(plant.left().speed_radps(), 0.0);
+  EXPECT_EQ(plant.left().encoder_count(), 0);
+}
+
+TEST(Plant, StraightRunOfUnequalWheelsBendsWithTheUmbmarkRadius) {
+  RobotModel m = quiet_robot();
+  m.left_diameter_m = 0.0597;
+  m.right_diameter_m = 0.0603;
+  Plant plant(m, 7u);
+  const double left0 = plant.left().angle_rad();
+  const double right0 = plant.right().angle_rad();
+  set_wheel(plant.left(), 0.2f);  // identical motors and duties: identical shaft rotation
+  set_wheel(plant.right(), 0.2f);
+  plant.advance_to_ns(10'000'000'000u);
+  ASSERT_NEAR(plant.left().angle_rad() - left0, plant.right().angle_rad() - right0, 1e-9);
+
+  // UMBmark eq. 6.24 solved for R: E_d = (R + b/2)/(R − b/2)  =>  R = (b/2)(E_d + 1)/(E_d − 1).
+  const double e_d = m.right_diameter_m / m.left_diameter_m;
+  const double radius = 0.5 * m.wheelbase_m * (e_d + 1.0) / (e_d - 1.0);
+  const WorldPose& p = plant.pose();
+  ASSERT_GT(plant.distance_m(), 1.0);
+  // Arc of radius R turning left: heading = s/R, position on the circle centred at (0, R).
+  EXPECT_NEAR(p.theta_rad, plant.distance_m() / radius, 1e-9);
+  EXPECT_NEAR(std::hypot(p.x_m, p.y_m - radius), radius, 1e-9 * radius);
+  EXPECT_GT(p.y_m, 0.0);  // D_R > D_L curves to the left
+}
+
+TEST(Plant, TurnInPlaceUnderRotatesByTheWheelbaseRatio) {
+  RobotModel m = quiet_robot();
+  m.left_diameter_m = 0.06;
+  m.right_diameter_m = 0.06;
+  m.wheelbase_m = 0.153;  // the firmware believes 0.150
+  const double nominal_wheelbase_m = 0.150;
+  Plant plant(m, 3u);
+  set_wheel(plant.left(), -0.2f);
+  set_wheel(plant.right(), 0.2f);
+  plant.advance_to_ns(3'000'000'000u);
+  set_wheel(plant.left(), 0.0f);
+  set_wheel(plant.right(), 0.0f);
+  plant.advance_to_ns(5'000'000'000u);
+  ASSERT_TRUE(plant.at_rest());
+  ASSERT_NEAR(plant.distance_m(), 0.0, 1e-12);
+
+  // What odometry with the nominal wheelbase believes, from the encoder counts.
+  const double count_m = pi * 0.06 / m.counts_per_rev;
+  const double believed =
+      static_cast<double>(plant.right().encoder_count() - plant.left().encoder_count()) * count_m /
+      nominal_wheelbase_m;
+  ASSERT_GT(believed, pi);
+  // True rotation / believed rotation = b_nominal / b_true, within one count of quantisation
+  // per wheel.
+  const double tolerance = 2.0 * count_m / nominal_wheelbase_m / believed;
+  EXPECT_NEAR(plant.pose().theta_rad / believed, nominal_wheelbase_m / m.wheelbase_m, tolerance);
+}
+
+/// Records every edge seen on one wheel's lines.
+struct EdgeLog {
+  Wheel* wheel = nullptr;
+  SimClock* clock = nullptr;
+  std::vector<std::uint8_t> states;
+  std::vector<std::uint64_t> times_ns;
+  static void on_edge(void* context) {
+    auto* log = static_cast<EdgeLog*>(context);
+    const bool a = log->wheel->channel_a().read();
+    const bool b = log->wheel->channel_b().read();
+    log->states.push_back(static_cast<std::uint8_t>((a ? 2u : 0u) | (b ? 1u : 0u)));
+    log->times_ns.push_back(log->clock->ns());
+  }
+};
+
+TEST(Plant, EdgesComeInQuadratureOrderAtTheInstantTheShaftCrossesThem) {
+  Plant plant(quiet_robot(), 11u);
+  EdgeLog log;
+  log.wheel = &plant.left();
+  log.clock = &plant.clock();
+  plant.left().channel_a().on_edge(&EdgeLog::on_edge, &log);
+  plant.left().channel_b().on_edge(&EdgeLog::on_edge, &log);
+  set_wheel(plant.left(), 0.3f);
+  plant.advance_to_ns(1'500'000'000u);
+  set_wheel(plant.left(), -0.3f);  // reverse through zero
+  plant.advance_to_ns(3'000'000'000u);
+  ASSERT_GT(log.states.size(), 1000u);
+
+  // Gray code: each edge changes exactly one line; time never runs backwards.
+  std::uint8_t previous = 0u;  // the plant starts at count 0: A = B = low
+  for (std::size_t i = 0; i < log.states.size(); ++i) {
+    const std::uint8_t changed = static_cast<std::uint8_t>(previous ^ log.states[i]);
+    ASSERT_TRUE(changed == 1u || changed == 2u) << "edge " << i;
+    previous = log.states[i];
+    if (i > 0) {
+      ASSERT_GE(log.times_ns[i], log.times_ns[i - 1]);
+    }
+  }
+
+  // At steady speed the edges are one count apart in angle: interval = (2π/N)/ω, to within the
+  // 1 ns rounding of the edge instant (the speed is constant to 1e-9 after 14 time constants).
+  Plant steady(quiet_robot(), 11u);
+  EdgeLog s;
+  s.wheel = &steady.left();
+  s.clock = &steady.clock();
+  steady.left().channel_a().on_edge(&EdgeLog::on_edge, &s);
+  steady.left().channel_b().on_edge(&EdgeLog::on_edge, &s);
+  set_wheel(steady.left(), 0.5f);
+  steady.advance_to_ns(1'500'000'000u);
+  const std::size_t first = s.times_ns.size();
+  steady.advance_to_ns(1'600'000'000u);
+  const double omega = steady.left().speed_radps();
+  const double interval_ns = 2.0 * pi / steady.model().counts_per_rev / omega * 1e9;
+  for (std::size_t i = first + 1; i < s.times_ns.size(); ++i) {
+    EXPECT_NEAR(static_cast<double>(s.times_ns[i] - s.times_ns[i - 1]), interval_ns, 2.0);
+  }
+}
+
+TEST(Plant, DecoderWiredThroughTheHalCountsEveryEdgeAndNoIllegalOne) {
+  Plant plant(quiet_robot(), 5u);
+  drive::QuadratureDecoder decoder;
+  EncoderWiring wiring(plant.right().channel_a(), plant.right().channel_b(), plant.clock(),
+                       decoder);
+  wiring.attach();
+  set_wheel(plant.right(), 1.0f);
+  plant.advance_to_ns(1'000'000'000u);
+  set_wheel(plant.right(), -1.0f);
+  plant.advance_to_ns(1'300'000'000u);
+  const auto snap = decoder.snapshot();
+  EXPECT_EQ(static_cast<std::int32_t>(snap.count),
+            static_cast<std::int32_t>(plant.right().encoder_count()));
+  EXPECT_EQ(snap.illegal, 0u);
+  EXPECT_GT(snap.edges, 5000u);
+}
+
+TEST(Plant, BumpsShortenTheProgressByTheCableGeometry) {
+  RobotModel m = quiet_robot();
+  m.bump_height_m = 0.010;
+  m.bump_spacing_m = 0.2;
+  m.bump_yaw_sigma_rad = 0.0;
+  m.left_diameter_m = 0.06;
+  m.right_diameter_m = 0.06;
+  Plant plant(m, 9u);
+  const double left0 = plant.left().angle_rad();
+  set_wheel(plant.left(), 0.3f);
+  set_wheel(plant.right(), 0.3f);
+  plant.advance_to_ns(12'000'000'000u);
+  set_wheel(plant.left(), 0.0f);
+  set_wheel(plant.right(), 0.0f);
+  plant.advance_to_ns(14'000'000'000u);
+  const double rolled = 0.03 * (plant.left().angle_rad() - left0);
+  const std::uint32_t bumps = plant.bumps_crossed();
+  ASSERT_GE(bumps, 8u);
+  // Over a 10 mm cable a 30 mm wheel turns through an arc of 2(r+c)·acos((r−c)/(r+c)) while
+  // covering the chord 4·sqrt(r·c): 54.27 mm against 48.99 mm, 5.28 mm lost per bump.
+  const double r = 0.03;
+  const double c = 0.005;
+  const double lost = 2.0 * (r + c) * std::acos((r - c) / (r + c)) - 4.0 * std::sqrt(r * c);
+  EXPECT_NEAR(lost, 0.00528, 0.00001);
+  // Every bump but possibly the last is fully crossed.
+  EXPECT_LE(plant.distance_m(), rolled - (bumps - 1) * lost + 1e-9);
+  EXPECT_GE(plant.distance_m(), rolled - bumps * lost - 1e-9);
+  EXPECT_NEAR(plant.pose().y_m, 0.0, 1e-9);  // symmetric crossings, no kick: still straight
+}
+
+TEST(Plant, PhysicsStepDoesNotChangeTheMotion) {
+  RobotModel coarse = quiet_robot();
+  RobotModel fine = quiet_robot();
+  fine.physics_step_ns = 50'000u;
+  Plant a(coarse, 2u);
+  Plant b(fine, 2u);
+  for (Plant* p : {&a, &b}) {
+    set_wheel(p->left(), 0.25f);
+    set_wheel(p->right(), 0.3f);
+    p->advance_to_ns(1'000'000'000u);
+    set_wheel(p->left(), -0.1f);
+    p->advance_to_ns(2'000'000'000u);
+  }
+  // Exact exponential integration: only the stiction handling depends on the step.
+  EXPECT_NEAR(a.pose().x_m, b.pose().x_m, 1e-6);
+  EXPECT_NEAR(a.pose().y_m, b.pose().y_m, 1e-6);
+  EXPECT_NEAR(a.pose().theta_rad, b.pose().theta_rad, 1e-5);
+}
+
+std::vector<double> noisy_run(std::uint64_t seed) {
+  RobotModel m;
+  m.bump_height_m = 0.01;
+  m.slip_sigma = 0.01;
+  Plant plant(m, seed);
+  set_wheel(plant.left(), 0.3f);
+  set_wheel(plant.right(), 0.31f);
+  plant.advance_to_ns(3'000'000'000u);
+  const WorldPose measured = plant.measure();
+  return {plant.pose().x_m,
+          plant.pose().y_m,
+          plant.pose().theta_rad,
+          measured.x_m,
+          measured.y_m,
+          measured.theta_rad,
+          static_cast<double>(plant.left().encoder_count())};
+}
+
+TEST(Plant, SameSeedSameRunBitForBitAndAnotherSeedDiffers) {
+  EXPECT_EQ(noisy_run(42u), noisy_run(42u));
+  EXPECT_NE(noisy_run(42u), noisy_run(43u));
+}
+
+TEST(RobotModel, RefusesImpossibleRobots) {
+  RobotModel m;
+  EXPECT_EQ(check(m), ModelError::none);
+  m.left_diameter_m = 0.0;
+  EXPECT_EQ(check(m), ModelError::left_diameter);
+  m = RobotModel{};
+  m.right_diameter_m = -1.0;
+  EXPECT_EQ(check(m), ModelError::right_diameter);
+  m = RobotModel{};
+  m.wheelbase_m = 0.05;  // smaller than a wheel
+  EXPECT_EQ(check(m), ModelError::wheelbase);
+  m = RobotModel{};
+  m.counts_per_rev = 1442u;
+  EXPECT_EQ(check(m), ModelError::counts_per_rev);
+  m = RobotModel{};
+  m.bump_height_m = 0.05;  // higher than the wheel's axle
+  EXPECT_EQ(check(m), ModelError::bump);
+  Plant refused(m, 1u);
+  EXPECT_FALSE(refused.ok());
+}
+
+}  // namespace
+}  // namespace odocal::sim

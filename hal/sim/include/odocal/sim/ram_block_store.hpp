@@ -75,14 +75,22 @@ class RamBlockStore : public hal::BlockStore {
   std::size_t partial_units_ = 0u;
 };
 
+namespace detail {
+/// The memory of a StaticRamBlockStore, a base so it exists before RamBlockStore fills it.
+template <std::size_t Size>
+struct RamStorage {
+  std::array<std::uint8_t, Size> bytes{};
+};
+}  // namespace detail
+
 /// A RamBlockStore that owns its memory (a static or stack object: no heap).
 template <std::size_t SectorSize, std::size_t SectorCount, std::size_t Granularity>
-class StaticRamBlockStore final : public RamBlockStore {
+class StaticRamBlockStore final : private detail::RamStorage<SectorSize * SectorCount>,
+                                  public RamBlockStore {
  public:
-  StaticRamBlockStore() : RamBlockStore(storage_.data(), SectorSize, SectorCount, Granularity) {}
-
- private:
-  std::array<std::uint8_t, SectorSize * SectorCount> storage_{};
+  StaticRamBlockStore()
+      : detail::RamStorage<SectorSize * SectorCount>(),
+        RamBlockStore(this->bytes.data(), SectorSize, SectorCount, Granularity) {}
 };
 
 }  // namespace odocal::sim

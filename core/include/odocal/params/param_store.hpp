@@ -1,0 +1,119 @@
+#pragma once
+/// @file
+/// Power-loss-safe parameter store on a hal::BlockStore.
+///
+/// Two sectors (A and B) hold fixed 256-byte slots. Every `save` appends one record (header with a
+/// sequence number, the values, the provenance, CRC-32) to the first blank slot after the newest
+/// record; when that sector is full, the *other* sector (which holds only older records) is erased
+/// and the record goes to its first slot. `load` takes the valid record with the highest sequence
+/// number. A power cut at any instant therefore leaves the newest complete record untouched: a
+/// half-programmed slot fails its CRC and a half-erased sector never holds the newest record.
+/// docs/parameters.md describes the byte layout and the wear it causes.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "odocal/hal/block_store.hpp"
+#include "odocal/params/param_table.hpp"
+
+namespace odocal::params {
+
+/// Bytes of one record slot on the flash (every version).
+inline constexpr std::size_t record_slot_size = 256u;
+/// Record format this firmware writes. Version 1 (the 13 DESIGN parameters, no provenance) is
+/// migrated on load; a newer version is refused.
+inline constexpr std::uint16_t record_format_version = 2u;
+/// First four bytes of every record: "ODCL".
+inline constexpr std::uint32_t record_magic = 0x4C43444Fu;
+
+/// Outcome of decoding one slot.
+enum class DecodeStatus : std::uint8_t {
+  ok,
+  blank,          ///< the slot is erased (all 0xFF)
+  corrupt,        ///< wrong magic, bad length, CRC mismatch, or a value out of range
+  newer_version,  ///< a whole record (CRC fine) of a format newer than this firmware's
+};
+
+/// What a decoded record says about itself.
+struct RecordInfo {
+  std::uint16_t version = 0u;   ///< format version found
+  std::uint32_t sequence = 0u;  ///< save counter (wraps; compared modulo 2^32)
+  bool migrated = false;        ///< values were filled in from defaults (older format or ids)
+};
+
+/// Decodes a record from `data` (`size` bytes, normally one slot). On `ok`, `out` holds the
+/// values; otherwise `out` is untouched. `info` is filled for `ok` and `newer_version`.
+/// Pure; never reads outside [data, data + size).
+[[nodiscard]] DecodeStatus decode_record(const std::uint8_t* data, std::size_t size, ParamSet& out,
+                                         RecordInfo& info);
+
+/// Encodes `set` as a current-format record with `sequence` into `out` (`capacity` >= 256).
+/// Unused bytes up to the slot size are 0xFF. @return bytes holding the record (CRC included),
+/// or 0 when `capacity` is too small.
+[[nodiscard]] std::size_t encode_record(const ParamSet& set, std::uint32_t sequence,
+                                        std::uint8_t* out, std::size_t capacity);
+
+/// Outcome of a store operation.
+enum class StoreResult : std::uint8_t {
+  ok,
+  empty,          ///< load: no valid record (nothing was ever saved, or everything is corrupt)
+  newer_version,  ///< load: the newest record has a newer format; nothing loaded
+  device_error,   ///< the block store failed (I/O, power cut, program verify mismatch)
+  bad_geometry,   ///< the block store cannot hold the two slots sectors (see constructor)
+};
+
+/// Short lower-case message ("no saved parameters", ...).
+[[nodiscard]] const char* to_string(StoreResult result);
+
+/// Where the newest record lives and what it is (for tests and `status`).
+struct StoreInfo {
+  RecordInfo record{};
+  std::size_t sector = 0u;  ///< absolute sector index
+  std::size_t slot = 0u;    ///< slot index inside the sector
+};
+
+/// The A/B record store. Main-loop only (never from the tick or an ISR): a save erases and
+/// programs flash, which may take tens of milliseconds.
+class ParamStore {
+ public:
+  /// Uses sectors `first_sector` and `first_sector + 1` of `device`. They must exist, be at least
+  /// one slot long, and the program granularity must divide the slot size; otherwise every call
+  /// returns `bad_geometry`.
+  ParamStore(hal::BlockStore& device, std::size_t first_sector = 0u);
+
+  /// Loads the newest valid record into `out` (untouched unless `ok`). A version-1 record is
+  /// migrated (missing parameters take their defaults, provenance `migrated`). `info` describes
+  /// the record found (also for `newer_version`).
+  [[nodiscard]] StoreResult load(ParamSet& out, StoreInfo& info);
+
+  /// Appends `set` as a new record (sequence = newest + 1). Refuses (device_error) a set whose
+  /// values are out of range rather than store what load would reject. On `ok`, `info` says where
+  /// it went. Erases at most one sector.
+  [[nodiscard]] StoreResult save(const ParamSet& set, StoreInfo& info);
+
+  /// Slots per sector (0 with a bad geometry).
+  [[nodiscard]] std::size_t slots_per_sector() const { return slots_per_sector_; }
+
+ private:
+  struct Scan {
+    bool found_valid = false;  ///< a loadable record exists
+    bool found_any = false;    ///< a CRC-valid record of any version exists (for sequencing)
+    bool newest_is_newer_version = false;
+    StoreInfo newest{};  ///< newest loadable or newer-version record
+    std::uint32_t max_sequence = 0u;
+  };
+
+  [[nodiscard]] StoreResult scan(Scan& scan, ParamSet* newest_set);
+  [[nodiscard]] StoreResult read_slot(std::size_t sector, std::size_t slot);
+  [[nodiscard]] StoreResult slot_is_blank(std::size_t sector, std::size_t slot, bool& blank);
+  [[nodiscard]] std::size_t address(std::size_t sector, std::size_t slot) const;
+
+  hal::BlockStore& device_;
+  std::size_t first_sector_;
+  std::size_t slots_per_sector_ = 0u;
+  std::array<std::uint8_t, record_slot_size> buffer_{};
+  ParamSet scratch_{};
+};
+
+}  // namespace odocal::params

@@ -1,0 +1,357 @@
+#include "odocal/params/param_store.hpp"
+
+#include <cstring>
+
+#include "odocal/params/crc32.hpp"
+
+namespace odocal::params {
+namespace {
+
+// Record layout (little-endian), see docs/parameters.md:
+//   0 magic u32 | 4 version u16 | 6 length u16 (bytes covered by the CRC) | 8 sequence u32
+//   12 count u16 | 14 reserved u16 | 16 payload ... | length: CRC-32 u32 | 0xFF up to 256.
+// Version 2 payload: count x {id u16, reserved u16, value f32}, then wheel and lateral provenance
+// {method u8, reserved u8, runs u16, date u32, quality f32}.
+// Version 1 payload: 13 f32 values in the order of kVersion1Order, no provenance.
+constexpr std::size_t kHeaderSize = 16u;
+constexpr std::size_t kCrcSize = 4u;
+constexpr std::size_t kEntrySize = 8u;
+constexpr std::size_t kProvenanceSize = 12u;
+constexpr std::size_t kMaxEntries =
+    (record_slot_size - kHeaderSize - kCrcSize - 2u * kProvenanceSize) / kEntrySize;
+
+constexpr std::array<ParamId, 13> kVersion1Order{{
+    ParamId::c_l,
+    ParamId::c_r,
+    ParamId::wheelbase_mm,
+    ParamId::wheel_diameter_mm,
+    ParamId::f_lat,
+    ParamId::f_lon,
+    ParamId::counts_per_rev,
+    ParamId::control_hz,
+    ParamId::kp,
+    ParamId::ki,
+    ParamId::kff,
+    ParamId::max_wheel_radps,
+    ParamId::cmd_timeout_ms,
+}};
+
+static_assert(param_count <= kMaxEntries, "the current record must fit one slot");
+
+std::uint16_t get16(const std::uint8_t* p) {
+  return static_cast<std::uint16_t>(p[0] | (p[1] << 8));
+}
+std::uint32_t get32(const std::uint8_t* p) {
+  return static_cast<std::uint32_t>(p[0]) | (static_cast<std::uint32_t>(p[1]) << 8) |
+         (static_cast<std::uint32_t>(p[2]) << 16) | (static_cast<std::uint32_t>(p[3]) << 24);
+}
+float get_float(const std::uint8_t* p) {
+  const std::uint32_t bits = get32(p);
+  float value;
+  std::memcpy(&value, &bits, sizeof value);
+  return value;
+}
+void put16(std::uint8_t* p, std::uint16_t v) {
+  p[0] = static_cast<std::uint8_t>(v & 0xFFu);
+  p[1] = static_cast<std::uint8_t>(v >> 8);
+}
+void put32(std::uint8_t* p, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) {
+    p[i] = static_cast<std::uint8_t>((v >> (8 * i)) & 0xFFu);
+  }
+}
+void put_float(std::uint8_t* p, float value) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  put32(p, bits);
+}
+
+bool all_erased(const std::uint8_t* data, std::size_t size) {
+  for (std::size_t i = 0; i < size; ++i) {
+    if (data[i] != 0xFFu) {
+      return false;
+    }
+  }
+  return true;
+}
+
+bool decode_provenance(const std::uint8_t* p, Provenance& out) {
+  if (p[0] > static_cast<std::uint8_t>(FactorMethod::migrated)) {
+    return false;
+  }
+  out.method = static_cast<FactorMethod>(p[0]);
+  out.runs = get16(p + 2);
+  out.date_unix_s = get32(p + 4);
+  out.quality_mm = get_float(p + 8);
+  return out.quality_mm == out.quality_mm;  // not NaN
+}
+
+void encode_provenance(const Provenance& in, std::uint8_t* p) {
+  p[0] = static_cast<std::uint8_t>(in.method);
+  p[1] = 0u;
+  put16(p + 2, in.runs);
+  put32(p + 4, in.date_unix_s);
+  put_float(p + 8, in.quality_mm);
+}
+
+// True when sequence a was written after b (serial-number arithmetic, wraps at 2^32).
+bool later(std::uint32_t a, std::uint32_t b) {
+  return static_cast<std::int32_t>(a - b) > 0;
+}
+
+}  // namespace
+
+DecodeStatus decode_record(const std::uint8_t* data, std::size_t size, ParamSet& out,
+                           RecordInfo& info) {
+  if (data == nullptr || size < kHeaderSize + kCrcSize) {
+    return DecodeStatus::corrupt;
+  }
+  if (get32(data) != record_magic) {
+    return all_erased(data, size) ? DecodeStatus::blank : DecodeStatus::corrupt;
+  }
+  const std::uint16_t version = get16(data + 4);
+  const std::size_t length = get16(data + 6);
+  if (length < kHeaderSize || length > size - kCrcSize) {
+    return DecodeStatus::corrupt;
+  }
+  if (crc32(data, length) != get32(data + length)) {
+    return DecodeStatus::corrupt;
+  }
+  const std::uint32_t sequence = get32(data + 8);
+  const std::size_t count = get16(data + 12);
+  if (version > record_format_version) {
+    info.version = version;
+    info.sequence = sequence;
+    info.migrated = false;
+    return DecodeStatus::newer_version;
+  }
+
+  ParamSet set = default_params();
+  bool migrated = false;
+  if (version == 1u) {
+    if (count != kVersion1Order.size() || length != kHeaderSize + 4u * count) {
+      return DecodeStatus::corrupt;
+    }
+    for (std::size_t i = 0; i < count; ++i) {
+      set.set(kVersion1Order[i], get_float(data + kHeaderSize + 4u * i));
+    }
+    // Version 1 kept no provenance: say so rather than claim the factors are defaults.
+    set.wheel.method = FactorMethod::migrated;
+    set.lateral.method = FactorMethod::migrated;
+    migrated = true;
+  } else if (version == 2u) {
+    if (count > kMaxEntries || length != kHeaderSize + kEntrySize * count + 2u * kProvenanceSize) {
+      return DecodeStatus::corrupt;
+    }
+    std::array<bool, param_count> seen{};
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint8_t* entry = data + kHeaderSize + kEntrySize * i;
+      const std::uint16_t id = get16(entry);
+      if (id >= param_count) {
+        continue;  // a parameter this firmware does not know: ignored
+      }
+      if (seen[id]) {
+        return DecodeStatus::corrupt;
+      }
+      seen[id] = true;
+      set.values[id] = get_float(entry + 4);
+    }
+    for (bool present : seen) {
+      migrated = migrated || !present;
+    }
+    const std::uint8_t* provenance = data + kHeaderSize + kEntrySize * count;
+    if (!decode_provenance(provenance, set.wheel) ||
+        !decode_provenance(provenance + kProvenanceSize, set.lateral)) {
+      return DecodeStatus::corrupt;
+    }
+  } else {
+    return DecodeStatus::corrupt;  // version 0 was never written
+  }
+  if (!all_in_range(set)) {
+    return DecodeStatus::corrupt;
+  }
+  out = set;
+  info.version = version;
+  info.sequence = sequence;
+  info.migrated = migrated;
+  return DecodeStatus::ok;
+}
+
+std::size_t encode_record(const ParamSet& set, std::uint32_t sequence, std::uint8_t* out,
+                          std::size_t capacity) {
+  if (out == nullptr || capacity < record_slot_size) {
+    return 0u;
+  }
+  std::memset(out, 0xFF, record_slot_size);
+  const std::size_t length = kHeaderSize + kEntrySize * param_count + 2u * kProvenanceSize;
+  put32(out, record_magic);
+  put16(out + 4, record_format_version);
+  put16(out + 6, static_cast<std::uint16_t>(length));
+  put32(out + 8, sequence);
+  put16(out + 12, static_cast<std::uint16_t>(param_count));
+  put16(out + 14, 0u);
+  for (std::size_t i = 0; i < param_count; ++i) {
+    std::uint8_t* entry = out + kHeaderSize + kEntrySize * i;
+    put16(entry, static_cast<std::uint16_t>(i));
+    put16(entry + 2, 0u);
+    put_float(entry + 4, set.values[i]);
+  }
+  std::uint8_t* provenance = out + kHeaderSize + kEntrySize * param_count;
+  encode_provenance(set.wheel, provenance);
+  encode_provenance(set.lateral, provenance + kProvenanceSize);
+  put32(out + length, crc32(out, length));
+  return length + kCrcSize;
+}
+
+const char* to_string(StoreResult result) {
+  switch (result) {
+    case StoreResult::ok:
+      return "ok";
+    case StoreResult::empty:
+      return "no saved parameters";
+    case StoreResult::newer_version:
+      return "stored record has a newer format than this firmware";
+    case StoreResult::device_error:
+      return "block store failed";
+    case StoreResult::bad_geometry:
+      return "block store too small for two record sectors";
+  }
+  return "unknown";
+}
+
+ParamStore::ParamStore(hal::BlockStore& device, std::size_t first_sector)
+    : device_(device), first_sector_(first_sector) {
+  const std::size_t granularity = device_.program_granularity();
+  const std::size_t sector = device_.sector_size();
+  if (granularity != 0u && granularity <= record_slot_size &&
+      record_slot_size % granularity == 0u && sector >= record_slot_size &&
+      first_sector < device_.sector_count() && device_.sector_count() - first_sector >= 2u) {
+    slots_per_sector_ = sector / record_slot_size;
+  }
+}
+
+std::size_t ParamStore::address(std::size_t sector, std::size_t slot) const {
+  return (first_sector_ + sector) * device_.sector_size() + slot * record_slot_size;
+}
+
+StoreResult ParamStore::read_slot(std::size_t sector, std::size_t slot) {
+  return device_.read(address(sector, slot), buffer_.data(), buffer_.size()) == hal::StoreStatus::ok
+             ? StoreResult::ok
+             : StoreResult::device_error;
+}
+
+StoreResult ParamStore::slot_is_blank(std::size_t sector, std::size_t slot, bool& blank) {
+  const StoreResult result = read_slot(sector, slot);
+  blank = result == StoreResult::ok && all_erased(buffer_.data(), buffer_.size());
+  return result;
+}
+
+StoreResult ParamStore::scan(Scan& found, ParamSet* newest_set) {
+  for (std::size_t sector = 0; sector < 2u; ++sector) {
+    for (std::size_t slot = 0; slot < slots_per_sector_; ++slot) {
+      if (read_slot(sector, slot) != StoreResult::ok) {
+        return StoreResult::device_error;
+      }
+      RecordInfo info;
+      const DecodeStatus status = decode_record(buffer_.data(), buffer_.size(), scratch_, info);
+      if (status != DecodeStatus::ok && status != DecodeStatus::newer_version) {
+        continue;
+      }
+      if (!found.found_any || later(info.sequence, found.newest.record.sequence)) {
+        found.found_any = true;
+        found.newest.record = info;
+        found.newest.sector = first_sector_ + sector;
+        found.newest.slot = slot;
+        found.newest_is_newer_version = status == DecodeStatus::newer_version;
+        found.max_sequence = info.sequence;
+        if (status == DecodeStatus::ok) {
+          found.found_valid = true;
+          if (newest_set != nullptr) {
+            *newest_set = scratch_;
+          }
+        }
+      }
+    }
+  }
+  return StoreResult::ok;
+}
+
+StoreResult ParamStore::load(ParamSet& out, StoreInfo& info) {
+  if (slots_per_sector_ == 0u) {
+    return StoreResult::bad_geometry;
+  }
+  Scan found;
+  ParamSet newest;
+  const StoreResult result = scan(found, &newest);
+  if (result != StoreResult::ok) {
+    return result;
+  }
+  if (!found.found_any) {
+    return StoreResult::empty;
+  }
+  info = found.newest;
+  if (found.newest_is_newer_version) {
+    return StoreResult::newer_version;
+  }
+  out = newest;
+  return StoreResult::ok;
+}
+
+StoreResult ParamStore::save(const ParamSet& set, StoreInfo& info) {
+  if (slots_per_sector_ == 0u) {
+    return StoreResult::bad_geometry;
+  }
+  if (!all_in_range(set)) {
+    return StoreResult::device_error;
+  }
+  Scan found;
+  StoreResult result = scan(found, nullptr);
+  if (result != StoreResult::ok) {
+    return result;
+  }
+  const std::uint32_t sequence = found.found_any ? found.max_sequence + 1u : 1u;
+
+  // The first blank slot after the newest record, in the newest record's sector.
+  std::size_t sector = found.found_any ? found.newest.sector - first_sector_ : 0u;
+  std::size_t slot = found.found_any ? found.newest.slot + 1u : 0u;
+  bool blank = false;
+  for (; slot < slots_per_sector_; ++slot) {
+    result = slot_is_blank(sector, slot, blank);
+    if (result != StoreResult::ok) {
+      return result;
+    }
+    if (blank) {
+      break;
+    }
+  }
+  if (!blank) {
+    // Full: erase the other sector. It holds only older records, so the newest survives a cut.
+    sector = found.found_any ? 1u - sector : 0u;
+    slot = 0u;
+    if (device_.erase(first_sector_ + sector) != hal::StoreStatus::ok) {
+      return StoreResult::device_error;
+    }
+  }
+
+  const std::size_t length = encode_record(set, sequence, buffer_.data(), buffer_.size());
+  const std::size_t granularity = device_.program_granularity();
+  const std::size_t programmed = (length + granularity - 1u) / granularity * granularity;
+  if (device_.program(address(sector, slot), buffer_.data(), programmed) != hal::StoreStatus::ok) {
+    return StoreResult::device_error;
+  }
+  // Read back: a record that does not decode to itself is a failed save.
+  if (read_slot(sector, slot) != StoreResult::ok) {
+    return StoreResult::device_error;
+  }
+  RecordInfo written;
+  if (decode_record(buffer_.data(), buffer_.size(), scratch_, written) != DecodeStatus::ok ||
+      written.sequence != sequence || !same(scratch_, set)) {
+    return StoreResult::device_error;
+  }
+  info.record = written;
+  info.sector = first_sector_ + sector;
+  info.slot = slot;
+  return StoreResult::ok;
+}
+
+}  // namespace odocal::params

@@ -1,0 +1,112 @@
+#pragma once
+/// @file
+/// Quadrature encoder edges from libgpiod v1 line events, fed to the core's decoders.
+
+#include <array>
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <thread>
+
+#include "odocal/drive/quadrature_decoder.hpp"
+#include "odocal/hal/critical_section.hpp"
+#include "odocal/hal/linux_gpiod/gpio_chips.hpp"
+
+namespace odocal::hal::linux_gpiod {
+
+/// The two channels of one wheel's encoder.
+struct EncoderPins {
+  LinePin a;
+  LinePin b;
+};
+
+/// Which wheel.
+enum class Wheel : std::uint8_t { left = 0, right = 1 };
+
+/// Counters of one wheel's event stream. All wrap modulo 2^32.
+struct EncoderStats {
+  std::uint32_t events = 0u;      ///< events read from the kernel
+  std::uint32_t dropped = 0u;     ///< impossible events: an edge of the same line was lost
+  std::uint32_t queue_full = 0u;  ///< reads that found a kernel queue full: edges may be lost
+  std::uint32_t reordered = 0u;   ///< events older than one already decoded (ordering lost)
+};
+
+/// Requests the four encoder lines for both-edge events and decodes them on a thread.
+///
+/// libgpiod v1 gives each line its own event queue (16 events deep in the kernel; newer events
+/// are dropped when it is full) and stamps each event with CLOCK_MONOTONIC. The thread polls
+/// the four queues, merges what it reads by timestamp, holds back events younger than
+/// `holdback_us` (an event of one line may still be on its way while a later one of the other
+/// line is already readable), and feeds each wheel's `QuadratureDecoder` the line levels after
+/// every edge, under the critical section.
+///
+/// A lost edge is detected when the next event of that line repeats the edge type already seen
+/// (a rise on a line already high): an odd number of edges was lost. An even number lost on one
+/// line cannot be seen from the transitions; a read that returns a full queue is counted as
+/// `queue_full` because that is when the kernel drops.
+class EncoderEvents {
+ public:
+  /// Events buffered between reads (held back or not yet decoded).
+  static constexpr std::size_t max_pending = 256u;
+
+  EncoderEvents(drive::QuadratureDecoder& left, drive::QuadratureDecoder& right,
+                hal::CriticalSection& critical)
+      : decoders_{&left, &right}, critical_(critical) {}
+  ~EncoderEvents();
+  EncoderEvents(const EncoderEvents&) = delete;
+  EncoderEvents& operator=(const EncoderEvents&) = delete;
+
+  /// Requests the four lines for both-edge events, reads their levels and resets the decoders
+  /// to them. Set-up only. Fails naming the line when a chip or line is missing or in use.
+  SetupResult open(ChipSet& chips, const EncoderPins& left, const EncoderPins& right,
+                   const char* consumer);
+
+  /// Starts the event thread. `fifo_priority` 1..99 asks for SCHED_FIFO (0: do not);
+  /// `holdback_us` is how long an event waits for older events of the other lines (0..100000).
+  /// The lines stay requested between `stop` and `start`: the kernel keeps queuing meanwhile.
+  SetupResult start(int fifo_priority, std::uint32_t holdback_us);
+
+  /// Stops the thread (events stay queued in the kernel). Safe to call twice.
+  void stop();
+
+  /// Stops and releases the lines.
+  void close();
+
+  /// The counters of one wheel. Any thread.
+  EncoderStats stats(Wheel wheel) const;
+
+  /// Whether the event thread got SCHED_FIFO. Valid once `start` returned.
+  bool realtime() const { return realtime_.load(std::memory_order_relaxed); }
+
+ private:
+  struct Event {
+    std::uint64_t ts_ns;
+    std::uint8_t line;  // 0 left A, 1 left B, 2 right A, 3 right B
+    bool rising;
+  };
+  struct Counters {
+    std::atomic<std::uint32_t> events{0u};
+    std::atomic<std::uint32_t> dropped{0u};
+    std::atomic<std::uint32_t> queue_full{0u};
+    std::atomic<std::uint32_t> reordered{0u};
+  };
+
+  void run(std::uint64_t holdback_ns);
+  void read_line(std::size_t line);
+  void decode_up_to(std::uint64_t limit_ns);
+
+  std::array<drive::QuadratureDecoder*, 2> decoders_;
+  hal::CriticalSection& critical_;
+  std::array<gpiod_line*, 4> lines_{};
+  std::array<int, 4> fds_{-1, -1, -1, -1};
+  std::array<bool, 4> levels_{};  // the level of each line after the last decoded event
+  std::array<Event, max_pending> pending_{};
+  std::size_t pending_count_ = 0u;
+  std::uint64_t last_decoded_ns_ = 0u;
+  std::array<Counters, 2> counters_{};
+  int stop_fd_ = -1;
+  std::thread thread_;
+  std::atomic<bool> realtime_{false};
+};
+
+}  // namespace odocal::hal::linux_gpiod

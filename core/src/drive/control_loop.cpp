@@ -62,6 +62,8 @@ void ControlLoop::take_command(const Inbox& inbox, std::uint32_t now_us) {
       mode_ = Mode::idle;
       drive_twist_ = Twist{};
       faults_ = fault_none;  // stop acknowledges faults
+      left_stall_us_ = 0u;
+      right_stall_us_ = 0u;
       illegal_base_left_ = left_decoder_.snapshot().illegal;
       illegal_base_right_ = right_decoder_.snapshot().illegal;
       break;
@@ -86,20 +88,27 @@ void ControlLoop::take_command(const Inbox& inbox, std::uint32_t now_us) {
   }
 }
 
-void ControlLoop::check_faults(const EncoderSnapshot& left, const EncoderSnapshot& right) {
+void ControlLoop::check_faults(const EncoderSnapshot& left, const EncoderSnapshot& right,
+                               std::uint32_t dt_us) {
   if (left.illegal - illegal_base_left_ > config_.max_illegal) {
     faults_ |= fault_encoder_left;
   }
   if (right.illegal - illegal_base_right_ > config_.max_illegal) {
     faults_ |= fault_encoder_right;
   }
-  const float stall_us = config_.stall_ms * 1000.0f;
-  if (std::fabs(left_duty_) > config_.stall_duty &&
-      static_cast<float>(left_speed_.since_edge_us()) > stall_us) {
+  // A wheel is stalled when it gets a large duty and yields no edge for stall_ms.
+  const auto stall_time = [this, dt_us](std::uint32_t& stalled_us, float duty, std::int32_t moved) {
+    if (std::fabs(duty) > config_.stall_duty && moved == 0) {
+      stalled_us += dt_us;
+    } else {
+      stalled_us = 0u;
+    }
+    return static_cast<float>(stalled_us) * 1e-3f > config_.stall_ms;
+  };
+  if (stall_time(left_stall_us_, left_duty_, left_speed_.delta_counts())) {
     faults_ |= fault_stall_left;
   }
-  if (std::fabs(right_duty_) > config_.stall_duty &&
-      static_cast<float>(right_speed_.since_edge_us()) > stall_us) {
+  if (stall_time(right_stall_us_, right_duty_, right_speed_.delta_counts())) {
     faults_ |= fault_stall_right;
   }
 }
@@ -195,7 +204,7 @@ void ControlLoop::tick(std::uint32_t now_us) {
       kinematics_.wheelbase_m());
 
   // Faults are sticky and park the motors.
-  check_faults(left_snap, right_snap);
+  check_faults(left_snap, right_snap, dt_us);
   if (faults_ != fault_none) {
     mode_ = Mode::fault;
     motion_.cancel();
@@ -217,10 +226,9 @@ void ControlLoop::tick(std::uint32_t now_us) {
       rates.left_radps *= scale;
       rates.right_radps *= scale;
     }
-    const bool at_rest = mode_ == Mode::idle && left_speed_.speed_radps() == 0.0f &&
-                         right_speed_.speed_radps() == 0.0f;
-    if (at_rest) {
-      // Standing still with nothing to do: no holding current, no integrator creep.
+    if (rates.left_radps == 0.0f && rates.right_radps == 0.0f) {
+      // Nothing to drive (idle, settling between segments, stop): release the motors and let
+      // them brake, instead of a velocity loop that would wind up and creep backwards.
       left_controller_.reset();
       right_controller_.reset();
     } else {

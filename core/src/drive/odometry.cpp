@@ -5,6 +5,8 @@
 namespace odocal::drive {
 namespace {
 
+constexpr float kPi = 3.14159265358979323846f;
+
 // Kahan summation: adds `value` to `sum`, carrying the lost low-order bits in `compensation`.
 void add_compensated(float& sum, float& compensation, float value) {
   const float y = value - compensation;
@@ -39,8 +41,11 @@ void Odometry::reset(const Pose& pose) {
   y_m_ = pose.y_m;
   x_comp_ = 0.0f;
   y_comp_ = 0.0f;
-  cos_ = std::cos(pose.theta_rad);
-  sin_ = std::sin(pose.theta_rad);
+  heading_ = std::remainder(pose.theta_rad, 2.0f * kPi);
+  heading_comp_ = 0.0f;
+  cos_ = std::cos(heading_);
+  sin_ = std::sin(heading_);
+  since_resync_ = 0u;
 }
 
 void Odometry::update(float left_m, float right_m, float wheelbase_m) {
@@ -55,12 +60,25 @@ void Odometry::update(float left_m, float right_m, float wheelbase_m) {
   add_compensated(x_m_, x_comp_, chord * mid_cos);
   add_compensated(y_m_, y_comp_, chord * mid_sin);
 
-  // Rotate to the end heading and renormalise against rounding drift.
-  float c = mid_cos * half.cos - mid_sin * half.sin;
-  float s = mid_sin * half.cos + mid_cos * half.sin;
-  const float inverse_norm = 1.0f / std::sqrt(c * c + s * s);
-  cos_ = c * inverse_norm;
-  sin_ = s * inverse_norm;
+  add_compensated(heading_, heading_comp_, dtheta);
+  if (heading_ > kPi) {
+    heading_ -= 2.0f * kPi;
+  } else if (heading_ < -kPi) {
+    heading_ += 2.0f * kPi;
+  }
+  if (++since_resync_ >= resync_period) {
+    // Recompute the vector from the reference heading: rotation rounding never accumulates.
+    since_resync_ = 0u;
+    cos_ = std::cos(heading_);
+    sin_ = std::sin(heading_);
+  } else {
+    // Rotate to the end heading and renormalise.
+    const float c = mid_cos * half.cos - mid_sin * half.sin;
+    const float s = mid_sin * half.cos + mid_cos * half.sin;
+    const float inverse_norm = 1.0f / std::sqrt(c * c + s * s);
+    cos_ = c * inverse_norm;
+    sin_ = s * inverse_norm;
+  }
 
   add_compensated(distance_m_, distance_comp_, ds);
   add_compensated(rotation_rad_, rotation_comp_, dtheta);

@@ -111,7 +111,7 @@ class ControlLoop {
   void apply_config(const DriveConfig& config);
   void take_command(const Inbox& inbox, std::uint32_t now_us);
   [[nodiscard]] Twist twist_for_mode(float dt_s, std::uint32_t dt_us);
-  void check_faults(const EncoderSnapshot& left, const EncoderSnapshot& right);
+  void check_faults(const EncoderSnapshot& left, const EncoderSnapshot& right, std::uint32_t dt_us);
   void drive_motors(float left_duty, float right_duty);
 
   MotorChannel left_;
@@ -136,6 +136,8 @@ class ControlLoop {
   std::uint32_t ticks_ = 0u;
   std::uint32_t illegal_base_left_ = 0u;
   std::uint32_t illegal_base_right_ = 0u;
+  std::uint32_t left_stall_us_ = 0u;  ///< time with a large duty and no edge
+  std::uint32_t right_stall_us_ = 0u;
   float left_duty_ = 0.0f;
   float right_duty_ = 0.0f;
   bool started_ = false;

@@ -1,0 +1,138 @@
+#include "odocal/drive/control_loop.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "alloc_counter.hpp"
+#include "test_plant.hpp"
+
+namespace odocal::drive {
+namespace {
+
+using test::TestRig;
+
+TEST(ControlLoop, DriveForADurationMovesTheCommandedDistanceStraight) {
+  TestRig rig;
+  ASSERT_TRUE(rig.loop.drive(Twist{0.2f, 0.0f}, 1000u));
+  rig.run_for(1.5);
+  EXPECT_EQ(rig.loop.status().mode, Mode::idle);
+  // 1 s at 0.2 m/s, less what the first-order wheels (τ = 50 ms) lag at start (≈ v·τ with the
+  // feed-forward alone; the PI shortens it), plus their coast at the end (≈ v·τ).
+  const Pose p = rig.loop.pose();
+  EXPECT_NEAR(p.x_m, 0.2f, 0.2f * 0.05f * 1.2f);
+  EXPECT_NEAR(p.y_m, 0.0f, 1e-3f);
+  // Nominal robot = true robot here: belief and truth agree to the encoder resolution.
+  EXPECT_NEAR(rig.robot.x, p.x_m, 1e-3);
+  EXPECT_NEAR(rig.robot.theta, p.theta_rad, 2.0 * M_PI * 0.06 / 1440 / 0.15);
+}
+
+TEST(ControlLoop, WheelSpeedsTrackTheInverseKinematics) {
+  TestRig rig;
+  ASSERT_TRUE(rig.loop.drive(Twist{0.15f, 0.8f}, 0u));
+  rig.run_for(0.4);
+  const LoopStatus s = rig.loop.status();
+  EXPECT_NEAR(s.left_radps, (2 * 0.15 - 0.15 * 0.8) / 0.06, 0.05);
+  EXPECT_NEAR(s.right_radps, (2 * 0.15 + 0.15 * 0.8) / 0.06, 0.05);
+}
+
+TEST(ControlLoop, ADriveWithoutDurationStopsAfterTheCommandTimeout) {
+  TestRig rig;
+  ASSERT_TRUE(rig.loop.drive(Twist{0.2f, 0.0f}, 0u));
+  rig.run_for(0.4);
+  EXPECT_EQ(rig.loop.status().mode, Mode::drive);
+  rig.run_for(0.2);  // cmd_timeout_ms = 500
+  EXPECT_EQ(rig.loop.status().mode, Mode::idle);
+  rig.run_for(0.5);
+  EXPECT_NEAR(rig.left.omega, 0.0, 0.05);
+  EXPECT_NEAR(rig.right.omega, 0.0, 0.05);
+}
+
+TEST(ControlLoop, RenewedDriveCommandsKeepItGoing) {
+  TestRig rig;
+  for (int i = 0; i < 5; ++i) {
+    ASSERT_TRUE(rig.loop.drive(Twist{0.2f, 0.0f}, 0u));
+    rig.run_for(0.3);
+  }
+  EXPECT_EQ(rig.loop.status().mode, Mode::drive);
+}
+
+TEST(ControlLoop, IllegalTransitionsTripAStickyFaultThatParksTheMotors) {
+  TestRig rig;
+  ASSERT_TRUE(rig.loop.drive(Twist{0.2f, 0.0f}, 0u));
+  rig.run_for(0.2);
+  for (int i = 0; i < 20; ++i) {  // both channels flipping together: missed edges
+    rig.loop.left_decoder().on_edge(i % 2 == 0, i % 2 == 0, rig.time_us);
+  }
+  rig.run_for(0.01);
+  LoopStatus s = rig.loop.status();
+  EXPECT_EQ(s.mode, Mode::fault);
+  EXPECT_NE(s.faults & fault_encoder_left, 0);
+  EXPECT_FLOAT_EQ(rig.left.pwm.duty, 0.0f);
+  EXPECT_FLOAT_EQ(rig.right.pwm.duty, 0.0f);
+  EXPECT_FALSE(rig.loop.drive(Twist{0.2f, 0.0f}, 0u));  // refused while faulted
+  rig.run_for(0.5);
+  EXPECT_EQ(rig.loop.status().mode, Mode::fault);  // sticky
+  rig.loop.stop();                                 // acknowledges
+  rig.run_for(0.01);
+  s = rig.loop.status();
+  EXPECT_EQ(s.faults, fault_none);
+  EXPECT_EQ(s.mode, Mode::idle);
+  EXPECT_TRUE(rig.loop.drive(Twist{0.1f, 0.0f}, 100u));
+}
+
+TEST(ControlLoop, AStalledWheelTripsTheStallFault) {
+  TestRig rig;
+  rig.right.stalled = true;
+  ASSERT_TRUE(rig.loop.drive(Twist{0.2f, 0.0f}, 0u));
+  for (int i = 0; i < 3; ++i) {
+    rig.run_for(0.2);
+    (void)rig.loop.drive(Twist{0.2f, 0.0f}, 0u);
+  }
+  const LoopStatus s = rig.loop.status();
+  EXPECT_EQ(s.mode, Mode::fault);
+  EXPECT_NE(s.faults & fault_stall_right, 0);
+  EXPECT_EQ(s.faults & fault_stall_left, 0);
+  EXPECT_FLOAT_EQ(rig.right.pwm.duty, 0.0f);
+}
+
+TEST(ControlLoop, InvalidConfigurationIsRefusedAndChangesNothing) {
+  TestRig rig;
+  DriveConfig bad;
+  bad.c_l = NAN;
+  EXPECT_FALSE(rig.loop.configure(bad));
+  bad = DriveConfig{};
+  bad.wheelbase_mm = -3.0f;
+  EXPECT_FALSE(rig.loop.configure(bad));
+  EXPECT_FLOAT_EQ(rig.loop.config().wheelbase_mm, DriveConfig{}.wheelbase_mm);
+  DriveConfig good;
+  good.c_l = 1.01f;
+  EXPECT_TRUE(rig.loop.configure(good));
+  EXPECT_FLOAT_EQ(rig.loop.config().c_l, 1.01f);
+}
+
+TEST(ControlLoop, TheTickNeverAllocatesAndTakesShortCriticalSections) {
+  TestRig rig;
+  ASSERT_TRUE(rig.loop.run(make_umbmark_square(true, 0.5f)));
+  test::AllocationWatch watch;
+  rig.run_for(2.0);
+  EXPECT_EQ(watch.allocations(), 0u);
+  EXPECT_EQ(rig.critical.depth, 0);
+  EXPECT_EQ(rig.critical.max_depth, 1);
+}
+
+TEST(ControlLoop, StopHaltsAPathAtOnce) {
+  TestRig rig;
+  ASSERT_TRUE(rig.loop.run(make_line(2.0f)));
+  rig.run_for(1.0);
+  EXPECT_EQ(rig.loop.status().mode, Mode::path);
+  EXPECT_EQ(rig.loop.status().path, PathId::line);
+  rig.loop.stop();
+  rig.run_for(0.5);
+  EXPECT_EQ(rig.loop.status().mode, Mode::idle);
+  EXPECT_NEAR(rig.left.omega, 0.0, 0.05);
+  EXPECT_LT(rig.loop.pose().x_m, 0.3f);
+}
+
+}  // namespace
+}  // namespace odocal::drive

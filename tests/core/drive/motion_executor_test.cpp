@@ -1,0 +1,113 @@
+#include "odocal/drive/motion_executor.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "test_plant.hpp"
+
+namespace odocal::drive {
+namespace {
+
+using test::TestRig;
+
+// How far a segment can overrun its odometry end: the profile ends at the creep speed
+// (2 % of cruise) and the first-order wheels (τ = 50 ms) coast about creep·τ after the end,
+// plus one tick of travel at creep speed.
+double overrun(double cruise) {
+  return 0.02 * cruise * (0.05 + 0.001) * 1.5;
+}
+
+TEST(Paths, ReadyMadePathsHaveTheirShapes) {
+  const Path cw = make_umbmark_square(true, 4.0f);
+  ASSERT_EQ(cw.count, 8u);
+  EXPECT_EQ(cw.id, PathId::umbmark_cw);
+  EXPECT_FLOAT_EQ(cw.segments[0].distance_m, 4.0f);
+  EXPECT_NEAR(cw.segments[1].angle_rad, -M_PI / 2, 1e-6);
+  const Path ccw = make_umbmark_square(false, 4.0f);
+  EXPECT_NEAR(ccw.segments[1].angle_rad, M_PI / 2, 1e-6);
+  EXPECT_EQ(make_umbmark_square(true, 0.0f).count, 0u);
+  EXPECT_EQ(make_umbmark_square(true, NAN).count, 0u);
+  EXPECT_EQ(make_line(1.5f).count, 1u);
+  EXPECT_EQ(make_line(-1.0f).count, 0u);
+
+  // The unseen path, integrated ideally, ends at (0, 1.6 m) facing 180°.
+  const Path unseen = make_unseen_path();
+  double x = 0, y = 0, th = 0;
+  for (int i = 0; i < unseen.count; ++i) {
+    const Segment& s = unseen.segments[i];
+    if (s.distance_m != 0 && s.angle_rad == 0) {
+      x += s.distance_m * std::cos(th);
+      y += s.distance_m * std::sin(th);
+    } else if (s.distance_m == 0) {
+      th += s.angle_rad;
+    } else {
+      const double r = s.distance_m / s.angle_rad;
+      x += r * (std::sin(th + s.angle_rad) - std::sin(th));
+      y += -r * (std::cos(th + s.angle_rad) - std::cos(th));
+      th += s.angle_rad;
+    }
+  }
+  EXPECT_NEAR(x, 0.0, 1e-5);
+  EXPECT_NEAR(y, 1.6, 1e-5);
+  EXPECT_NEAR(std::fabs(std::remainder(th, 2 * M_PI)), M_PI, 1e-5);
+}
+
+TEST(MotionExecutor, LineEndsOnOdometryAtItsLength) {
+  TestRig rig;
+  ASSERT_TRUE(rig.loop.run(make_line(1.0f)));
+  const double t = rig.run_until_idle(20.0);
+  EXPECT_LT(t, 1.0 / 0.2 + 2.0);
+  EXPECT_NEAR(rig.loop.pose().x_m, 1.0, overrun(0.2) + 1e-3);
+  EXPECT_GE(rig.loop.pose().x_m, 1.0f);
+}
+
+class SquareTest : public testing::TestWithParam<bool> {};
+
+TEST_P(SquareTest, UmbmarkSquareClosesOnItselfInOdometry) {
+  const bool clockwise = GetParam();
+  TestRig rig;
+  ASSERT_TRUE(rig.loop.run(make_umbmark_square(clockwise, 1.0f)));
+  rig.run_until_idle(60.0);
+  ASSERT_EQ(rig.loop.status().mode, Mode::idle);
+  const Pose p = rig.loop.pose();
+  // Each of the four turns may overrun its angle by `overrun(w_max)`; each leg its length by
+  // `overrun(v_max)`. A heading error δ at a corner displaces the rest of the square by up to
+  // δ · (distance still to drive), at most 3 m after the first corner of a 1 m square.
+  const double turn_err = overrun(1.5);
+  const double leg_err = overrun(0.2);
+  EXPECT_LE(std::fabs(p.theta_rad), 4 * turn_err);
+  EXPECT_LE(std::hypot(p.x_m, p.y_m), 4 * leg_err + turn_err * (3 + 2 + 1));
+  // The ideal true robot did the same.
+  EXPECT_NEAR(rig.robot.x, p.x_m, 2e-3);
+  EXPECT_NEAR(rig.robot.y, p.y_m, 2e-3);
+}
+
+INSTANTIATE_TEST_SUITE_P(BothDirections, SquareTest, testing::Values(true, false));
+
+TEST(MotionExecutor, UnseenPathEndsWhereItsGeometrySays) {
+  TestRig rig;
+  ASSERT_TRUE(rig.loop.run(make_unseen_path()));
+  rig.run_until_idle(120.0);
+  ASSERT_EQ(rig.loop.status().mode, Mode::idle);
+  const Pose p = rig.loop.pose();
+  // 7 turns and 8 runs, ~9 m of travel after the first turn: same overrun budget as the square.
+  EXPECT_NEAR(p.x_m, 0.0, 8 * overrun(0.2) + 7 * overrun(1.5) * 9.0);
+  EXPECT_NEAR(p.y_m, 1.6, 8 * overrun(0.2) + 7 * overrun(1.5) * 9.0);
+  EXPECT_NEAR(std::fabs(p.theta_rad), M_PI, 8 * overrun(1.5));
+}
+
+TEST(MotionExecutor, ArcFollowsItsRadius) {
+  TestRig rig;
+  Path arc;
+  arc.push(Segment{0.5f * static_cast<float>(M_PI), static_cast<float>(M_PI) / 2.0f});  // R 1 m
+  ASSERT_TRUE(rig.loop.run(arc));
+  rig.run_until_idle(20.0);
+  const Pose p = rig.loop.pose();
+  EXPECT_NEAR(p.x_m, 1.0, 0.01);
+  EXPECT_NEAR(p.y_m, 1.0, 0.01);
+  EXPECT_NEAR(p.theta_rad, M_PI / 2, 0.01);
+}
+
+}  // namespace
+}  // namespace odocal::drive

@@ -185,7 +185,12 @@ void Plant::deliver_edges(double left_from, double right_from, std::uint64_t t0_
   for (Pending& p : pending) {
     Wheel& w = *p.wheel;
     p.span = w.angle_rad_ - p.from;
-    p.target = static_cast<std::int64_t>(std::floor(w.angle_rad_ / w.count_rad_));
+    // floor() without the libm call: truncation, one less for negative non-integers.
+    const double counts = w.angle_rad_ / w.count_rad_;
+    p.target = static_cast<std::int64_t>(counts);
+    if (static_cast<double>(p.target) > counts) {
+      --p.target;
+    }
     p.direction = p.target > w.count_ ? 1 : -1;
     next_fraction(p);
   }
@@ -194,7 +199,7 @@ void Plant::deliver_edges(double left_from, double right_from, std::uint64_t t0_
     Pending& p = pending[1].fraction < pending[0].fraction ? pending[1] : pending[0];
     double f = p.fraction;
     f = f < 0.0 ? 0.0 : (f > 1.0 ? 1.0 : f);
-    std::uint64_t t = t0_ns + static_cast<std::uint64_t>(std::llround(f * dt_ns));
+    std::uint64_t t = t0_ns + static_cast<std::uint64_t>(f * dt_ns + 0.5);
     if (t < last_ns) {
       t = last_ns;  // the clock never runs backwards, even by a rounding
     }

@@ -47,7 +47,7 @@ struct RobotModel {
   double measure_heading_sigma_rad = 0.00698;  ///< heading noise (0.4°), standard deviation
 
   // Integration.
-  std::uint32_t physics_step_ns = 250000u;  ///< physics step (independent of the control rate)
+  std::uint32_t physics_step_ns = 500000u;  ///< physics step (independent of the control rate)
 };
 
 /// What is wrong with a model, if anything (the first problem found).

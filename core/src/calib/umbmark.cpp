@@ -212,8 +212,8 @@ const char* to_string(UmbmarkStatus status) {
     case UmbmarkStatus::error_too_large:
       return "a return error is larger than the path (4 sides)";
     case UmbmarkStatus::degenerate:
-      return "the errors fit no square geometry (curvature radius below half the wheelbase, "
-             "or a turn error of 90 degrees or more)";
+      return "degenerate: the errors fit no square geometry (curvature radius below half the "
+             "wheelbase, or a turn error of 90 degrees or more)";
   }
   return "unknown status";
 }
@@ -300,7 +300,8 @@ UmbmarkStatus solve_umbmark(const UmbmarkInput& input, UmbmarkResult& result) {
   out.sigma_mm = std::sqrt((cw.scatter_sq + ccw.scatter_sq) / static_cast<double>(runs - 2));
   const std::size_t n = input.cw_count < input.ccw_count ? input.cw_count : input.ccw_count;
   out.sem_mm = out.sigma_mm / std::sqrt(static_cast<double>(n));
-  out.second_pass_recommended = out.e_max_syst_mm >= 3.0 * out.sem_mm;  // 3·SEM rule
+  // 3·SEM rule; no error at all needs no pass even when the runs have no scatter.
+  out.second_pass_recommended = out.e_max_syst_mm > 0.0 && out.e_max_syst_mm >= 3.0 * out.sem_mm;
   result = out;
   return UmbmarkStatus::ok;
 }

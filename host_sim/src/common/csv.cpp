@@ -1,0 +1,180 @@
+#include "odocal/host/csv.hpp"
+
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string_view>
+
+namespace odocal::host {
+namespace {
+
+std::string describe(const std::string& file, std::size_t line, const std::string& field,
+                     const std::string& message) {
+  std::ostringstream out;
+  out << file;
+  if (line > 0) {
+    out << ':' << line;
+  }
+  out << ": ";
+  if (!field.empty()) {
+    out << "field '" << field << "': ";
+  }
+  out << message;
+  return out.str();
+}
+
+std::string trim(const std::string& text) {
+  const auto first = text.find_first_not_of(" \t\r");
+  if (first == std::string::npos) {
+    return {};
+  }
+  const auto last = text.find_last_not_of(" \t\r");
+  return text.substr(first, last - first + 1);
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> fields;
+  std::size_t start = 0;
+  while (true) {
+    const auto comma = line.find(',', start);
+    fields.push_back(trim(line.substr(start, comma - start)));
+    if (comma == std::string::npos) {
+      return fields;
+    }
+    start = comma + 1;
+  }
+}
+
+std::string join(const std::vector<std::string>& parts) {
+  std::string out;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    out += (i == 0 ? "" : ",") + parts[i];
+  }
+  return out;
+}
+
+}  // namespace
+
+InputError::InputError(std::string file, std::size_t line, std::string field,
+                       const std::string& message)
+    : std::runtime_error(describe(file, line, field, message)),
+      file_(std::move(file)),
+      line_(line),
+      field_(std::move(field)) {}
+
+bool parse_finite(const std::string& text, double& value) {
+  if (text.empty() || std::isspace(static_cast<unsigned char>(text.front())) != 0) {
+    return false;
+  }
+  // Only plain decimal notation: strtod alone would also take "nan", "inf" and hex floats.
+  for (const char c : text) {
+    if (std::string_view("0123456789+-.eE").find(c) == std::string_view::npos) {
+      return false;
+    }
+  }
+  errno = 0;
+  char* end = nullptr;
+  const double parsed = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(parsed)) {
+    return false;
+  }
+  value = parsed;
+  return true;
+}
+
+const std::string& CsvTable::text(std::size_t row, std::size_t column) const {
+  return rows.at(row).fields.at(column);
+}
+
+double CsvTable::number(std::size_t row, std::size_t column) const {
+  const std::string& field = text(row, column);
+  double value = 0.0;
+  if (!parse_finite(field, value)) {
+    const std::string lower = [&] {
+      std::string s;
+      for (const char c : field) {
+        s += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      }
+      return s;
+    }();
+    const bool non_finite =
+        lower.find("nan") != std::string::npos || lower.find("inf") != std::string::npos;
+    if (field.empty()) {
+      fail(row, column, "empty, expected a number");
+    }
+    fail(row, column, (non_finite ? "not a finite number: '" : "not a number: '") + field + "'");
+  }
+  return value;
+}
+
+void CsvTable::fail(std::size_t row, std::size_t column, const std::string& message) const {
+  throw InputError(file, rows.at(row).line, columns.at(column), message);
+}
+
+CsvTable read_csv(const std::string& path, const std::vector<std::string>& columns) {
+  std::ifstream in(path);
+  if (!in) {
+    throw InputError(path, 0, "", "cannot open file");
+  }
+  CsvTable table;
+  table.file = path;
+  table.columns = columns;
+  std::string line;
+  std::size_t number = 0;
+  bool have_header = false;
+  while (std::getline(in, line)) {
+    ++number;
+    const std::string content = trim(line);
+    if (content.empty() || content.front() == '#') {
+      continue;
+    }
+    std::vector<std::string> fields = split(content);
+    if (!have_header) {
+      if (fields != columns) {
+        // Name the first column that differs, so the message points at the mistake.
+        std::size_t i = 0;
+        while (i < fields.size() && i < columns.size() && fields[i] == columns[i]) {
+          ++i;
+        }
+        const std::string expected = i < columns.size() ? columns[i] : "(end of header)";
+        throw InputError(
+            path, number, expected,
+            "missing or wrong header: expected '" + join(columns) + "', got '" + content + "'");
+      }
+      have_header = true;
+      continue;
+    }
+    if (fields.size() != columns.size()) {
+      const std::size_t column = fields.size() < columns.size() ? fields.size() : columns.size();
+      throw InputError(path, number, column < columns.size() ? columns[column] : columns.back(),
+                       "expected " + std::to_string(columns.size()) + " fields, got " +
+                           std::to_string(fields.size()));
+    }
+    table.rows.push_back(CsvRow{number, std::move(fields)});
+  }
+  if (!have_header) {
+    throw InputError(path, number == 0 ? 1 : number, columns.empty() ? "" : columns.front(),
+                     "missing header: expected '" + join(columns) + "'");
+  }
+  return table;
+}
+
+std::vector<std::vector<double>> read_numeric_csv(const std::string& path,
+                                                  const std::vector<std::string>& columns) {
+  const CsvTable table = read_csv(path, columns);
+  std::vector<std::vector<double>> rows;
+  rows.reserve(table.rows.size());
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    std::vector<double> values(columns.size());
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      values[c] = table.number(r, c);
+    }
+    rows.push_back(std::move(values));
+  }
+  return rows;
+}
+
+}  // namespace odocal::host

@@ -1,0 +1,110 @@
+#pragma once
+/// @file
+/// The simulated robot as the host programs use it: the robot file, and the firmware's control
+/// loop wired to the hal/sim plant and run by a deterministic event loop.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "odocal/drive/control_loop.hpp"
+#include "odocal/drive/drive_config.hpp"
+#include "odocal/sim/encoder_wiring.hpp"
+#include "odocal/sim/plant.hpp"
+
+namespace odocal::host {
+
+/// A robot as `--robot FILE` describes it: what the firmware is told, and what the robot is.
+struct RobotSpec {
+  drive::DriveConfig nominal{};  ///< wheel_diameter_mm, wheelbase_mm, counts_per_rev (told)
+  sim::RobotModel truth{};       ///< the real robot and its floor
+};
+
+/// The default simulated robot: nominal D 60 mm, b 150 mm, 1440 counts/rev; true D_L 59.91 mm,
+/// D_R 60.03 mm (E_d = 1.002), b 151.5 mm (1 % longer), slip and measurement noise, smooth floor.
+[[nodiscard]] RobotSpec default_robot();
+
+/// Reads a flat JSON robot object (DESIGN "Host program odocal", `--robot FILE`): every key is
+/// optional and falls back to `default_robot()`. Keys: wheel_diameter_mm, wheelbase_mm,
+/// counts_per_rev, true_left_diameter_mm, true_right_diameter_mm, true_wheelbase_mm, slip_sigma,
+/// bump_height_mm, bump_spacing_mm, measure_sigma_mm.
+/// @param text the file's content; @param source its name, for messages.
+/// @param error on failure: "<source>: <key>: <why>" (or the parse position).
+/// @return false (and `spec` untouched) for malformed JSON, an unknown key, a non-number, a
+///         non-positive diameter, a wheelbase not larger than a wheel, and other impossible values.
+[[nodiscard]] bool parse_robot(const std::string& text, const std::string& source, RobotSpec& spec,
+                               std::string& error);
+
+/// Reads and parses a robot file; false with "<path>: cannot read" when it cannot be opened.
+[[nodiscard]] bool load_robot_file(const std::string& path, RobotSpec& spec, std::string& error);
+
+/// The truth as the UMBmark figures see it: E_d = D_R/D_L and the wheelbase factor that makes the
+/// nominal odometry turn right, E_b = (b_true/b_nominal)·(D_nominal/D_true,mean).
+struct TrueErrors {
+  double e_d = 1.0;
+  double e_b = 1.0;
+};
+[[nodiscard]] TrueErrors true_errors(const RobotSpec& spec);
+
+/// A point of a driven path, m (world frame = start frame).
+struct PathPoint {
+  double x_m = 0.0;
+  double y_m = 0.0;
+};
+
+/// One path driven from the origin, as seen by the truth, the firmware and the measurement.
+struct RunOutcome {
+  sim::WorldPose truth{};       ///< ground truth at the end, m / rad
+  sim::WorldPose measured{};    ///< the "absolute" measurement (truth + noise)
+  drive::Pose odometry{};       ///< what the firmware believes
+  double duration_s = 0.0;      ///< from the start of the path to the end of its last segment
+  double left_wheel_rad = 0.0;  ///< encoder rotation of each wheel over the path (firmware view)
+  double right_wheel_rad = 0.0;
+  bool completed = false;  ///< false: timed out or faulted
+};
+
+/// Called with the true pose every `trace_period_ms` while a path runs (for pictures).
+using TraceFn = std::function<void(const sim::WorldPose&)>;
+
+/// The firmware's control loop on the simulated plant. Single-threaded and deterministic: the
+/// event loop runs the physics to each tick instant (edges reach the decoders at their own
+/// instants), then calls ControlLoop::tick.
+class SimulatedRobot {
+ public:
+  /// @param spec the robot; its truth must pass sim::check. @param seed of every random term.
+  SimulatedRobot(const RobotSpec& spec, std::uint64_t seed);
+  ~SimulatedRobot();
+
+  SimulatedRobot(const SimulatedRobot&) = delete;
+  SimulatedRobot& operator=(const SimulatedRobot&) = delete;
+
+  drive::ControlLoop& loop() { return loop_; }
+  sim::Plant& plant() { return plant_; }
+  [[nodiscard]] const RobotSpec& spec() const { return spec_; }
+
+  /// Replaces the firmware configuration (applied at the next tick). False when invalid.
+  [[nodiscard]] bool configure(const drive::DriveConfig& config);
+
+  /// Runs ticks until simulated time reaches `t_ns` (ns since construction).
+  void run_until_ns(std::uint64_t t_ns);
+  /// Runs exactly one control period.
+  void tick_once();
+  /// Simulated time, s.
+  [[nodiscard]] double simulated_s() const { return static_cast<double>(plant_.now_ns()) * 1e-9; }
+
+  /// Puts the robot at the origin, resets odometry, drives `path` to its end, lets the wheels
+  /// come to rest, and measures. `timeout_s` bounds the simulated time spent.
+  RunOutcome run_path(const drive::Path& path, double timeout_s = 600.0, const TraceFn& trace = {},
+                      std::uint32_t trace_period_ms = 100u);
+
+ private:
+  RobotSpec spec_;
+  sim::Plant plant_;
+  drive::ControlLoop loop_;
+  sim::EncoderWiring left_wiring_;
+  sim::EncoderWiring right_wiring_;
+  std::uint64_t period_ns_ = 1000000u;
+  std::uint64_t next_tick_ns_ = 0u;
+};
+
+}  // namespace odocal::host

@@ -1,0 +1,339 @@
+// `odocal sim validate`: the Maddahi & Zareinia protocol on the simulated robot.
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "odocal/host/sim_procedures.hpp"
+#include "odocal/host/sim_svg.hpp"
+
+namespace odocal::host {
+
+sim::WorldPose path_end(const drive::Path& path) {
+  sim::WorldPose p;
+  for (std::uint8_t i = 0; i < path.count; ++i) {
+    const double d = static_cast<double>(path.segments[i].distance_m);
+    const double a = static_cast<double>(path.segments[i].angle_rad);
+    if (a == 0.0) {
+      p.x_m += d * std::cos(p.theta_rad);
+      p.y_m += d * std::sin(p.theta_rad);
+    } else if (d != 0.0) {
+      // Arc of radius d/a: chord 2R·sin(a/2) along the mid heading.
+      const double chord = 2.0 * (d / a) * std::sin(0.5 * a);
+      p.x_m += chord * std::cos(p.theta_rad + 0.5 * a);
+      p.y_m += chord * std::sin(p.theta_rad + 0.5 * a);
+    }
+    p.theta_rad += a;
+  }
+  return p;
+}
+
+namespace {
+
+std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0, double d = 0.0,
+                   double e = 0.0) {
+  char buffer[256];
+  std::snprintf(buffer, sizeof buffer, fmt, a, b, c, d, e);
+  return buffer;
+}
+
+void report_progress(const ProgressFn& progress, const std::string& floor, const std::string& what,
+                     std::size_t i, std::size_t n) {
+  if (progress) {
+    progress("validate (" + floor + "): " + what + " " + std::to_string(i + 1) + "/" +
+             std::to_string(n));
+  }
+}
+
+/// Runs one floor: the straight calibration trials, the two estimates, and the unseen path.
+bool run_floor(SimulatedRobot& robot, const drive::DriveConfig& base, const ValidateOptions& o,
+               std::uint64_t seed, ValidateFloor& floor, std::string& error,
+               const ProgressFn& progress) {
+  robot.plant().set_bumps(floor.bump_height_m, floor.bump_spacing_m);
+  const double nominal_d = static_cast<double>(base.wheel_diameter_mm);
+  const double wheelbase = static_cast<double>(base.wheelbase_mm);
+
+  // 1. Straight trials with no correction (Maddahi section II): the end point and the wheel
+  //    rotations give one training row each, Ẋ = displacement / T and θ̇ = wheel angle / T. The
+  //    cruise speed is spread over the trials so that the regression sees a range of Ẋ.
+  const drive::Path line = drive::make_line(static_cast<float>(floor.line_m));
+  double xdot_sum = 0.0;
+  for (std::size_t i = 0; i < o.trials; ++i) {
+    report_progress(progress, floor.name, "straight trial", i, o.trials);
+    drive::DriveConfig c = base;
+    const double f =
+        o.trials > 1 ? static_cast<double>(i) / static_cast<double>(o.trials - 1) : 0.5;
+    c.v_max_mps =
+        static_cast<float>(o.trial_v_min_mps + f * (o.trial_v_max_mps - o.trial_v_min_mps));
+    if (!robot.configure(c)) {
+      error = "trial configuration refused";
+      return false;
+    }
+    const RunOutcome out = robot.run_path(line);
+    if (!out.completed || !(out.duration_s > 0.0)) {
+      error = "a straight trial did not complete";
+      return false;
+    }
+    const double t = out.duration_s;
+    floor.training.push_back(calib::TrainingRow{out.measured.x_m / t, out.measured.y_m / t,
+                                                out.measured.theta_rad / t, out.left_wheel_rad / t,
+                                                out.right_wheel_rad / t});
+    floor.stops.push_back(calib::StopPoint{out.measured.x_m * 1e3, out.measured.y_m * 1e3});
+    xdot_sum += out.measured.x_m / t;
+  }
+
+  // 2a. Eq. 4/5 from the stop points (reported for reference).
+  calib::LateralInput lateral;
+  lateral.trials = floor.stops.data();
+  lateral.trial_count = floor.stops.size();
+  lateral.length_mm = floor.line_m * 1e3;
+  lateral.wheelbase_mm = wheelbase;
+  lateral.left_diameter_mm = nominal_d;
+  lateral.right_diameter_mm = nominal_d;
+  if (calib::solve_lateral(lateral, floor.eq45) != calib::LateralStatus::ok) {
+    floor.eq45 = calib::LateralResult{};
+  }
+
+  // 2b. Linear regression and bootstrap of the wheel rates for the desired motion: straight
+  //     ahead at the trials' mean speed, Ẋ = (v, 0, 0).
+  floor.unknown = calib::UnknownRow{xdot_sum / static_cast<double>(o.trials), 0.0, 0.0};
+  std::vector<double> scratch(calib::bootstrap_scratch_count(o.replicates, 1));
+  calib::BootstrapInput input;
+  input.training = floor.training.data();
+  input.training_count = floor.training.size();
+  input.unknowns = &floor.unknown;
+  input.unknown_count = 1;
+  input.replicates = o.replicates;
+  input.seed = seed;
+  input.scratch = scratch.data();
+  input.scratch_count = scratch.size();
+  calib::BootstrapFit fit;
+  const calib::BootstrapStatus status = calib::run_bootstrap(input, &floor.estimate, 1, fit);
+  if (status != calib::BootstrapStatus::ok) {
+    error = std::string("bootstrap: ") + calib::to_string(status);
+    return false;
+  }
+  const calib::WheelGeometry geometry{wheelbase, nominal_d, nominal_d};
+  calib::LateralResult cl;
+  calib::LateralResult cb;
+  calib::WheelRateSample sample{floor.unknown.xdot_mps, 0.0, 0.0, floor.estimate.lr_l,
+                                floor.estimate.lr_r};
+  if (calib::factors_from_wheel_rates(sample, geometry, cl) != calib::LateralStatus::ok) {
+    error = "linear-regression factors are degenerate";
+    return false;
+  }
+  sample.omega_l_radps = floor.estimate.boot_l;
+  sample.omega_r_radps = floor.estimate.boot_r;
+  if (calib::factors_from_wheel_rates(sample, geometry, cb) != calib::LateralStatus::ok) {
+    error = "bootstrap factors are degenerate";
+    return false;
+  }
+
+  // 3. The unseen path, 5 runs each with no correction, LR factors and bootstrap factors.
+  const drive::Path unseen = drive::make_unseen_path();
+  const sim::WorldPose goal = path_end(unseen);
+  const calib::LateralResult none{};
+  const std::pair<const char*, calib::LateralResult> scenarios[3] = {
+      {"NC", none}, {"CL", cl}, {"CB", cb}};
+  std::vector<AccuracyTrial> trials;
+  for (const auto& [name, factors] : scenarios) {
+    ValidateScenario s;
+    s.name = name;
+    s.factors = factors;
+    drive::DriveConfig c = base;
+    c.f_lat = static_cast<float>(factors.f_lat);
+    c.f_lon = static_cast<float>(factors.f_lon);
+    if (!robot.configure(c)) {
+      error = std::string(name) + " factors outside the firmware's range";
+      return false;
+    }
+    for (std::size_t i = 0; i < o.runs; ++i) {
+      report_progress(progress, floor.name, std::string("unseen path ") + name, i, o.runs);
+      std::vector<PathPoint> trace;
+      TraceFn tracer;
+      if (o.record_paths) {
+        tracer = [&trace](const sim::WorldPose& p) { trace.push_back(PathPoint{p.x_m, p.y_m}); };
+      }
+      const RunOutcome out = robot.run_path(unseen, 600.0, tracer, 100u);
+      if (!out.completed) {
+        error = "an unseen-path run did not complete";
+        return false;
+      }
+      const calib::EndError e{(out.measured.x_m - goal.x_m) * 1e3,
+                              (out.measured.y_m - goal.y_m) * 1e3};
+      s.errors.push_back(e);
+      trials.push_back(AccuracyTrial{name, e});
+      if (o.record_paths) {
+        s.paths.push_back(std::move(trace));
+      }
+    }
+    floor.scenarios.push_back(std::move(s));
+  }
+  try {
+    floor.accuracy = compute_accuracy(trials, "NC");
+  } catch (const std::exception& e) {
+    error = e.what();
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+ValidateReport run_validate(const RobotSpec& robot_spec, std::uint64_t seed,
+                            const ValidateOptions& options, const ProgressFn& progress) {
+  ValidateReport report;
+  report.seed = seed;
+  report.options = options;
+  RobotSpec spec = robot_spec;
+  // Maddahi eq. 6/7 use the actual wheelbase l̂: the protocol corrects the wheels, not the
+  // wheelbase. Tell the firmware the wheelbase that makes its turns right (what UMBmark's E_b
+  // would give), so the figures measure what F_lat and F_lon can fix.
+  const TrueErrors truth = true_errors(spec);
+  spec.nominal.wheelbase_mm = static_cast<float>(truth.e_b * spec.nominal.wheelbase_mm);
+  report.wheelbase_told_mm = static_cast<double>(spec.nominal.wheelbase_mm);
+  SimulatedRobot robot(spec, seed);
+
+  ValidateFloor smooth;
+  smooth.name = "systematic";
+  smooth.line_m = options.line_m;
+  ValidateFloor bumps;
+  bumps.name = "bumps";
+  bumps.line_m = options.line_bumps_m;
+  const bool robot_bumps = spec.truth.bump_height_m > 0.0;
+  bumps.bump_height_m = robot_bumps ? spec.truth.bump_height_m : options.bump_height_m;
+  bumps.bump_spacing_m = robot_bumps ? spec.truth.bump_spacing_m : options.bump_spacing_m;
+  for (ValidateFloor* floor : {&smooth, &bumps}) {
+    if (!run_floor(robot, spec.nominal, options, seed, *floor, report.error, progress)) {
+      report.error = floor->name + ": " + report.error;
+      return report;
+    }
+    report.floors.push_back(std::move(*floor));
+  }
+  report.simulated_s = robot.simulated_s();
+  report.ok = true;
+  return report;
+}
+
+nlohmann::json validate_report_json(const ValidateReport& r) {
+  nlohmann::json j;
+  j["simulated_s"] = r.simulated_s;
+  j["seed"] = r.seed;
+  if (!r.ok) {
+    j["error"] = r.error;
+    return j;
+  }
+  j["wheelbase_told_mm"] = r.wheelbase_told_mm;
+  for (const ValidateFloor& f : r.floors) {
+    nlohmann::json fj = accuracy_to_json(f.accuracy, "NC");
+    fj["bump_height_mm"] = f.bump_height_m * 1e3;
+    fj["bump_spacing_mm"] = f.bump_spacing_m * 1e3;
+    fj["line_mm"] = f.line_m * 1e3;
+    fj["training_trials"] = f.training.size();
+    nlohmann::json factors;
+    for (const ValidateScenario& s : f.scenarios) {
+      factors[s.name] = lateral_to_json(s.factors);
+      nlohmann::json trials = nlohmann::json::array();
+      for (const calib::EndError& e : s.errors) {
+        trials.push_back(
+            {{"x_mm", e.x_mm}, {"y_mm", e.y_mm}, {"r_mm", std::hypot(e.x_mm, e.y_mm)}});
+      }
+      for (nlohmann::json& sj : fj["scenarios"]) {
+        if (sj["name"] == s.name) {
+          sj["f_lat"] = s.factors.f_lat;
+          sj["f_lon"] = s.factors.f_lon;
+          sj["runs"] = trials;
+        }
+      }
+    }
+    fj["eq4_5"] = lateral_to_json(f.eq45);
+    fj["estimate"] = {{"xdot_mps", f.unknown.xdot_mps},
+                      {"lr_l", f.estimate.lr_l},
+                      {"lr_r", f.estimate.lr_r},
+                      {"boot_l", f.estimate.boot_l},
+                      {"boot_r", f.estimate.boot_r},
+                      {"ci_l", {f.estimate.ci_l_lo, f.estimate.ci_l_hi}},
+                      {"ci_r", {f.estimate.ci_r_lo, f.estimate.ci_r_hi}}};
+    j[f.name] = fj;
+  }
+  return j;
+}
+
+std::string validate_report_text(const ValidateReport& r) {
+  std::ostringstream out;
+  out << "Maddahi & Zareinia protocol on the simulated robot (seed " << r.seed << ")\n";
+  if (!r.ok) {
+    out << "failed: " << r.error << "\n";
+    return out.str();
+  }
+  out << format("firmware told the actual wheelbase l = %.2f mm (eq. 7 assumes it known)\n",
+                r.wheelbase_told_mm);
+  for (const ValidateFloor& f : r.floors) {
+    out << "\n== " << f.name;
+    if (f.bump_height_m > 0.0) {
+      out << format(" (%.0f mm bumps every %.0f mm)", f.bump_height_m * 1e3,
+                    f.bump_spacing_m * 1e3);
+    }
+    out << format(": %.0f straight trials of %.0f mm\n", static_cast<double>(f.training.size()),
+                  f.line_m * 1e3);
+    out << format("  eq. 4/5 from the stop points:  F_lat %.5f  F_lon %.5f\n", f.eq45.f_lat,
+                  f.eq45.f_lon);
+    for (const ValidateScenario& s : f.scenarios) {
+      if (s.name != "NC") {
+        out << format("  ", 0.0) << s.name
+            << format(" factors:  F_lat %.5f  F_lon %.5f\n", s.factors.f_lat, s.factors.f_lon);
+      }
+    }
+    out << "  Unseen path (100 cm square, 100 cm triangle, 80 cm semicircle), END-point error:\n";
+    out << "  scenario trial     x_e mm     y_e mm     r_e mm     RMS mm    k_I\n";
+    for (const ValidateScenario& s : f.scenarios) {
+      const ScenarioAccuracy* acc = nullptr;
+      for (const ScenarioAccuracy& a : f.accuracy) {
+        if (a.name == s.name)
+          acc = &a;
+      }
+      for (std::size_t i = 0; i < s.errors.size(); ++i) {
+        const calib::EndError& e = s.errors[i];
+        out << "  " << s.name
+            << format("       %2.0f %10.1f %10.1f %10.1f", i + 1.0, e.x_mm, e.y_mm,
+                      std::hypot(e.x_mm, e.y_mm));
+        if (i == s.errors.size() / 2 && acc != nullptr) {
+          out << format(" %10.1f", acc->rms_mm);
+          if (s.name != "NC" && acc->improvement_pct) {
+            out << format("  %5.1f%%", *acc->improvement_pct);
+          }
+        }
+        out << "\n";
+      }
+    }
+  }
+  out << format("\nsimulated %.0f s of robot time\n", r.simulated_s);
+  return out.str();
+}
+
+std::string validate_report_svg(const ValidateReport& r) {
+  SvgFigure fig;
+  if (!r.ok) {
+    return fig.finish();
+  }
+  const char* colours[3] = {"#c0392b", "#e67e22", "#2471a3"};
+  for (std::size_t i = 0; i < r.floors.size(); ++i) {
+    const ValidateFloor& f = r.floors[i];
+    SvgPanel& p = fig.panel(i, "Unseen path, " + f.name, "x, m", "y, m");
+    for (std::size_t k = 0; k < f.scenarios.size() && k < 3; ++k) {
+      for (const auto& path : f.scenarios[k].paths) {
+        p.add_line(path, colours[k]);
+      }
+    }
+    const sim::WorldPose goal = path_end(drive::make_unseen_path());
+    p.add_marker(goal.x_m, goal.y_m, "#000000", '+');
+    p.add_marker(0.0, 0.0, "#000000", 'o');
+    p.legend({{colours[0], "NC"},
+              {colours[1], "CL"},
+              {colours[2], "CB"},
+              {"#000000", "start o, END +"}});
+  }
+  return fig.finish();
+}
+
+}  // namespace odocal::host

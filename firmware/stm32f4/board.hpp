@@ -1,0 +1,56 @@
+#pragma once
+/// @file
+/// What the application needs from a board. One board file per image implements these:
+/// board_robot.cpp (the real robot) and board_qemu.cpp (QEMU netduinoplus2). The image is chosen
+/// by which one is linked.
+
+#include <cstdint>
+
+#include "odocal/drive/quadrature_decoder.hpp"
+#include "odocal/hal/block_store.hpp"
+#include "odocal/hal/byte_stream.hpp"
+#include "odocal/hal/digital_output.hpp"
+#include "odocal/hal/monotonic_clock.hpp"
+#include "odocal/hal/pwm_output.hpp"
+#include "odocal/hal/stm32f4/clock.hpp"
+#include "odocal/hal/stm32f4/mmio.hpp"
+
+namespace odocal::firmware {
+
+/// Constants the application reads from the board.
+struct BoardInfo {
+  const char* name;                   ///< "robot" or "qemu"
+  hal::stm32f4::ClockReport clock;    ///< after `board_init`
+  bool has_cycle_counter;             ///< DWT->CYCCNT counts (not in QEMU)
+  hal::stm32f4::Block console_usart;  ///< for fault reports by polling
+};
+
+/// The board's HAL objects, for the application to wire into the core.
+struct BoardParts {
+  hal::ByteStream& console;
+  hal::BlockStore& store;
+  hal::PwmOutput& left_pwm;
+  hal::DigitalOutput& left_forward;
+  hal::PwmOutput& right_pwm;
+  hal::DigitalOutput& right_forward;
+};
+
+/// Clock tree, pins, console, PWM, store. Interrupts still disabled. Called once, first.
+BoardParts board_init();
+/// Info filled by `board_init`.
+const BoardInfo& board_info();
+/// Starts the encoder edges: every edge of a wheel's A or B line feeds that wheel's decoder from
+/// the edge interrupt, stamped with `clock`. Robot: EXTI lines; QEMU: the simulated plant,
+/// advanced to the time of `clock` in a timer interrupt. Call before interrupts are enabled.
+void board_start_encoders(drive::QuadratureDecoder& left, drive::QuadratureDecoder& right,
+                          hal::MonotonicClock& clock);
+/// Runs at the start of every control tick, before it samples the encoders (tick context).
+/// QEMU: brings the simulated plant up to now; robot: nothing.
+void board_before_tick();
+/// Duty 0 on both H-bridges and the drivers disabled, with no dependency on the core or on
+/// interrupts: the fault path. Any context.
+void board_park_motors();
+/// Ends the program (see exit_program).
+[[noreturn]] void board_exit(int status);
+
+}  // namespace odocal::firmware

@@ -1,0 +1,115 @@
+// Board: QEMU netduinoplus2 (an STM32F405 model). QEMU 7.2 models the USARTs, TIM2..5, SysTick,
+// EXTI and SYSCFG, but no GPIO, RCC, flash controller, IWDG or DWT (reads 0, writes ignored).
+// So this image skips the clock set-up (QEMU's core clock is 168 MHz), keeps the parameter store
+// in RAM, and makes the encoder edges with the simulated plant of hal/sim, advanced in a TIM2
+// interrupt and wired to the real decoders. Everything else is the robot image.
+
+#include <cstdint>
+
+#include "board.hpp"
+#include "odocal/hal/stm32f4/interrupts.hpp"
+#include "odocal/hal/stm32f4/irq.hpp"
+#include "odocal/hal/stm32f4/usart.hpp"
+#include "odocal/hal/stm32f4/usart_stream.hpp"
+#include "odocal/sim/encoder_wiring.hpp"
+#include "odocal/sim/plant.hpp"
+#include "odocal/sim/ram_block_store.hpp"
+#include "runtime.hpp"
+
+namespace odocal::firmware {
+namespace {
+
+namespace f4 = hal::stm32f4;
+
+// --- constants of this board ---
+constexpr std::uint32_t core_hz = 168'000'000u;
+/// The plant's interrupt: TIM2's vector at edge priority, pended by software from the tick.
+/// (QEMU 7.2's STM32 timer cannot raise a periodic interrupt: it arms each alarm at
+/// 2·now + ARR, so the periods grow without bound; with PSC != 0 it hangs. Its timers count at
+/// 1 GHz with PSC = 0. So the plant is triggered from SysTick, which QEMU models correctly.)
+constexpr std::uint32_t plant_irq = f4::irq::tim2;
+/// Deterministic floor: the same seed every boot.
+constexpr std::uint64_t plant_seed = 1u;
+/// RAM store: two 4 KiB sectors (the parameter store's A and B), word granularity like the F4.
+constexpr std::size_t store_sector_bytes = 4096u;
+
+// QEMU's first serial port (-serial stdio) is USART1. The baud rate has no effect there.
+constexpr f4::UsartConfig console_config{f4::usart::usart1, f4::irq::usart1, core_hz / 2u, 115200u,
+                                         f4::irq::priority_console};
+
+const BoardInfo info{"qemu",
+                     f4::ClockReport{f4::ClockSource::hse_pll, core_hz, core_hz / 4u, core_hz / 2u},
+                     false, f4::usart::usart1};
+
+f4::UsartStream console{console_config};
+sim::StaticRamBlockStore<store_sector_bytes, 2u, 4u> store;
+sim::Plant plant{sim::RobotModel{}, plant_seed};
+
+/// Plant time follows the firmware clock: 64-bit ns built from wrapping µs differences.
+struct PlantDriver {
+  hal::MonotonicClock* clock = nullptr;
+  std::uint32_t last_us = 0u;
+  std::uint64_t t_ns = 0u;
+};
+PlantDriver driver;
+
+void on_plant_timer(void* context) {
+  auto& d = *static_cast<PlantDriver*>(context);
+  const std::uint32_t now = d.clock->now_us();
+  d.t_ns += static_cast<std::uint64_t>(now - d.last_us) * 1000u;
+  d.last_us = now;
+  plant.advance_to_ns(d.t_ns);  // edges reach the decoders from inside this call
+}
+
+}  // namespace
+
+const BoardInfo& board_info() {
+  return info;
+}
+
+BoardParts board_init() {
+  console.start();
+  return BoardParts{console,
+                    store,
+                    plant.left().pwm(),
+                    plant.left().forward(),
+                    plant.right().pwm(),
+                    plant.right().forward()};
+}
+
+void board_start_encoders(drive::QuadratureDecoder& left, drive::QuadratureDecoder& right,
+                          hal::MonotonicClock& clock) {
+  // The decoders take the plant's clock, which the plant sets to each edge's crossing instant.
+  static sim::EncoderWiring left_wiring{plant.left().channel_a(), plant.left().channel_b(),
+                                        plant.clock(), left};
+  static sim::EncoderWiring right_wiring{plant.right().channel_a(), plant.right().channel_b(),
+                                         plant.clock(), right};
+  // Plant time = firmware time (same epoch), so edge stamps and tick stamps compare directly.
+  driver.clock = &clock;
+  driver.last_us = clock.now_us();
+  driver.t_ns = static_cast<std::uint64_t>(driver.last_us) * 1000u;
+  plant.advance_to_ns(driver.t_ns);
+  left_wiring.attach();
+  right_wiring.attach();
+
+  f4::attach_interrupt(f4::exception_of_irq(plant_irq), &on_plant_timer, &driver);
+  f4::enable_irq(plant_irq, f4::irq::priority_edges);
+}
+
+void board_before_tick() {
+  // Pending a more urgent interrupt from the tick preempts it at once: the plant (and its
+  // edges) catch up to now before the control tick samples the decoders.
+  f4::pend_irq(plant_irq);
+  __asm volatile("dsb\n isb" ::: "memory");  // taken here, not a few instructions later
+}
+
+void board_park_motors() {
+  plant.left().pwm().set_duty(0.0f);
+  plant.right().pwm().set_duty(0.0f);
+}
+
+void board_exit(int status) {
+  semihosting_exit(status);
+}
+
+}  // namespace odocal::firmware

@@ -1,0 +1,173 @@
+// Board: the robot. An STM32F405/407 at 168 MHz from an 8 MHz crystal, two H-bridges
+// (PWM + direction, one shared enable), two quadrature encoders on EXTI lines, the console on
+// USART1, the parameters in flash sectors 1 and 2. docs/wiring.md draws it.
+
+#include <cstdint>
+
+#include "board.hpp"
+#include "odocal/hal/stm32f4/cortex_m4.hpp"
+#include "odocal/hal/stm32f4/flash_store.hpp"
+#include "odocal/hal/stm32f4/gpio_pins.hpp"
+#include "odocal/hal/stm32f4/irq.hpp"
+#include "odocal/hal/stm32f4/rcc.hpp"
+#include "odocal/hal/stm32f4/tim.hpp"
+#include "odocal/hal/stm32f4/timer_pwm.hpp"
+#include "odocal/hal/stm32f4/usart.hpp"
+#include "odocal/hal/stm32f4/usart_stream.hpp"
+
+namespace odocal::firmware {
+namespace {
+
+namespace f4 = hal::stm32f4;
+using f4::gpio::Pin;
+using f4::gpio::Port;
+
+// --- pin map (docs/wiring.md) ---
+constexpr Pin console_tx{Port::a, 9u};   // USART1_TX, AF7
+constexpr Pin console_rx{Port::a, 10u};  // USART1_RX, AF7
+constexpr std::uint8_t af_usart1 = 7u;
+constexpr Pin left_pwm_pin{Port::a, 6u};   // TIM3_CH1, AF2
+constexpr Pin right_pwm_pin{Port::a, 7u};  // TIM3_CH2, AF2
+constexpr std::uint8_t af_tim3 = 2u;
+constexpr Pin left_dir_pin{Port::b, 0u};        // high = forward
+constexpr Pin right_dir_pin{Port::b, 1u};       // high = forward
+constexpr Pin driver_enable_pin{Port::b, 12u};  // high = H-bridges enabled (TB6612 STBY)
+// Encoders: one EXTI line (and vector) per channel, all on port C so one IDR read samples both.
+constexpr Port encoder_port = Port::c;
+constexpr Pin left_a_pin{encoder_port, 0u};   // EXTI0
+constexpr Pin left_b_pin{encoder_port, 1u};   // EXTI1
+constexpr Pin right_a_pin{encoder_port, 2u};  // EXTI2
+constexpr Pin right_b_pin{encoder_port, 3u};  // EXTI3
+
+// --- clocks and peripherals ---
+constexpr f4::ClockPlan clock_plan{8'000'000u, 168'000'000u, 200'000u};
+constexpr std::uint32_t pwm_carrier_hz = 20'000u;
+constexpr std::uint8_t left_pwm_channel = 1u;
+constexpr std::uint8_t right_pwm_channel = 2u;
+constexpr std::size_t store_first_sector = 1u;  // sectors 1 and 2, 16 KiB each (linker script)
+constexpr std::size_t store_sectors = 2u;
+
+BoardInfo info{"robot", f4::ClockReport{}, true, f4::usart::usart1};
+
+f4::GpioOutput left_forward{left_dir_pin, true};
+f4::GpioOutput right_forward{right_dir_pin, true};
+f4::GpioOutput driver_enable{driver_enable_pin, false};
+f4::MemoryBus flash_bus;
+
+/// A clock stub for the flash store until the application's clock exists (see board_init).
+class BootClock final : public hal::MonotonicClock {
+ public:
+  hal::MonotonicClock* real = nullptr;
+
+ private:
+  std::uint32_t do_now_us() override { return real != nullptr ? real->now_us() : ++fallback_; }
+  std::uint32_t fallback_ = 0u;
+};
+BootClock store_clock;
+f4::FlashStore store{flash_bus, store_clock, store_first_sector, store_sectors};
+
+/// One wheel's edge path: an edge on A or B samples both pins with one IDR read.
+struct EncoderPins {
+  std::uint8_t a_bit;
+  std::uint8_t b_bit;
+  drive::QuadratureDecoder* decoder;
+  hal::MonotonicClock* clock;
+};
+EncoderPins left_pins{left_a_pin.number, left_b_pin.number, nullptr, nullptr};
+EncoderPins right_pins{right_a_pin.number, right_b_pin.number, nullptr, nullptr};
+f4::ExtiInput left_a{left_a_pin, f4::gpio::Pull::up};
+f4::ExtiInput left_b{left_b_pin, f4::gpio::Pull::up};
+f4::ExtiInput right_a{right_a_pin, f4::gpio::Pull::up};
+f4::ExtiInput right_b{right_b_pin, f4::gpio::Pull::up};
+
+/// Edge context: latch levels and time into the decoder, nothing else.
+void on_encoder_edge(void* context) {
+  const auto& pins = *static_cast<const EncoderPins*>(context);
+  const std::uint32_t levels = f4::gpio::idr(encoder_port).read();
+  pins.decoder->on_edge(((levels >> pins.a_bit) & 1u) != 0u, ((levels >> pins.b_bit) & 1u) != 0u,
+                        pins.clock->now_us());
+}
+
+}  // namespace
+
+const BoardInfo& board_info() {
+  return info;
+}
+
+BoardParts board_init() {
+  info.clock = f4::configure_clock(clock_plan);
+  // Built from the clock actually reached: on the 16 MHz HSI fallback (no PLL) the baud rate is
+  // the same and the PWM coarser (800 steps instead of 4200).
+  const std::uint32_t apb1_timer_hz =
+      info.clock.pclk1_hz == info.clock.sysclk_hz ? info.clock.pclk1_hz : 2u * info.clock.pclk1_hz;
+  static f4::UsartStream console{f4::UsartConfig{
+      f4::usart::usart1, f4::irq::usart1, info.clock.pclk2_hz, 115200u, f4::irq::priority_console}};
+  static const f4::PwmTimerConfig pwm_timer{f4::tim::tim3, apb1_timer_hz, pwm_carrier_hz};
+  static f4::TimerPwm left_pwm{pwm_timer, left_pwm_channel};
+  static f4::TimerPwm right_pwm{pwm_timer, right_pwm_channel};
+  driver_enable.start();  // low: H-bridges off until the PWM runs at duty 0
+  left_forward.start();
+  right_forward.start();
+  f4::configure_pin(console_tx, f4::gpio::Mode::alternate, f4::gpio::Pull::up,
+                    f4::gpio::Speed::medium, af_usart1);
+  f4::configure_pin(console_rx, f4::gpio::Mode::alternate, f4::gpio::Pull::up,
+                    f4::gpio::Speed::medium, af_usart1);
+  f4::rcc::apb2enr.set(f4::rcc::apb2enr_usart1.mask());
+  console.start();
+
+  left_pwm.start();
+  right_pwm.start();
+  f4::start_pwm_timer(pwm_timer);
+  f4::configure_pin(left_pwm_pin, f4::gpio::Mode::alternate, f4::gpio::Pull::none,
+                    f4::gpio::Speed::fast, af_tim3);
+  f4::configure_pin(right_pwm_pin, f4::gpio::Mode::alternate, f4::gpio::Pull::none,
+                    f4::gpio::Speed::fast, af_tim3);
+  driver_enable.set(true);
+  return BoardParts{console, store, left_pwm, left_forward, right_pwm, right_forward};
+}
+
+void board_start_encoders(drive::QuadratureDecoder& left, drive::QuadratureDecoder& right,
+                          hal::MonotonicClock& clock) {
+  store_clock.real = &clock;
+  left_pins.decoder = &left;
+  left_pins.clock = &clock;
+  right_pins.decoder = &right;
+  right_pins.clock = &clock;
+  left_a.on_edge(&on_encoder_edge, &left_pins);
+  left_b.on_edge(&on_encoder_edge, &left_pins);
+  right_a.on_edge(&on_encoder_edge, &right_pins);
+  right_b.on_edge(&on_encoder_edge, &right_pins);
+  left_a.start(f4::irq::priority_edges);
+  left_b.start(f4::irq::priority_edges);
+  right_a.start(f4::irq::priority_edges);
+  right_b.start(f4::irq::priority_edges);
+  // Levels as they are now, before the first edge interrupt.
+  const std::uint32_t levels = f4::gpio::idr(encoder_port).read();
+  left.reset(((levels >> left_a_pin.number) & 1u) != 0u,
+             ((levels >> left_b_pin.number) & 1u) != 0u);
+  right.reset(((levels >> right_a_pin.number) & 1u) != 0u,
+              ((levels >> right_b_pin.number) & 1u) != 0u);
+}
+
+void board_before_tick() {}
+
+void board_park_motors() {
+  f4::force_pwm_zero(f4::tim::tim3, left_pwm_channel);
+  f4::force_pwm_zero(f4::tim::tim3, right_pwm_channel);
+  f4::gpio::bsrr(driver_enable_pin.port).write(1u << (driver_enable_pin.number + 16u));
+}
+
+void board_exit(int) {
+  board_park_motors();
+  // Let the last report leave the UART (about 90 µs per byte), then reset.
+  for (std::uint32_t i = 0u; i < 2'000'000u; ++i) {
+    if ((f4::usart::sr(f4::usart::usart1).read() & f4::usart::sr_tc.mask()) != 0u) {
+      break;
+    }
+  }
+  f4::scb::aircr.write(f4::scb::aircr_key | f4::scb::aircr_sysresetreq.mask());
+  for (;;) {
+  }
+}
+
+}  // namespace odocal::firmware

@@ -1,0 +1,54 @@
+# Checks a firmware image: no heap, no exception machinery, no printf family, within budget.
+# cmake -DELF=… -DNM=… -DSIZE=… -DFLASH_BUDGET=bytes -DRAM_BUDGET=bytes -P check_image.cmake
+execute_process(COMMAND ${NM} --defined-only ${ELF} OUTPUT_VARIABLE symbols RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "nm failed on ${ELF}")
+endif()
+set(forbidden
+    malloc _malloc_r free _free_r calloc _calloc_r realloc _realloc_r _sbrk _sbrk_r
+    __cxa_throw __cxa_allocate_exception __cxa_begin_catch __gxx_personality_v0
+    _Unwind_RaiseException _Unwind_Resume __cxa_atexit atexit
+    printf _printf_r vfprintf _vfprintf_r _svfprintf_r sprintf snprintf _vfiprintf_r)
+set(found "")
+foreach(sym ${forbidden})
+  string(REGEX MATCH "[0-9a-fA-F]+ [A-Za-z] ${sym}\n" hit "${symbols}")
+  if(hit)
+    list(APPEND found ${sym})
+  endif()
+endforeach()
+if(found)
+  message(FATAL_ERROR "${ELF}: links ${found} (no heap, no exceptions, no printf in the image)")
+endif()
+
+# Flash = everything loaded from flash (vectors, code, constants, .data's initial values);
+# static RAM = .data + .bss (the stack is reserved separately by the linker script).
+execute_process(COMMAND ${SIZE} -A ${ELF} OUTPUT_VARIABLE sections RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "size failed on ${ELF}")
+endif()
+string(REPLACE "\n" ";" lines "${sections}")
+set(flash 0)
+set(ram 0)
+set(stack 0)
+foreach(line ${lines})
+  if(line MATCHES "^(\\.[A-Za-z_.]+) +([0-9]+) +([0-9]+)")
+    set(section ${CMAKE_MATCH_1})
+    set(bytes ${CMAKE_MATCH_2})
+    if(section MATCHES "^\\.(isr_vector|text|rodata|ARM\\.exidx|init_array)$")
+      math(EXPR flash "${flash} + ${bytes}")
+    elseif(section STREQUAL ".data")
+      math(EXPR flash "${flash} + ${bytes}")
+      math(EXPR ram "${ram} + ${bytes}")
+    elseif(section STREQUAL ".bss")
+      math(EXPR ram "${ram} + ${bytes}")
+    elseif(section STREQUAL ".stack")
+      set(stack ${bytes})
+    endif()
+  endif()
+endforeach()
+get_filename_component(image ${ELF} NAME)
+message(STATUS "${image}: flash ${flash} B of ${FLASH_BUDGET}, static RAM ${ram} B of "
+               "${RAM_BUDGET}, stack reserved ${stack} B; no malloc/exceptions/printf linked")
+if(flash GREATER FLASH_BUDGET OR ram GREATER RAM_BUDGET)
+  message(FATAL_ERROR "${image}: over budget")
+endif()

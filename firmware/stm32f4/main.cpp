@@ -1,0 +1,95 @@
+// The firmware application, the same on every board: the control loop in the SysTick interrupt,
+// encoder edges from the board, the console in the main loop, the watchdog fed by a healthy tick.
+
+#include <atomic>
+#include <cstdint>
+
+#include "board.hpp"
+#include "interim_console.hpp"
+#include "odocal/drive/control_loop.hpp"
+#include "odocal/hal/stm32f4/interrupts.hpp"
+#include "odocal/hal/stm32f4/irq.hpp"
+#include "odocal/hal/stm32f4/systick_timer.hpp"
+#include "odocal/hal/stm32f4/watchdog.hpp"
+
+namespace odocal::firmware {
+namespace {
+
+namespace f4 = hal::stm32f4;
+
+/// Nominal watchdog timeout; the LSI spread makes it 1.4..3.8 s. Longer than a flash sector
+/// erase (0.5 s max), during which nothing runs.
+constexpr std::uint32_t watchdog_timeout_ms = 2000u;
+/// The tick feeds the watchdog only while the main loop has run within this long.
+constexpr std::uint32_t main_loop_deadline_us = 1'000'000u;
+
+/// What the tick interrupt needs; lives in `run()`.
+struct TickContext {
+  drive::ControlLoop& loop;
+  f4::SysTickTimer& timer;
+  bool use_cycle_counter;
+  float cycles_per_us;
+  std::atomic<std::uint32_t> main_alive_us{0u};
+};
+
+std::uint32_t cycles_now(const TickContext& context) {
+  return context.use_cycle_counter ? f4::CycleCounter::now() : context.timer.cycles_into_period();
+}
+
+/// The control tick. Tick context (SysTick, priority above the console, below the edges).
+void on_tick(void* raw) {
+  auto& context = *static_cast<TickContext*>(raw);
+  board_before_tick();
+  const std::uint32_t start = cycles_now(context);
+  const std::uint32_t now_us = context.timer.now_us();
+  context.loop.tick(now_us);
+  std::uint32_t cycles = cycles_now(context) - start;
+  if (!context.use_cycle_counter && cycles > context.timer.period_cycles()) {
+    cycles += context.timer.period_cycles();  // SysTick reloaded meanwhile (tick overran)
+  }
+  context.loop.note_tick_duration_us(static_cast<float>(cycles) / context.cycles_per_us);
+  // Healthy: this tick ran (it is the only feeder) and the main loop is alive.
+  if (now_us - context.main_alive_us.load(std::memory_order_relaxed) < main_loop_deadline_us) {
+    f4::Watchdog::feed();
+  }
+}
+
+[[noreturn]] void run() {
+  const bool watchdog_reset = f4::Watchdog::caused_last_reset();
+  BoardParts parts = board_init();
+  const BoardInfo& info = board_info();
+
+  static f4::InterruptCriticalSection critical;
+  static f4::SysTickTimer timer{info.clock.sysclk_hz, f4::irq::priority_tick};
+  static drive::ControlLoop loop{drive::MotorChannel{parts.left_pwm, parts.left_forward},
+                                 drive::MotorChannel{parts.right_pwm, parts.right_forward},
+                                 critical};
+  static TickContext tick{loop, timer, info.has_cycle_counter,
+                          static_cast<float>(info.clock.sysclk_hz) * 1.0e-6f};
+  static InterimConsole console{parts.console, loop, timer, parts.store, info, watchdog_reset};
+
+  if (info.has_cycle_counter) {
+    f4::CycleCounter::start();
+  }
+  board_start_encoders(loop.left_decoder(), loop.right_decoder(), timer);
+  const drive::DriveConfig config = loop.config();
+  static_cast<void>(
+      timer.start(static_cast<std::uint32_t>(config.control_hz + 0.5f), &on_tick, &tick));
+  f4::Watchdog::start(watchdog_timeout_ms);
+  f4::enable_interrupts();
+
+  console.begin();
+  for (;;) {
+    tick.main_alive_us.store(timer.now_us(), std::memory_order_relaxed);
+    if (!console.poll()) {
+      f4::wait_for_interrupt();  // every interrupt wakes the loop: the tick at least each period
+    }
+  }
+}
+
+}  // namespace
+}  // namespace odocal::firmware
+
+int main() {
+  odocal::firmware::run();
+}

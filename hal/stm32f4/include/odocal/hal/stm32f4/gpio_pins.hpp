@@ -1,0 +1,59 @@
+#pragma once
+/// @file
+/// GPIO pin configuration, push-pull outputs, and EXTI edge inputs.
+
+#include <cstdint>
+
+#include "odocal/hal/digital_input.hpp"
+#include "odocal/hal/digital_output.hpp"
+#include "odocal/hal/stm32f4/gpio.hpp"
+
+namespace odocal::hal::stm32f4 {
+
+/// Enables the clock of `pin`'s port and sets its mode, pull and speed. For `Mode::alternate`,
+/// `alternate_function` (0..15, RM0090 / datasheet AF table) selects the peripheral.
+/// Not ISR-safe (read-modify-write of port registers); start-up only.
+void configure_pin(gpio::Pin pin, gpio::Mode mode, gpio::Pull pull = gpio::Pull::none,
+                   gpio::Speed speed = gpio::Speed::low, std::uint8_t alternate_function = 0u);
+
+/// A push-pull output pin.
+class GpioOutput final : public hal::DigitalOutput {
+ public:
+  /// @param initial the level driven from `start()` on.
+  GpioOutput(gpio::Pin pin, bool initial) : pin_(pin), initial_(initial) {}
+  /// Sets the initial level, then makes the pin an output. Start-up only.
+  void start();
+
+ private:
+  /// Single BSRR write: ISR-safe, no read-modify-write.
+  void do_set(bool level) override;
+  gpio::Pin pin_;
+  bool initial_;
+};
+
+/// An input pin whose both edges raise EXTI line `pin.number`. Lines 0..4 have an interrupt
+/// each; 5..9 and 10..15 share one (the handler checks the pending bit of its own line, so two
+/// inputs may share a vector only if the board attaches both).
+class ExtiInput final : public hal::DigitalInput {
+ public:
+  ExtiInput(gpio::Pin pin, gpio::Pull pull) : pin_(pin), pull_(pull) {}
+
+  /// Configures the pin, routes it to its EXTI line (SYSCFG), enables both edges and the NVIC
+  /// interrupt at `priority`. Start-up only; `on_edge` must have been called.
+  void start(std::uint8_t priority);
+
+  /// The EXTI interrupt of this line: clears the pending bit and runs the handler. ISR context.
+  void service();
+
+ private:
+  bool do_read() override;
+  void do_on_edge(hal::EdgeHandler handler, void* context) override;
+  static void on_interrupt(void* self);
+
+  gpio::Pin pin_;
+  gpio::Pull pull_;
+  hal::EdgeHandler handler_ = nullptr;
+  void* context_ = nullptr;
+};
+
+}  // namespace odocal::hal::stm32f4

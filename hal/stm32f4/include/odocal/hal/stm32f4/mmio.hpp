@@ -1,0 +1,71 @@
+#pragma once
+/// @file
+/// Typed descriptions of memory-mapped registers: an address, and bit fields inside it.
+///
+/// Every peripheral header of this folder describes its registers with these two types, so a
+/// register is a `constexpr` value that can be named, passed and unit-tested, not a macro.
+/// The accessors are the only place that turns an address into a volatile pointer.
+
+#include <cstdint>
+
+namespace odocal::hal::stm32f4 {
+
+/// A contiguous bit field of a 32-bit register: `width` bits starting at bit `shift`.
+struct Field {
+  std::uint8_t shift;
+  std::uint8_t width;
+
+  /// The field's bits in place.
+  [[nodiscard]] constexpr std::uint32_t mask() const {
+    return (width >= 32u ? 0xFFFF'FFFFu : ((1u << width) - 1u)) << shift;
+  }
+  /// `value` moved into place (excess bits dropped).
+  [[nodiscard]] constexpr std::uint32_t operator()(std::uint32_t value) const {
+    return (value << shift) & mask();
+  }
+  /// The field's value read out of a whole register value.
+  [[nodiscard]] constexpr std::uint32_t get(std::uint32_t register_value) const {
+    return (register_value & mask()) >> shift;
+  }
+};
+
+/// A one-bit field.
+[[nodiscard]] constexpr Field bit(std::uint8_t position) {
+  return Field{position, 1u};
+}
+
+/// A 32-bit memory-mapped register. Reads and writes are single volatile word accesses, so they
+/// are ISR-safe in themselves; read-modify-write (`modify`, `set`, `clear`) is not atomic and
+/// must only be used on registers that no other context writes.
+struct Register {
+  std::uintptr_t address;
+
+  [[nodiscard]] std::uint32_t read() const { return *pointer(); }
+  void write(std::uint32_t value) const { *pointer() = value; }
+  /// Replaces `field` with `value`, leaving the other bits as read.
+  void modify(Field field, std::uint32_t value) const {
+    write((read() & ~field.mask()) | field(value));
+  }
+  /// Sets (ORs in) `mask`.
+  void set(std::uint32_t mask) const { write(read() | mask); }
+  /// Clears `mask`.
+  void clear(std::uint32_t mask) const { write(read() & ~mask); }
+  /// Reads one field.
+  [[nodiscard]] std::uint32_t get(Field field) const { return field.get(read()); }
+
+ private:
+  [[nodiscard]] volatile std::uint32_t* pointer() const {
+    // The one cast from an address to a register.
+    return reinterpret_cast<volatile std::uint32_t*>(address);
+  }
+};
+
+/// A register block: registers at offsets from a base address (one per peripheral instance).
+struct Block {
+  std::uintptr_t base;
+  [[nodiscard]] constexpr Register at(std::uintptr_t offset) const {
+    return Register{base + offset};
+  }
+};
+
+}  // namespace odocal::hal::stm32f4

@@ -1,0 +1,57 @@
+#pragma once
+/// @file
+/// Console byte stream on a USART, interrupt-driven in both directions.
+
+#include <atomic>
+#include <cstdint>
+
+#include "odocal/hal/byte_stream.hpp"
+#include "odocal/hal/stm32f4/mmio.hpp"
+#include "odocal/hal/stm32f4/spsc_ring.hpp"
+
+namespace odocal::hal::stm32f4 {
+
+/// Where the console USART is and how fast it runs.
+struct UsartConfig {
+  Block usart;            ///< register block (usart::usart1, ...)
+  std::uint32_t irq;      ///< its interrupt number
+  std::uint32_t pclk_hz;  ///< clock of its APB bus
+  std::uint32_t baud;     ///< 115200 for the console
+  std::uint8_t priority;  ///< interrupt priority (below the tick)
+};
+
+/// 8N1 USART with a 256-byte receive ring and a 1 KiB transmit ring, both filled/drained by the
+/// USART interrupt. `read`/`write` are main-loop only and never block: `write` queues what fits.
+///
+/// Transmission is started by pending the USART interrupt after queueing: the handler writes
+/// while TXE is set and keeps TXEIE on only while bytes remain. (QEMU's USART never raises the
+/// TXE interrupt but always reads TXE = 1, so there one pended interrupt drains the ring.)
+class UsartStream final : public hal::ByteStream {
+ public:
+  explicit UsartStream(const UsartConfig& config);
+
+  /// Configures the USART (pins and clocks are the board's job) and enables its interrupt.
+  /// Not ISR-safe; call once before interrupts are enabled.
+  void start();
+
+  /// Bytes dropped because the receive ring was full or the USART overran. ISR-safe.
+  [[nodiscard]] std::uint32_t rx_dropped() const {
+    return rx_dropped_.load(std::memory_order_relaxed);
+  }
+
+  /// Writes `text` by polling, bypassing the ring: for fault reports with interrupts disabled.
+  /// Gives up on a byte after a bounded wait. Any context.
+  static void emergency_write(Block usart, const char* text);
+
+ private:
+  std::size_t do_read(std::uint8_t* out, std::size_t capacity) override;
+  std::size_t do_write(const std::uint8_t* data, std::size_t size) override;
+  static void on_interrupt(void* self);
+
+  UsartConfig config_;
+  SpscRing<256> rx_;
+  SpscRing<1024> tx_;
+  std::atomic<std::uint32_t> rx_dropped_{0u};
+};
+
+}  // namespace odocal::hal::stm32f4

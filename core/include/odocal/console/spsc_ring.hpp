@@ -1,0 +1,65 @@
+#pragma once
+/// @file
+/// Single-producer / single-consumer ring of bytes for data crossing from an interrupt (or a
+/// reader thread) to the main loop.
+
+#include <array>
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+
+namespace odocal::console {
+
+/// Lock-free SPSC ring of `Capacity` - 1 usable bytes (`Capacity` a power of two, >= 2).
+///
+/// Exactly one context calls `push` (e.g. the UART RX interrupt) and exactly one calls `pop` /
+/// `size` (the main loop). The producer publishes a byte with a release store of `head_` after
+/// writing it; the consumer reads `head_` with acquire before reading the byte, and hands the slot
+/// back with a release store of `tail_`, so neither side ever sees a half-written slot. No
+/// critical section, no `volatile`.
+template <std::size_t Capacity>
+class SpscRing {
+  static_assert(Capacity >= 2u && (Capacity & (Capacity - 1u)) == 0u,
+                "capacity must be a power of two");
+
+ public:
+  /// Appends one byte. Producer context only; ISR-safe. @return false (byte dropped) when full.
+  bool push(std::uint8_t byte) {
+    const std::size_t head = head_.load(std::memory_order_relaxed);
+    const std::size_t next = (head + 1u) & (Capacity - 1u);
+    if (next == tail_.load(std::memory_order_acquire)) {
+      return false;
+    }
+    bytes_[head] = byte;
+    head_.store(next, std::memory_order_release);
+    return true;
+  }
+
+  /// Removes the oldest byte into `byte`. Consumer context only. @return false when empty.
+  bool pop(std::uint8_t& byte) {
+    const std::size_t tail = tail_.load(std::memory_order_relaxed);
+    if (tail == head_.load(std::memory_order_acquire)) {
+      return false;
+    }
+    byte = bytes_[tail];
+    tail_.store((tail + 1u) & (Capacity - 1u), std::memory_order_release);
+    return true;
+  }
+
+  /// Bytes waiting. Exact in the consumer context; a lower bound elsewhere.
+  [[nodiscard]] std::size_t size() const {
+    const std::size_t head = head_.load(std::memory_order_acquire);
+    const std::size_t tail = tail_.load(std::memory_order_acquire);
+    return (head - tail) & (Capacity - 1u);
+  }
+
+  /// Bytes that can still be pushed (exact in the producer context).
+  [[nodiscard]] std::size_t free_space() const { return Capacity - 1u - size(); }
+
+ private:
+  std::array<std::uint8_t, Capacity> bytes_{};
+  std::atomic<std::size_t> head_{0u};  ///< next slot the producer writes
+  std::atomic<std::size_t> tail_{0u};  ///< next slot the consumer reads
+};
+
+}  // namespace odocal::console

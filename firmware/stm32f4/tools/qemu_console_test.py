@@ -1,0 +1,225 @@
+#!/usr/bin/env python3
+"""Boots odocal-fw-qemu.elf in QEMU (netduinoplus2), talks to its console and checks the answers.
+
+Exit status: 0 when every check passed, 1 when one failed, 2 when QEMU could not be run.
+The guest ends the session itself (Ctrl-D -> semihosting exit), and its exit status is checked.
+"""
+
+import argparse
+import math
+import os
+import re
+import subprocess
+import sys
+import threading
+import time
+
+
+class Guest:
+    """The QEMU process and a byte buffer of everything it printed."""
+
+    def __init__(self, qemu, elf, icount, timeout_s):
+        command = ["timeout", str(timeout_s), qemu, "-M", "netduinoplus2", "-display", "none",
+                   "-monitor", "none", "-serial", "stdio",
+                   "-semihosting-config", "enable=on,target=native", "-kernel", elf]
+        if icount:
+            # One instruction = 1 ns of virtual time; idle time is skipped (sleep=off), so the
+            # run is deterministic per input and faster than real time.
+            command += ["-icount", "shift=0,sleep=off"]
+        self.argv = command
+        self.process = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                        stderr=subprocess.PIPE)
+        self.output = b""
+        self.cursor = 0
+        self.lock = threading.Lock()
+        self.reader = threading.Thread(target=self._read, daemon=True)
+        self.reader.start()
+
+    def _read(self):
+        while True:
+            chunk = self.process.stdout.read1(4096)
+            if not chunk:
+                return
+            with self.lock:
+                self.output += chunk
+
+    def expect(self, pattern, timeout_s):
+        """Waits for `pattern` (bytes regex) after the cursor; returns the match or None."""
+        deadline = time.monotonic() + timeout_s
+        regex = re.compile(pattern)
+        while time.monotonic() < deadline:
+            with self.lock:
+                match = regex.search(self.output, self.cursor)
+                if match:
+                    self.cursor = match.end()
+                    return match
+            if self.process.poll() is not None and not self.reader.is_alive():
+                return None
+            time.sleep(0.01)
+        return None
+
+    def send(self, text):
+        self.process.stdin.write(text.encode())
+        self.process.stdin.flush()
+
+    def command(self, line, timeout_s=10.0):
+        """Types one command line (LF-terminated: a script, not a terminal); returns the reply."""
+        self.send(line + "\n")
+        match = self.expect(rb"(?m)^(ok|err)\b([^\r\n]*)\r?\n", timeout_s)
+        if match is None:
+            return None
+        return (match.group(1) + match.group(2)).decode(errors="replace")
+
+
+def fields(reply):
+    """key=value pairs of an `ok` reply."""
+    return dict(re.findall(r"(\w+)=(\S+)", reply or ""))
+
+
+class Checks:
+    def __init__(self):
+        self.failures = 0
+
+    def check(self, condition, what, detail=""):
+        print(("PASS " if condition else "FAIL ") + what + (f"  [{detail}]" if detail else ""))
+        if not condition:
+            self.failures += 1
+        return condition
+
+
+def wait_idle(guest, timeout_s):
+    """Polls `status` until the loop is idle; returns the last status fields."""
+    deadline = time.monotonic() + timeout_s
+    status = {}
+    while time.monotonic() < deadline:
+        status = fields(guest.command("status"))
+        if status.get("mode") in ("idle", "fault"):
+            return status
+        time.sleep(0.2)
+    return status
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--qemu", default="qemu-system-arm")
+    parser.add_argument("--elf", required=True)
+    parser.add_argument("--timeout", type=int, default=240, help="whole session, s")
+    parser.add_argument("--no-icount", action="store_true", help="real-time virtual clock")
+    parser.add_argument("--params", choices=["on", "off"], default="on",
+                        help="check get/set/save (off while the image has the interim console)")
+    parser.add_argument("--tick-budget", type=int, default=2000,
+                        help="max instructions of the control tick (with -icount)")
+    args = parser.parse_args()
+    if not os.path.exists(args.elf):
+        print(f"no image {args.elf}")
+        return 2
+
+    guest = Guest(args.qemu, args.elf, not args.no_icount, args.timeout)
+    checks = Checks()
+    # QEMU's USART drops bytes that arrive before the receiver is on: wait for the prompt.
+    banner = guest.expect(rb"odocal-fw [^\r\n]*\r?\n", 30.0)
+    prompt = guest.expect(rb"> ", 10.0)
+    if not checks.check(banner is not None and prompt is not None, "boots to the prompt"):
+        print(guest.output.decode(errors="replace"))
+        guest.process.kill()
+        return 1
+    print("banner:", banner.group(0).decode().strip())
+
+    reply = guest.command("version")
+    checks.check(reply is not None and reply.startswith("ok") and "version=" in reply,
+                 "version answers ok version=...", reply)
+
+    if args.params == "on":
+        reply = guest.command("get wheelbase_mm")
+        checks.check(reply is not None and reply.startswith("ok"), "get wheelbase_mm", reply)
+        reply = guest.command("set c_l 7")
+        checks.check(reply is not None and reply.startswith("err"), "set out of range refused",
+                     reply)
+        reply = guest.command("set kp 1x")
+        checks.check(reply is not None and reply.startswith("err"), "set with junk refused", reply)
+        reply = guest.command("get c_l")
+        checks.check(reply is not None and reply.startswith("ok") and
+                     abs(float(next(iter(v for k, v in fields(reply).items()
+                                         if k in ("c_l", "value")), "nan")) - 1.0) < 1e-6,
+                     "refused set changed nothing", reply)
+        reply = guest.command("set kff 0.034")
+        checks.check(reply is not None and reply.startswith("ok"), "set kff 0.034", reply)
+        reply = guest.command("save")
+        checks.check(reply is not None and reply.startswith("ok"), "save", reply)
+        reply = guest.command("get kff")
+        checks.check(reply is not None and "0.034" in reply, "get returns the saved value", reply)
+
+    reply = guest.command("bogus")
+    checks.check(reply is not None and reply.startswith("err"), "unknown command refused", reply)
+
+    # Straight line: 0.2 m/s for 1 s moves about 0.2 m forward (plus the ramps), no turn.
+    guest.command("odom reset")
+    reply = guest.command("drive 0.2 0 1000")
+    checks.check(reply is not None and reply.startswith("ok"), "drive 0.2 0 1000", reply)
+    status = wait_idle(guest, 60.0)
+    pose = fields(guest.command("odom"))
+    x, y, theta = (float(pose.get(k, "nan")) for k in ("x_mm", "y_mm", "theta_deg"))
+    checks.check(150.0 <= x <= 260.0 and abs(y) < 5.0 and abs(theta) < 1.0,
+                 "drive moved forward ~200 mm, straight", f"x={x} y={y} theta={theta}")
+
+    # Turn in place: +1 rad/s for 1 s turns left (counter-clockwise), about 57 degrees.
+    guest.command("odom reset")
+    guest.command("drive 0 1 1000")
+    wait_idle(guest, 60.0)
+    pose = fields(guest.command("odom"))
+    x, y, theta = (float(pose.get(k, "nan")) for k in ("x_mm", "y_mm", "theta_deg"))
+    checks.check(40.0 <= theta <= 75.0 and math.hypot(x, y) < 5.0,
+                 "drive 0 1 turned left in place", f"x={x} y={y} theta={theta}")
+
+    # The UMBmark ccw square of 1 m ends near the start, facing the start heading.
+    guest.command("odom reset")
+    reply = guest.command("run umbmark-ccw 1")
+    checks.check(reply is not None and reply.startswith("ok"), "run umbmark-ccw 1", reply)
+    running = fields(guest.command("status"))
+    checks.check(running.get("mode") == "path", "status shows the path running",
+                 " ".join(f"{k}={v}" for k, v in running.items() if k in ("mode", "path")))
+    status = wait_idle(guest, 150.0)
+    pose = fields(guest.command("odom"))
+    x, y, theta = (float(pose.get(k, "nan")) for k in ("x_mm", "y_mm", "theta_deg"))
+    wrapped = (theta + 180.0) % 360.0 - 180.0
+    checks.check(status.get("mode") == "idle" and math.hypot(x, y) < 30.0 and abs(wrapped) < 3.0,
+                 "umbmark-ccw 1 m square closes in odometry", f"x={x} y={y} theta={theta}")
+
+    # Tick rate: ticks counted against the clock, between two status replies.
+    first = fields(guest.command("status"))
+    time.sleep(1.0)
+    second = fields(guest.command("status"))
+    try:
+        dticks = int(second["ticks"]) - int(first["ticks"])
+        dms = int(second["uptime_ms"]) - int(first["uptime_ms"])
+        rate_ok = dms > 100 and abs(dticks / dms - 1.0) < 0.01
+        detail = f"{dticks} ticks in {dms} ms"
+    except (KeyError, ValueError):
+        rate_ok, detail = False, str(second)
+    checks.check(rate_ok, "tick keeps 1 kHz", detail)
+    checks.check(second.get("faults") == "0", "no faults", second.get("faults", "?"))
+    if not args.no_icount:
+        tick_us = float(second.get("tick_us_max", "nan"))
+        instructions = tick_us * 1000.0  # -icount shift=0: 1 instruction = 1 ns
+        print(f"measured: control tick max {instructions:.0f} instructions "
+              f"(avg {float(second.get('tick_us_avg', 'nan')) * 1000.0:.0f})")
+        checks.check(instructions <= args.tick_budget,
+                     f"control tick <= {args.tick_budget} instructions", f"{instructions:.0f}")
+
+    guest.send("\x04")  # Ctrl-D: the guest exits through semihosting with status 0
+    try:
+        status_code = guest.process.wait(timeout=20)
+    except subprocess.TimeoutExpired:
+        guest.process.kill()
+        status_code = -1
+    checks.check(status_code == 0, "guest exits with status 0", str(status_code))
+    if checks.failures:
+        print("---- console transcript ----")
+        print(guest.output.decode(errors="replace"))
+        print(guest.process.stderr.read().decode(errors="replace"))
+    print(f"{checks.failures} failure(s)")
+    return 1 if checks.failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -65,6 +65,11 @@ bool run_floor(SimulatedRobot& robot, const drive::DriveConfig& base, const Vali
         o.trials > 1 ? static_cast<double>(i) / static_cast<double>(o.trials - 1) : 0.5;
     c.v_max_mps =
         static_cast<float>(o.trial_v_min_mps + f * (o.trial_v_max_mps - o.trial_v_min_mps));
+    // Also spread the commanded curvature (a lateral factor around 1, in an order unrelated to
+    // the speed): with both wheels always commanded alike, ẏ and θ̇ of every trial would be
+    // proportional to ẋ and eq. 10 could not tell the wheels apart.
+    const double g = std::fmod(static_cast<double>(i) * 0.6180339887498949, 1.0) * 2.0 - 1.0;
+    c.f_lat = static_cast<float>(1.0 + o.trial_lateral_spread * g);
     if (!robot.configure(c)) {
       error = "trial configuration refused";
       return false;

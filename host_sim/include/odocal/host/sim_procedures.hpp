@@ -81,9 +81,10 @@ struct ValidateOptions {
   double line_bumps_m = 2.0;      ///< their length over the bumps (the paper: 2 m)
   double trial_v_min_mps = 0.10;  ///< trial cruise speeds spread over [min, max]
   double trial_v_max_mps = 0.30;
-  std::size_t runs = 5;             ///< runs of the unseen path per scenario (the paper: 5)
-  std::uint32_t replicates = 1000;  ///< bootstrap B
-  double bump_height_m = 0.010;     ///< used when the robot file gives no bumps (Maddahi)
+  double trial_lateral_spread = 0.01;  ///< trial F_lat spread over 1 ± this (excites eq. 10)
+  std::size_t runs = 5;                ///< runs of the unseen path per scenario (the paper: 5)
+  std::uint32_t replicates = 1000;     ///< bootstrap B
+  double bump_height_m = 0.010;        ///< used when the robot file gives no bumps (Maddahi)
   double bump_spacing_m = 0.200;
   bool record_paths = false;
 };

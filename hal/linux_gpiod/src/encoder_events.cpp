@@ -53,6 +53,8 @@ SetupResult EncoderEvents::open(ChipSet& chips, const EncoderPins& left, const E
       return failed;
     }
     levels_[i] = level != 0;
+    disagreed_[i] = false;
+    was_full_[i] = false;
   }
   {
     CriticalGuard guard(critical_);
@@ -119,6 +121,7 @@ EncoderStats EncoderEvents::stats(Wheel wheel) const {
   EncoderStats stats;
   stats.events = c.events.load(std::memory_order_relaxed);
   stats.dropped = c.dropped.load(std::memory_order_relaxed);
+  stats.misread = c.misread.load(std::memory_order_relaxed);
   stats.queue_full = c.queue_full.load(std::memory_order_relaxed);
   stats.reordered = c.reordered.load(std::memory_order_relaxed);
   return stats;
@@ -166,12 +169,15 @@ void EncoderEvents::read_line(std::size_t line) {
   }
   Counters& counters = counters_[line / 2u];
   counters.events.fetch_add(static_cast<std::uint32_t>(count), std::memory_order_relaxed);
-  if (count == kKernelQueueDepth) {
+  const bool gap = was_full_[line];
+  was_full_[line] = count == kKernelQueueDepth;
+  if (was_full_[line]) {
     counters.queue_full.fetch_add(1u, std::memory_order_relaxed);
   }
   for (int i = 0; i < count; ++i) {
-    pending_[pending_count_++] = Event{ns_of(events[i].ts), static_cast<std::uint8_t>(line),
-                                       events[i].event_type == GPIOD_LINE_EVENT_RISING_EDGE};
+    pending_[pending_count_++] =
+        Event{ns_of(events[i].ts), static_cast<std::uint8_t>(line),
+              events[i].event_type == GPIOD_LINE_EVENT_RISING_EDGE, gap && i == 0};
   }
 }
 
@@ -187,12 +193,21 @@ void EncoderEvents::decode_up_to(std::uint64_t limit_ns) {
       } else {
         last_decoded_ns_ = event.ts_ns;
       }
-      if (levels_[event.line] == event.rising) {
-        // A rise on a line already high (or a fall on a low one): its opposite edge was lost.
-        counters_[wheel].dropped.fetch_add(1u, std::memory_order_relaxed);
-        continue;
+      if (event.rising == levels_[event.line]) {
+        // Impossible: a rise on a line already high, or a fall on a low one.
+        if (event.after_gap || disagreed_[event.line]) {
+          // Edges were lost: the reported type is the line's level now; nothing to decode.
+          counters_[wheel].dropped.fetch_add(1u, std::memory_order_relaxed);
+          disagreed_[event.line] = false;
+          continue;
+        }
+        // Most likely the kernel read the level after the next edge: trust the event count.
+        counters_[wheel].misread.fetch_add(1u, std::memory_order_relaxed);
+        disagreed_[event.line] = true;
+      } else {
+        disagreed_[event.line] = false;
       }
-      levels_[event.line] = event.rising;
+      levels_[event.line] = !levels_[event.line];
       decoders_[wheel]->on_edge(levels_[wheel * 2u], levels_[wheel * 2u + 1u],
                                 static_cast<std::uint32_t>(event.ts_ns / 1000u));
     }

@@ -26,7 +26,8 @@ enum class Wheel : std::uint8_t { left = 0, right = 1 };
 /// Counters of one wheel's event stream. All wrap modulo 2^32.
 struct EncoderStats {
   std::uint32_t events = 0u;      ///< events read from the kernel
-  std::uint32_t dropped = 0u;     ///< impossible events: an edge of the same line was lost
+  std::uint32_t dropped = 0u;     ///< impossible transitions where edges were lost (resyncs)
+  std::uint32_t misread = 0u;     ///< one-off edge types read late by the kernel (harmless)
   std::uint32_t queue_full = 0u;  ///< reads that found a kernel queue full: edges may be lost
   std::uint32_t reordered = 0u;   ///< events older than one already decoded (ordering lost)
 };
@@ -40,10 +41,14 @@ struct EncoderStats {
 /// line is already readable), and feeds each wheel's `QuadratureDecoder` the line levels after
 /// every edge, under the critical section.
 ///
-/// A lost edge is detected when the next event of that line repeats the edge type already seen
-/// (a rise on a line already high): an odd number of edges was lost. An even number lost on one
-/// line cannot be seen from the transitions; a read that returns a full queue is counted as
-/// `queue_full` because that is when the kernel drops.
+/// Each event is one edge, so a line's level is toggled per event. The edge type the kernel
+/// reports is used as a check, not as the level: v1 decides it by reading the line when its
+/// interrupt thread runs, which can be after the next edge. An event whose type disagrees with
+/// the toggled level is an impossible transition (a rise on a line already high). Once, it is
+/// counted as `misread` and the toggle is trusted; twice in a row on a line, or on the first
+/// event after a read that found the kernel queue full (the only time v1 drops), edges were
+/// lost: it is counted as `dropped` and the level resynchronised to the reported type. An even
+/// number lost on one line leaves no impossible transition; `queue_full` shows it may happen.
 class EncoderEvents {
  public:
   /// Events buffered between reads (held back or not yet decoded).
@@ -83,10 +88,12 @@ class EncoderEvents {
     std::uint64_t ts_ns;
     std::uint8_t line;  // 0 left A, 1 left B, 2 right A, 3 right B
     bool rising;
+    bool after_gap;  // first event read after a full queue: edges may be missing before it
   };
   struct Counters {
     std::atomic<std::uint32_t> events{0u};
     std::atomic<std::uint32_t> dropped{0u};
+    std::atomic<std::uint32_t> misread{0u};
     std::atomic<std::uint32_t> queue_full{0u};
     std::atomic<std::uint32_t> reordered{0u};
   };
@@ -99,7 +106,9 @@ class EncoderEvents {
   hal::CriticalSection& critical_;
   std::array<gpiod_line*, 4> lines_{};
   std::array<int, 4> fds_{-1, -1, -1, -1};
-  std::array<bool, 4> levels_{};  // the level of each line after the last decoded event
+  std::array<bool, 4> levels_{};     // the level of each line after the last decoded event
+  std::array<bool, 4> disagreed_{};  // the last event of the line disagreed with its type
+  std::array<bool, 4> was_full_{};   // the last read of the line returned a full queue
   std::array<Event, max_pending> pending_{};
   std::size_t pending_count_ = 0u;
   std::uint64_t last_decoded_ns_ = 0u;

@@ -122,7 +122,7 @@ TEST(SpscRing, ProducerAndConsumerThreadsSeeEveryByteInOrder) {
   // The acquire/release pairing is what makes this pass under ThreadSanitizer-free conditions;
   // it stands for the UART ISR and the main loop.
   SpscRing<64> ring;
-  constexpr std::uint32_t kBytes = 2000000;
+  constexpr std::uint32_t kBytes = 200000;
   std::thread producer([&] {
     for (std::uint32_t i = 0; i < kBytes;) {
       if (ring.push(static_cast<std::uint8_t>(i * 7u)))

@@ -67,6 +67,12 @@ std::string line_span(const CsvTable& table) {
                        ", need at least " + std::to_string(need));
 }
 
+std::string mm(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f mm", value);
+  return text;
+}
+
 void print_number(const char* name, double value, const char* unit = "") {
   std::printf("%-26s %.6g%s%s\n", name, value, *unit != '\0' ? " " : "", unit);
 }
@@ -96,9 +102,9 @@ std::vector<calib::ReturnError> read_return_errors(const std::string& file, doub
     const double y = table.number(r, 1);
     if (std::hypot(x, y) > path_mm) {
       table.fail(r, std::fabs(x) >= std::fabs(y) ? 0 : 1,
-                 "return error of " + std::to_string(std::hypot(x, y)) +
-                     " mm is larger than the whole path (4 sides = " + std::to_string(path_mm) +
-                     " mm): not a return error");
+                 "return error of " + mm(std::hypot(x, y)) +
+                     " is larger than the whole path (4 sides = " + mm(path_mm) +
+                     "): not a return error");
     }
     runs.push_back({x, y});
   }
@@ -227,9 +233,8 @@ void run_lateral(const LateralOptions& o) {
     }
     if (std::hypot(o.length_mm - x, y) > o.length_mm) {
       table.fail(r, std::fabs(o.length_mm - x) >= std::fabs(y) ? 0 : 1,
-                 "stop point is " + std::to_string(std::hypot(o.length_mm - x, y)) +
-                     " mm from the commanded end, more than the path length " +
-                     std::to_string(o.length_mm) + " mm");
+                 "stop point is " + mm(std::hypot(o.length_mm - x, y)) +
+                     " from the commanded end, more than the path length " + mm(o.length_mm));
     }
     trials.push_back({x, y});
   }

@@ -1,0 +1,289 @@
+// Runs the real `odocal` binary: JSON keys of every calibration command, the paper's Tables 3
+// and 4 through `odocal accuracy`, determinism of `odocal bootstrap`, and exit status 2 with a
+// message naming file, line and field for each kind of bad input.
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace {
+
+using nlohmann::json;
+
+struct Result {
+  int status = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string data(const std::string& name) {
+  return std::string(ODOCAL_CLI_DATA_DIR) + "/" + name;
+}
+
+Result odocal(const std::string& args) {
+  const char* bin_env = std::getenv("ODOCAL_BIN_DIR");
+  const std::string bin =
+      (bin_env != nullptr ? bin_env : ODOCAL_CLI_BIN_DIR) + std::string("/odocal");
+  const std::string err_file = ::testing::TempDir() + "odocal_cli_stderr.txt";
+  const std::string command = bin + " " + args + " 2>" + err_file;
+  Result r;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) {
+    return r;
+  }
+  char buffer[4096];
+  std::size_t n = 0;
+  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) {
+    r.out.append(buffer, n);
+  }
+  const int raw = pclose(pipe);
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  std::ifstream err(err_file);
+  std::stringstream text;
+  text << err.rdbuf();
+  r.err = text.str();
+  return r;
+}
+
+json parse_json(const Result& r) {
+  EXPECT_EQ(r.status, 0) << r.err;
+  json doc = json::parse(r.out, nullptr, false);
+  EXPECT_FALSE(doc.is_discarded()) << r.out;
+  EXPECT_TRUE(doc.is_object());
+  return doc;
+}
+
+void expect_bad_input(const Result& r, const std::string& file, const std::string& line,
+                      const std::string& field) {
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_NE(r.err.find(file + ":" + line), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("field '" + field + "'"), std::string::npos) << r.err;
+}
+
+void expect_no_nan(const json& value) {
+  if (value.is_number_float()) {
+    EXPECT_TRUE(std::isfinite(value.get<double>()));
+  }
+  for (const auto& item : value) {
+    if (value.is_structured()) {
+      expect_no_nan(item);
+    }
+  }
+}
+
+const std::string umbmark_args = "umbmark --side-mm 4000 --wheelbase-mm 340 --json";
+
+TEST(CliUmbmark, JsonHasEveryContractKeyAndProvenance) {
+  for (const std::string exact : {"", " --exact"}) {
+    const json doc =
+        parse_json(odocal(umbmark_args + exact + " --date 2026-03-01 --cw " +
+                          data("umbmark_cw.csv") + " --ccw " + data("umbmark_ccw.csv")));
+    for (const char* key :
+         {"x_cg_cw", "y_cg_cw", "x_cg_ccw", "y_cg_ccw", "r_cg_cw", "r_cg_ccw", "e_max_syst_mm",
+          "alpha_deg", "beta_deg", "radius_mm", "e_d", "e_b", "c_l", "c_r", "wheelbase_new_mm",
+          "sem_mm", "second_pass_recommended"}) {
+      EXPECT_TRUE(doc.contains(key)) << key;
+    }
+    EXPECT_TRUE(doc["second_pass_recommended"].is_boolean());
+    const json& p = doc["provenance"];
+    EXPECT_EQ(p["method"], exact.empty() ? "umbmark" : "umbmark-exact");
+    EXPECT_EQ(p["runs"], 10);
+    EXPECT_EQ(p["date"], "2026-03-01");
+    EXPECT_TRUE(p["interval"].is_null());
+    expect_no_nan(doc);
+    // The fixture was made with E_d = 1.0025, E_b = 1.012 and 15 mm run scatter (σ/√5 ≈ 7 mm
+    // on a 4 m square: ~1e-4 in E_d, ~3e-4 in E_b).
+    EXPECT_NEAR(doc["e_d"].get<double>(), 1.0025, 3e-4);
+    EXPECT_NEAR(doc["e_b"].get<double>(), 1.012, 1e-3);
+    EXPECT_NEAR(doc["c_l"].get<double>() + doc["c_r"].get<double>(), 2.0, 1e-12);
+  }
+}
+
+TEST(CliUmbmark, TextOutputAndNoDateMeansToday) {
+  const Result text = odocal("umbmark --side-mm 4000 --wheelbase-mm 340 --cw " +
+                             data("umbmark_cw.csv") + " --ccw " + data("umbmark_ccw.csv"));
+  EXPECT_EQ(text.status, 0);
+  EXPECT_NE(text.out.find("E_d"), std::string::npos);
+  const json doc = parse_json(odocal(umbmark_args + " --cw " + data("umbmark_cw.csv") + " --ccw " +
+                                     data("umbmark_ccw.csv")));
+  EXPECT_EQ(doc["provenance"]["date"].get<std::string>().size(), 10u);
+}
+
+TEST(CliUmbmark, BadInputExitsTwoNamingFileLineField) {
+  const auto run = [](const std::string& cw) {
+    return odocal(umbmark_args + " --cw " + data(cw) + " --ccw " + data("umbmark_ccw.csv"));
+  };
+  expect_bad_input(run("bad_no_header.csv"), "bad_no_header.csv", "1", "x_mm");
+  expect_bad_input(run("bad_non_number.csv"), "bad_non_number.csv", "3", "y_mm");
+  expect_bad_input(run("bad_one_run.csv"), "bad_one_run.csv", "2", "x_mm");
+  expect_bad_input(run("bad_nan.csv"), "bad_nan.csv", "3", "x_mm");
+  expect_bad_input(run("bad_inf.csv"), "bad_inf.csv", "3", "y_mm");
+  expect_bad_input(run("bad_absurd.csv"), "bad_absurd.csv", "4", "x_mm");
+  expect_bad_input(run("bad_field_count.csv"), "bad_field_count.csv", "3", "y_mm");
+  const Result missing = run("no_such_file.csv");
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.err.find("no_such_file.csv"), std::string::npos);
+  const Result bad_flag = odocal("umbmark --side-mm -4 --wheelbase-mm 340 --cw " +
+                                 data("umbmark_cw.csv") + " --ccw " + data("umbmark_ccw.csv"));
+  EXPECT_EQ(bad_flag.status, 2);
+  EXPECT_NE(bad_flag.err.find("--side-mm"), std::string::npos) << bad_flag.err;
+}
+
+// Maddahi & Zareinia Tables 3 and 4 through the program, to the printed precision.
+TEST(CliAccuracy, ReproducesTables3And4) {
+  struct Expected {
+    const char* file;
+    double rms[3];
+    double improvement[3];
+  };
+  for (const Expected& e :
+       {Expected{"table3_systematic.csv", {57.5, 11.0, 7.1}, {0.0, 80.9, 87.6}},
+        Expected{"table4_bumps.csv", {3995.3, 742.8, 476.7}, {0.0, 81.4, 88.1}}}) {
+    const json doc = parse_json(odocal("accuracy --json --baseline NC " + data(e.file)));
+    const json& s = doc["scenarios"];
+    ASSERT_EQ(s.size(), 3u);
+    const char* names[3] = {"NC", "CL", "CB"};
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_EQ(s[i]["name"], names[i]);
+      EXPECT_EQ(s[i]["trials"], 5);
+      EXPECT_NEAR(s[i]["rms_mm"].get<double>(), e.rms[i], 0.05) << e.file << " " << names[i];
+      EXPECT_NEAR(s[i]["improvement_pct"].get<double>(), e.improvement[i], 0.05)
+          << e.file << " " << names[i];
+    }
+    EXPECT_EQ(doc["provenance"]["runs"], 15);
+  }
+  const Result text = odocal("accuracy " + data("table3_systematic.csv"));
+  EXPECT_EQ(text.status, 0);
+  EXPECT_NE(text.out.find("87.6"), std::string::npos) << text.out;
+}
+
+TEST(CliAccuracy, BadInput) {
+  expect_bad_input(odocal("accuracy --json " + data("accuracy_bad.csv")), "accuracy_bad.csv", "3",
+                   "y_mm");
+  expect_bad_input(odocal("accuracy " + data("bad_one_run.csv")), "bad_one_run.csv", "1",
+                   "scenario");
+  const Result no_baseline = odocal("accuracy --baseline XX " + data("table3_systematic.csv"));
+  EXPECT_EQ(no_baseline.status, 2);
+  EXPECT_NE(no_baseline.err.find("XX"), std::string::npos);
+}
+
+const std::string lateral_args =
+    "lateral --length-mm 1000 --wheelbase-mm 150 --dl-mm 60 --dr-mm 60 --json --trials ";
+
+TEST(CliLateral, JsonKeysAndDirection) {
+  const json doc = parse_json(odocal(lateral_args + data("lateral_trials.csv")));
+  // The fixture drifts ~22 mm left and stops ~15 mm short on a 1 m line:
+  // F_lat ≈ 1 + 2·atan(0.022)·150/1000 = 1.0066, F_lon ≈ 1000/985 = 1.015.
+  EXPECT_NEAR(doc["f_lat"].get<double>(), 1.0066, 1.5e-3);
+  EXPECT_NEAR(doc["f_lon"].get<double>(), 1.0152, 1.5e-3);
+  EXPECT_EQ(doc["provenance"]["method"], "maddahi-eq4-eq5");
+  EXPECT_EQ(doc["provenance"]["runs"], 10);
+}
+
+TEST(CliLateral, BadInput) {
+  expect_bad_input(odocal(lateral_args + data("lateral_absurd.csv")), "lateral_absurd.csv", "3",
+                   "x_mm");
+  expect_bad_input(odocal(lateral_args + data("bad_one_run.csv")), "bad_one_run.csv", "2", "x_mm");
+  expect_bad_input(odocal(lateral_args + data("lateral_nan.csv")), "lateral_nan.csv", "3", "y_mm");
+}
+
+const std::string bootstrap_args = "bootstrap --json --b 2000 --seed 7 --date 2026-03-01";
+
+TEST(CliBootstrap, JsonKeysDeterminismAndProvenance) {
+  const std::string files = " --training " + data("bootstrap_training.csv") + " --unknowns " +
+                            data("bootstrap_unknowns.csv");
+  const Result first = odocal(bootstrap_args + files);
+  const Result second = odocal(bootstrap_args + files);
+  EXPECT_EQ(first.out, second.out);  // same seed, same bytes
+  const json doc = parse_json(first);
+  ASSERT_EQ(doc["unknowns"].size(), 5u);
+  for (const json& u : doc["unknowns"]) {
+    for (const char* key : {"lr_l", "lr_r", "boot_l", "boot_r", "ci_l", "ci_r", "r_l", "r_r"}) {
+      EXPECT_TRUE(u.contains(key)) << key;
+    }
+    ASSERT_EQ(u["ci_l"].size(), 2u);
+    EXPECT_LT(u["ci_l"][0].get<double>(), u["boot_l"].get<double>());
+    EXPECT_GT(u["ci_l"][1].get<double>(), u["boot_l"].get<double>());
+    EXPECT_NEAR(u["r_l"].get<double>(), u["boot_l"].get<double>() / u["lr_l"].get<double>(), 1e-12);
+  }
+  const json& p = doc["provenance"];
+  EXPECT_EQ(p["interval"], "percentile-t-calibrated");
+  EXPECT_EQ(p["level"], 0.95);
+  EXPECT_EQ(p["seed"], 7);
+  EXPECT_EQ(p["replicates"], 2000);
+  expect_no_nan(doc);
+  const Result other_seed = odocal("bootstrap --json --b 2000 --seed 8" + files);
+  EXPECT_NE(parse_json(other_seed)["unknowns"][0]["boot_l"], doc["unknowns"][0]["boot_l"]);
+  // With the geometry, eq. 7 factors per unknown: the fixture's left wheel runs 1.5 % slow.
+  const json factors = parse_json(odocal(bootstrap_args + files +
+                                         " --interval percentile --wheelbase-mm 150 --dl-mm 60 "
+                                         "--dr-mm 60"));
+  EXPECT_EQ(factors["provenance"]["interval"], "percentile");
+  for (const json& u : factors["unknowns"]) {
+    EXPECT_NEAR(u["factors_lr"]["f_lat"].get<double>(), 0.985, 0.01);
+    EXPECT_NEAR(u["factors_lr"]["f_lon"].get<double>(), 1.0, 0.01);
+  }
+}
+
+TEST(CliBootstrap, BadInput) {
+  const std::string unknowns = " --unknowns " + data("bootstrap_unknowns.csv");
+  expect_bad_input(
+      odocal(bootstrap_args + " --training " + data("bootstrap_training_few.csv") + unknowns),
+      "bootstrap_training_few.csv", "4", "xdot");
+  const Result degenerate = odocal(bootstrap_args + " --training " +
+                                   data("bootstrap_training_degenerate.csv") + unknowns);
+  expect_bad_input(degenerate, "bootstrap_training_degenerate.csv", "2-9", "ydot");
+  EXPECT_NE(degenerate.err.find("degenerate"), std::string::npos);
+  expect_bad_input(odocal(bootstrap_args + " --training " + data("bad_no_header.csv") + unknowns),
+                   "bad_no_header.csv", "1", "xdot");
+  const Result b_too_small =
+      odocal("bootstrap --b 5 --training " + data("bootstrap_training.csv") + unknowns);
+  EXPECT_EQ(b_too_small.status, 2);
+  EXPECT_NE(b_too_small.err.find("--b"), std::string::npos) << b_too_small.err;
+}
+
+TEST(CliRos2, FromUmbmarkJsonAndFromFlags) {
+  const std::string json_file = ::testing::TempDir() + "odocal_cli_umbmark.json";
+  const Result u = odocal(umbmark_args + " --cw " + data("umbmark_cw.csv") + " --ccw " +
+                          data("umbmark_ccw.csv"));
+  ASSERT_EQ(u.status, 0);
+  std::ofstream(json_file) << u.out;
+  const json doc = json::parse(u.out);
+  const Result yaml = odocal("ros2 --from " + json_file);
+  ASSERT_EQ(yaml.status, 0) << yaml.err;
+  EXPECT_NE(yaml.out.find("diff_drive_controller:\n  ros__parameters:\n"), std::string::npos);
+  const auto value_of = [&](const std::string& key) {
+    const auto at = yaml.out.find(key + ": ");
+    EXPECT_NE(at, std::string::npos) << key;
+    return std::stod(yaml.out.substr(at + key.size() + 2));
+  };
+  EXPECT_NEAR(value_of("wheel_separation_multiplier"), doc["e_b"].get<double>(), 1e-8);
+  EXPECT_NEAR(value_of("left_wheel_radius_multiplier"), doc["c_l"].get<double>(), 1e-8);
+  EXPECT_NEAR(value_of("right_wheel_radius_multiplier"), doc["c_r"].get<double>(), 1e-8);
+  const Result flags = odocal("ros2 --c-l 0.99 --c-r 1.01 --e-b 1.02 --controller base");
+  EXPECT_EQ(flags.status, 0);
+  EXPECT_NE(flags.out.find("base:\n  ros__parameters:\n    wheel_separation_multiplier: 1.02\n"),
+            std::string::npos)
+      << flags.out;
+}
+
+TEST(CliRos2, BadInput) {
+  const Result bad_json = odocal("ros2 --from " + data("ros2_bad.json"));
+  EXPECT_EQ(bad_json.status, 2);
+  EXPECT_NE(bad_json.err.find("ros2_bad.json:4"), std::string::npos) << bad_json.err;
+  const Result missing = odocal("ros2 --from " + data("ros2_missing_key.json"));
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.err.find("field 'e_b'"), std::string::npos) << missing.err;
+  EXPECT_EQ(odocal("ros2 --c-l 0.99").status, 2);
+  EXPECT_EQ(odocal("ros2 --from x.json --c-l 0.99").status, 2);
+}
+
+}  // namespace

@@ -1,0 +1,398 @@
+// odocal-linux: the robot process on a Linux single-board computer. The same core and console
+// as the firmware; encoders, direction lines and PWM through libgpiod v1 and sysfs.
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <string>
+
+#include "config.hpp"
+#include "odocal/console/console.hpp"
+#include "odocal/console/version.hpp"
+#include "odocal/drive/control_loop.hpp"
+#include "odocal/hal/linux_gpiod/encoder_events.hpp"
+#include "odocal/hal/linux_gpiod/gpio_output.hpp"
+#include "odocal/hal/linux_gpiod/mutex_critical_section.hpp"
+#include "odocal/hal/linux_gpiod/posix_clock.hpp"
+#include "odocal/hal/linux_gpiod/software_pwm.hpp"
+#include "odocal/hal/linux_gpiod/sysfs_pwm.hpp"
+#include "odocal/hal/linux_gpiod/timerfd_tick.hpp"
+#include "odocal/params/param_store.hpp"
+#include "odocal/posix/fd_byte_stream.hpp"
+#include "odocal/posix/file_block_store.hpp"
+#include "status_stream.hpp"
+
+namespace {
+
+using namespace odocal;
+using namespace odocal::hal::linux_gpiod;
+using odocal::linux_target::LinuxConfig;
+using odocal::linux_target::PwmSpec;
+
+constexpr const char* kDefaultConfig = "/etc/odocal/odocal-linux.conf";
+constexpr const char* kConsumer = "odocal";
+constexpr int kExitSetup = 1;  // hardware or file set-up failed
+constexpr int kExitUsage = 2;  // bad command line or configuration
+
+std::atomic<bool> stop_requested{false};
+
+void on_signal(int) {
+  stop_requested.store(true);
+}
+
+void print_help() {
+  std::printf(
+      "usage: odocal-linux [--config FILE] [--pty | --tty DEVICE] [--store FILE] [--check]\n"
+      "\n"
+      "The odocal robot process for a Linux board: encoders and motor lines through libgpiod,\n"
+      "PWM through sysfs, the control tick on a timerfd thread, the console on stdin/stdout.\n"
+      "\n"
+      "  --config FILE   configuration (default %s)\n"
+      "  --pty           console on a new pseudo-terminal (its path is printed on stderr)\n"
+      "  --tty DEVICE    console on a serial port, 115200 8N1 raw (e.g. /dev/ttyS0)\n"
+      "  --store FILE    parameter store file (overrides `store` in the configuration)\n"
+      "  --check         request every line and PWM channel, print the wiring, exit\n"
+      "  --help          this text\n"
+      "  --version       the version\n"
+      "\n"
+      "Exit status: 0 at the end of the console input or on SIGINT/SIGTERM, 1 when a chip,\n"
+      "line, PWM channel or file cannot be set up, 2 for a bad command line or configuration.\n"
+      "\n%s",
+      kDefaultConfig, linux_target::config_reference());
+}
+
+// One motor's PWM: the sysfs channel when it works, else the software fallback.
+struct MotorPwm {
+  SysfsPwm sysfs;
+  SoftwarePwm soft;
+  hal::PwmOutput* active = nullptr;
+  std::string description;
+
+  SetupResult open(ChipSet& chips, const PwmSpec& spec, const LinuxConfig& config,
+                   const char* role) {
+    SetupResult result = SetupResult::failure(SetupCode::not_found, "");
+    if (spec.sysfs) {
+      result = sysfs.open(spec.chip, spec.channel, config.pwm_hz, role);
+      if (result.ok()) {
+        active = &sysfs;
+        description = sysfs.name() + " " + std::to_string(config.pwm_hz) + " Hz";
+        return result;
+      }
+      if (!spec.has_gpio) {
+        return result;
+      }
+      std::fprintf(stderr, "odocal-linux: %s; falling back to software PWM\n",
+                   result.message.c_str());
+    }
+    result = soft.open(chips, spec.gpio, config.soft_pwm_hz, config.pwm_priority, kConsumer);
+    if (result.ok()) {
+      active = &soft;
+      description = "software on " + describe(spec.gpio) + " " +
+                    std::to_string(config.soft_pwm_hz) + " Hz (LOW PRECISION)";
+      std::fprintf(stderr, "odocal-linux: %s: software PWM on %s, low precision\n", role,
+                   describe(spec.gpio).c_str());
+    }
+    return result;
+  }
+};
+
+// Everything the process wires, in construction order.
+struct Robot {
+  ChipSet chips;
+  MutexCriticalSection critical;
+  GpioOutput left_dir;
+  GpioOutput right_dir;
+  GpioOutput enable;
+  MotorPwm left_pwm;
+  MotorPwm right_pwm;
+  std::unique_ptr<drive::ControlLoop> loop;
+  std::unique_ptr<EncoderEvents> encoders;
+  std::unique_ptr<TimerfdTick> tick;
+  PosixMonotonicClock clock;
+
+  static void on_tick(void* context) {
+    auto* robot = static_cast<Robot*>(context);
+    const std::uint32_t start = robot->clock.now_us();
+    robot->loop->tick(start);
+    robot->loop->note_tick_duration_us(static_cast<float>(robot->clock.now_us() - start));
+  }
+
+  SetupResult open(const LinuxConfig& config) {
+    SetupResult r = left_dir.open(chips, config.left_dir, true, kConsumer);
+    if (r.ok()) {
+      r = right_dir.open(chips, config.right_dir, true, kConsumer);
+    }
+    if (r.ok() && config.has_enable) {
+      r = enable.open(chips, config.enable, false, kConsumer);
+    }
+    if (r.ok()) {
+      r = left_pwm.open(chips, config.left_pwm, config, "left_pwm");
+    }
+    if (r.ok()) {
+      r = right_pwm.open(chips, config.right_pwm, config, "right_pwm");
+    }
+    if (!r.ok()) {
+      return r;
+    }
+    loop = std::make_unique<drive::ControlLoop>(drive::MotorChannel{*left_pwm.active, left_dir},
+                                                drive::MotorChannel{*right_pwm.active, right_dir},
+                                                critical);
+    encoders =
+        std::make_unique<EncoderEvents>(loop->left_decoder(), loop->right_decoder(), critical);
+    tick = std::make_unique<TimerfdTick>(config.tick_priority);
+    return encoders->open(chips, EncoderPins{config.left_a, config.left_b},
+                          EncoderPins{config.right_a, config.right_b}, kConsumer);
+  }
+
+  void shut_down() {
+    if (tick) {
+      tick->stop();
+    }
+    if (loop) {
+      loop->stop();
+    }
+    enable.set(false);
+    left_pwm.sysfs.close();
+    left_pwm.soft.close();
+    right_pwm.sysfs.close();
+    right_pwm.soft.close();
+    if (encoders) {
+      encoders->close();
+    }
+  }
+};
+
+// ` key=value` pairs the console's `status` reply gets on this target.
+std::size_t linux_status_pairs(void* context, char* out, std::size_t capacity) {
+  auto* robot = static_cast<Robot*>(context);
+  const TickStats tick = robot->tick->stats();
+  const EncoderStats l = robot->encoders->stats(Wheel::left);
+  const EncoderStats r = robot->encoders->stats(Wheel::right);
+  const bool soft = robot->left_pwm.active == &robot->left_pwm.soft ||
+                    robot->right_pwm.active == &robot->right_pwm.soft;
+  const int length = std::snprintf(
+      out, capacity,
+      " tick_rt=%d event_rt=%d tick_late_us_mean=%u tick_late_us_max=%u tick_missed=%u"
+      " edges_l=%u edges_r=%u dropped_l=%u dropped_r=%u misread_l=%u misread_r=%u"
+      " queue_full_l=%u queue_full_r=%u pwm=%s",
+      tick.realtime ? 1 : 0, robot->encoders->realtime() ? 1 : 0, tick.late_us_mean,
+      tick.late_us_max, tick.missed, l.events, r.events, l.dropped, r.dropped, l.misread, r.misread,
+      l.queue_full, r.queue_full, soft ? "software_low_precision" : "sysfs");
+  return length < 0 ? 0u : static_cast<std::size_t>(length);
+}
+
+// Opens a serial port raw at 115200 8N1. @return the descriptor or -1 with `error` set.
+int open_tty(const std::string& device, std::string& error) {
+  const int fd = ::open(device.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
+  if (fd < 0) {
+    error = device + ": " + std::strerror(errno);
+    return -1;
+  }
+  termios mode{};
+  if (tcgetattr(fd, &mode) != 0) {
+    error = device + ": not a terminal (" + std::strerror(errno) + ")";
+    ::close(fd);
+    return -1;
+  }
+  cfmakeraw(&mode);
+  cfsetispeed(&mode, B115200);
+  cfsetospeed(&mode, B115200);
+  mode.c_cflag |= CLOCAL | CREAD;
+  mode.c_cflag &= ~static_cast<tcflag_t>(CSTOPB | PARENB | CRTSCTS);
+  if (tcsetattr(fd, TCSANOW, &mode) != 0) {
+    error = device + ": cannot set 115200 8N1 (" + std::strerror(errno) + ")";
+    ::close(fd);
+    return -1;
+  }
+  return fd;
+}
+
+struct Options {
+  std::string config = kDefaultConfig;
+  std::string tty;
+  std::string store;
+  bool pty = false;
+  bool check = false;
+};
+
+// @return -1 to go on, else the exit status.
+int parse_options(int argc, char** argv, Options& options) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "--help" || arg == "-h") {
+      print_help();
+      return 0;
+    }
+    if (arg == "--version") {
+      std::printf("odocal-linux %s\n", console::project_version);
+      return 0;
+    }
+    if (arg == "--pty") {
+      options.pty = true;
+    } else if (arg == "--check") {
+      options.check = true;
+    } else if ((arg == "--config" || arg == "--tty" || arg == "--store") && has_value) {
+      std::string& target =
+          arg == "--config" ? options.config : (arg == "--tty" ? options.tty : options.store);
+      target = argv[++i];
+    } else if (arg == "--config" || arg == "--tty" || arg == "--store") {
+      std::fprintf(stderr, "odocal-linux: %s needs a value (see --help)\n", arg.c_str());
+      return kExitUsage;
+    } else {
+      std::fprintf(stderr, "odocal-linux: unknown option \"%s\" (see --help)\n", arg.c_str());
+      return kExitUsage;
+    }
+  }
+  if (options.pty && !options.tty.empty()) {
+    std::fprintf(stderr, "odocal-linux: --pty and --tty exclude each other\n");
+    return kExitUsage;
+  }
+  return -1;
+}
+
+int run(const Options& options, const LinuxConfig& config) {
+  Robot robot;
+  const SetupResult wired = robot.open(config);
+  if (!wired.ok()) {
+    std::fprintf(stderr, "odocal-linux: %s\n", wired.message.c_str());
+    return kExitSetup;
+  }
+  std::fprintf(stderr,
+               "odocal-linux: encoders %s/%s %s/%s, direction %s %s, PWM left %s, right %s\n",
+               describe(config.left_a).c_str(), describe(config.left_b).c_str(),
+               describe(config.right_a).c_str(), describe(config.right_b).c_str(),
+               describe(config.left_dir).c_str(), describe(config.right_dir).c_str(),
+               robot.left_pwm.description.c_str(), robot.right_pwm.description.c_str());
+  if (options.check) {
+    std::fprintf(stderr, "odocal-linux: --check: every line and channel set up\n");
+    robot.shut_down();
+    return 0;
+  }
+
+  const std::string store_path = options.store.empty() ? config.store : options.store;
+  posix::FileBlockStore flash(store_path);
+  std::string error;
+  if (!flash.open(error)) {
+    std::fprintf(stderr, "odocal-linux: store %s: %s\n", store_path.c_str(), error.c_str());
+    robot.shut_down();
+    return kExitSetup;
+  }
+  params::ParamStore store(flash);
+
+  // The console stream: stdio, a pty or a serial port.
+  std::unique_ptr<posix::FdByteStream> fd_stream;
+  std::unique_ptr<posix::PtyByteStream> pty_stream;
+  hal::ByteStream* raw = nullptr;
+  int input_fd = -1;
+  int tty_fd = -1;
+  if (options.pty) {
+    pty_stream = std::make_unique<posix::PtyByteStream>();
+    if (!pty_stream->open(error)) {
+      std::fprintf(stderr, "odocal-linux: pty: %s\n", error.c_str());
+      robot.shut_down();
+      return kExitSetup;
+    }
+    std::fprintf(stderr, "odocal-linux: console on %s\n", pty_stream->slave_name().c_str());
+    raw = pty_stream.get();
+    input_fd = pty_stream->input_fd();
+  } else {
+    if (!options.tty.empty()) {
+      tty_fd = open_tty(options.tty, error);
+      if (tty_fd < 0) {
+        std::fprintf(stderr, "odocal-linux: console %s\n", error.c_str());
+        robot.shut_down();
+        return kExitSetup;
+      }
+    }
+    fd_stream = std::make_unique<posix::FdByteStream>(tty_fd >= 0 ? tty_fd : STDIN_FILENO,
+                                                      tty_fd >= 0 ? tty_fd : STDOUT_FILENO);
+    raw = fd_stream.get();
+    input_fd = fd_stream->input_fd();
+  }
+  const bool terminal = options.pty || tty_fd >= 0 || isatty(STDIN_FILENO) == 1;
+  linux_target::StatusStream stream(*raw, &linux_status_pairs, &robot);
+  console::Console console(
+      stream, *robot.loop, store,
+      console::ConsoleOptions{terminal ? console::EchoMode::automatic : console::EchoMode::off,
+                              terminal, true});
+
+  SetupResult started = robot.encoders->start(config.event_priority, config.event_holdback_us);
+  if (!started.ok()) {
+    std::fprintf(stderr, "odocal-linux: %s\n", started.message.c_str());
+    robot.shut_down();
+    return kExitSetup;
+  }
+  static_cast<void>(console.start(robot.clock.now_us()));
+  auto rate_of = [&robot] {
+    return static_cast<std::uint32_t>(robot.loop->config().control_hz + 0.5f);
+  };
+  std::uint32_t rate_hz = rate_of();
+  if (robot.tick->start(rate_hz, &Robot::on_tick, &robot) == 0u) {
+    std::fprintf(stderr, "odocal-linux: control tick: %s\n", robot.tick->error().c_str());
+    robot.shut_down();
+    return kExitSetup;
+  }
+  robot.enable.set(true);
+  if (!robot.encoders->realtime() || config.tick_priority == 0) {
+    std::fprintf(stderr, "odocal-linux: threads not on SCHED_FIFO (%s); see `status`\n",
+                 config.tick_priority == 0 ? "priority 0 configured"
+                                           : "needs root, CAP_SYS_NICE or an rtprio limit");
+  }
+
+  struct sigaction action {};
+  action.sa_handler = on_signal;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+  std::uint32_t last_rate_check_us = robot.clock.now_us();
+  while (!stop_requested.load()) {
+    pollfd wait{input_fd, POLLIN, 0};
+    // Short sleeps: `stream odom` lines and queued output are due without input.
+    static_cast<void>(poll(&wait, 1, console.idle() ? 5 : 0));
+    const std::uint32_t now_us = robot.clock.now_us();
+    console.poll(now_us);
+    stream.flush();
+    if (now_us - last_rate_check_us > 100000u) {
+      last_rate_check_us = now_us;
+      const std::uint32_t wanted = rate_of();
+      if (wanted != rate_hz) {  // `set control_hz` took effect in the loop: follow it
+        rate_hz = wanted;
+        static_cast<void>(robot.tick->start(rate_hz, &Robot::on_tick, &robot));
+      }
+    }
+    if (fd_stream && (fd_stream->end_of_input() || fd_stream->output_broken()) && console.idle()) {
+      break;
+    }
+  }
+  robot.shut_down();
+  if (tty_fd >= 0) {
+    fd_stream.reset();
+    ::close(tty_fd);
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options options;
+  const int parsed = parse_options(argc, argv, options);
+  if (parsed >= 0) {
+    return parsed;
+  }
+  LinuxConfig config;
+  std::string error;
+  if (!linux_target::load_config(options.config, config, error)) {
+    std::fprintf(stderr, "odocal-linux: %s\n", error.c_str());
+    return kExitUsage;
+  }
+  return run(options, config);
+}

@@ -107,6 +107,8 @@ class Console {
   /// True when the parameters differ from what was last saved or loaded.
   [[nodiscard]] bool unsaved() const { return unsaved_; }
   [[nodiscard]] ConsoleCounters counters() const;
+  /// True while typed characters are echoed (option, `echo on`, or automatic detection).
+  [[nodiscard]] bool echo_enabled() const { return echo_; }
 
  private:
   class Reply;

@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # Runs the Linux backend against a real kernel GPIO device.
 #
-#   run-vm-test.sh TEST_PROGRAM WORK_DIR
+#   run-vm-test.sh TEST_PROGRAM WORK_DIR [ODOCAL_LINUX]
 #
 # This machine's kernel has no GPIO, so the test boots one: Debian's amd64 kernel (looked up
 # with apt-cache, fetched with apt-get download), with gpio-mockup and irq_sim built out of tree
 # from Debian's kernel source and headers, in QEMU (TCG) with a busybox-static initramfs that
 # runs TEST_PROGRAM (statically linked). The guest prints "ODOCAL-VM-RESULT: PASS|FAIL".
+# With ODOCAL_LINUX (a static odocal-linux) the guest also runs the robot process on the mockup
+# chips with a scripted console and prints "ODOCAL-LINUX-RESULT: PASS|FAIL".
 #
 # The kernel image and the two modules are cached per kernel ABI in
 #   ${ODOCAL_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/odocal}/linux-vm/<abi>/
@@ -16,6 +18,7 @@ set -euo pipefail
 readonly skip_status=77
 program=${1:?usage: run-vm-test.sh TEST_PROGRAM WORK_DIR}
 work=${2:?usage: run-vm-test.sh TEST_PROGRAM WORK_DIR}
+robot_program=${3:-}
 cache_root=${ODOCAL_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/odocal}/linux-vm
 
 log() { echo "vm-test: $*"; }
@@ -150,10 +153,30 @@ flock -u 9
 
 # --- 3. The initramfs: busybox, the two modules, the test program, an init script. -----------
 rm -rf "${work}/initramfs"
-mkdir -p "${work}/initramfs"/{bin,dev,proc,sys,lib/modules}
+mkdir -p "${work}/initramfs"/{bin,dev,proc,sys,tmp,lib/modules}
 cp "${busybox_bin}" "${work}/initramfs/bin/busybox"
 cp "${cache}/irq_sim.ko" "${cache}/gpio-mockup.ko" "${work}/initramfs/lib/modules/"
 cp "${program}" "${work}/initramfs/bin/odocal-vmtest"
+if [ -n "${robot_program}" ]; then
+  [ -x "${robot_program}" ] || fail "odocal-linux ${robot_program} not built"
+  cp "${robot_program}" "${work}/initramfs/bin/odocal-linux"
+  # The mockup has no PWM chip: left_pwm falls back to software PWM, right_pwm is software only.
+  cat > "${work}/initramfs/odocal-linux.conf" << 'EOF'
+chip = gpiochip0
+left_a = 0
+left_b = 1
+right_a = 2
+right_b = 3
+left_dir = 4
+right_dir = 5
+enable = 6
+left_pwm = pwmchip0:0
+left_pwm_gpio = 7
+right_pwm = none
+right_pwm_gpio = gpiochip1:0
+store = /tmp/params.bin
+EOF
+fi
 cat > "${work}/initramfs/init" << 'EOF'
 #!/bin/busybox sh
 /bin/busybox --install -s /bin
@@ -167,6 +190,23 @@ if insmod /lib/modules/irq_sim.ko &&
   /bin/odocal-vmtest
   status=$?
   [ "$status" -eq 0 ] || echo "guest: test program exited with status $status"
+  if [ -x /bin/odocal-linux ]; then
+    # The robot process with a scripted console: saved parameters survive a restart.
+    printf 'set c_l 1.01\nsave\nstatus\n' |
+      /bin/odocal-linux --config /odocal-linux.conf > /tmp/run1.txt 2> /tmp/err1.txt
+    first=$?
+    printf 'get c_l\nstatus\n' |
+      /bin/odocal-linux --config /odocal-linux.conf > /tmp/run2.txt 2> /tmp/err2.txt
+    second=$?
+    cat /tmp/err1.txt /tmp/run1.txt /tmp/run2.txt
+    if [ "$first" -eq 0 ] && [ "$second" -eq 0 ] &&
+      grep -q '^ok .*tick_rt=1 .*pwm=software_low_precision' /tmp/run1.txt &&
+      grep -q 'software PWM' /tmp/err1.txt && grep -q '^ok .*1\.01' /tmp/run2.txt; then
+      echo "ODOCAL-LINUX-RESULT: PASS"
+    else
+      echo "ODOCAL-LINUX-RESULT: FAIL (exit $first/$second)"
+    fi
+  fi
 else
   echo "ODOCAL-VM-RESULT: FAIL (the gpio-mockup modules did not load)"
 fi
@@ -187,10 +227,11 @@ timeout 600 qemu-system-x86_64 -accel tcg -smp 1 -m 512 -display none -serial st
 qemu_status=${PIPESTATUS[0]}
 set -e
 log "guest ran $(($(date +%s) - started)) s (qemu status ${qemu_status}); log in ${work}/guest.log"
-if grep -q '^ODOCAL-VM-RESULT: PASS' "${work}/guest.log"; then
+if grep -q '^ODOCAL-VM-RESULT: PASS' "${work}/guest.log" &&
+  { [ -z "${robot_program}" ] || grep -q '^ODOCAL-LINUX-RESULT: PASS' "${work}/guest.log"; }; then
   echo "vm-test: PASS"
   exit 0
 fi
 [ "${qemu_status}" -ne 124 ] || fail "the guest did not finish within 600 s"
 grep -q '^ODOCAL-VM-RESULT:' "${work}/guest.log" || fail "the guest printed no result"
-fail "checks failed in the guest (see the check lines above)"
+fail "checks failed in the guest (see the check and ODOCAL-* lines above)"

@@ -9,6 +9,8 @@
 #include "board.hpp"
 #include "odocal/hal/stm32f4/interrupts.hpp"
 #include "odocal/hal/stm32f4/irq.hpp"
+#include "odocal/hal/stm32f4/rcc.hpp"
+#include "odocal/hal/stm32f4/tim.hpp"
 #include "odocal/hal/stm32f4/usart.hpp"
 #include "odocal/hal/stm32f4/usart_stream.hpp"
 #include "odocal/sim/encoder_wiring.hpp"
@@ -53,6 +55,28 @@ struct PlantDriver {
 };
 PlantDriver driver;
 
+/// Ticks seen and TIM2 time elapsed since the encoders started (for the tick-rate check).
+struct Session {
+  std::uint32_t ticks = 0u;
+  std::uint32_t last_count = 0u;
+  std::uint64_t timer_ns = 0u;
+  bool started = false;
+};
+Session session;
+
+void format_decimal(std::uint32_t value, char* out) {
+  char digits[10];
+  std::size_t n = 0u;
+  do {
+    digits[n++] = static_cast<char>('0' + value % 10u);
+    value /= 10u;
+  } while (value != 0u);
+  for (std::size_t i = 0u; i < n; ++i) {
+    out[i] = digits[n - 1u - i];
+  }
+  out[n] = '\0';
+}
+
 void on_plant_timer(void* context) {
   auto& d = *static_cast<PlantDriver*>(context);
   const std::uint32_t now = d.clock->now_us();
@@ -94,9 +118,23 @@ void board_start_encoders(drive::QuadratureDecoder& left, drive::QuadratureDecod
 
   f4::attach_interrupt(f4::exception_of_irq(plant_irq), &on_plant_timer, &driver);
   f4::enable_irq(plant_irq, f4::irq::priority_edges);
+
+  f4::rcc::apb1enr.set(f4::rcc::apb1enr_tim2.mask());
+  f4::tim::psc(f4::tim::tim2).write(0u);
+  f4::tim::cr1(f4::tim::tim2).write(f4::tim::cr1_cen.mask());
 }
 
 void board_before_tick() {
+  // An independent clock for the tick-rate check: TIM2's counter, which QEMU derives from its
+  // virtual clock at 1 GHz (PSC = 0; reading it is exact, only its alarms are broken).
+  // Counted from the first tick on: periods between ticks against TIM2 time.
+  const std::uint32_t count = f4::tim::cnt(f4::tim::tim2).read();
+  if (session.started) {
+    session.timer_ns += count - session.last_count;
+    ++session.ticks;
+  }
+  session.started = true;
+  session.last_count = count;
   // Pending a more urgent interrupt from the tick preempts it at once: the plant (and its
   // edges) catch up to now before the control tick samples the decoders.
   f4::pend_irq(plant_irq);
@@ -109,6 +147,16 @@ void board_park_motors() {
 }
 
 void board_exit(int status) {
+  // The session's tick count against TIM2's time: the test checks the tick kept its rate.
+  char ticks[11];
+  char micros[11];
+  format_decimal(session.ticks, ticks);
+  format_decimal(static_cast<std::uint32_t>(session.timer_ns / 1000u), micros);
+  f4::UsartStream::emergency_write(f4::usart::usart1, "# qemu-session ticks=");
+  f4::UsartStream::emergency_write(f4::usart::usart1, ticks);
+  f4::UsartStream::emergency_write(f4::usart::usart1, " timer_us=");
+  f4::UsartStream::emergency_write(f4::usart::usart1, micros);
+  f4::UsartStream::emergency_write(f4::usart::usart1, "\r\n");
   semihosting_exit(status);
 }
 

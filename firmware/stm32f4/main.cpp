@@ -5,12 +5,16 @@
 #include <cstdint>
 
 #include "board.hpp"
-#include "interim_console.hpp"
+#include "odocal/console/console.hpp"
+#include "odocal/console/version.hpp"
 #include "odocal/drive/control_loop.hpp"
 #include "odocal/hal/stm32f4/interrupts.hpp"
 #include "odocal/hal/stm32f4/irq.hpp"
 #include "odocal/hal/stm32f4/systick_timer.hpp"
 #include "odocal/hal/stm32f4/watchdog.hpp"
+#include "odocal/params/param_store.hpp"
+#include "runtime.hpp"
+#include "session_stream.hpp"
 
 namespace odocal::firmware {
 namespace {
@@ -54,6 +58,25 @@ void on_tick(void* raw) {
   }
 }
 
+/// Writes a whole line through the stream (start-up only: waits while the ring is full).
+void write_line(hal::ByteStream& stream, const char* const* parts, std::size_t count) {
+  for (std::size_t p = 0u; p < count; ++p) {
+    const auto* bytes = reinterpret_cast<const std::uint8_t*>(parts[p]);
+    std::size_t length = 0u;
+    while (parts[p][length] != '\0') {
+      ++length;
+    }
+    for (std::size_t done = 0u; done < length;) {
+      done += stream.write(bytes + done, length - done);
+    }
+  }
+}
+
+/// Tick rate from the parameter (the console may change `control_hz`).
+std::uint32_t tick_rate_hz(const drive::ControlLoop& loop) {
+  return static_cast<std::uint32_t>(loop.config().control_hz + 0.5f);
+}
+
 [[noreturn]] void run() {
   const bool watchdog_reset = f4::Watchdog::caused_last_reset();
   BoardParts parts = board_init();
@@ -66,22 +89,51 @@ void on_tick(void* raw) {
                                  critical};
   static TickContext tick{loop, timer, info.has_cycle_counter,
                           static_cast<float>(info.clock.sysclk_hz) * 1.0e-6f};
-  static InterimConsole console{parts.console, loop, timer, parts.store, info, watchdog_reset};
+  static SessionStream session{parts.console};
+  static params::ParamStore store{parts.store};
+  // Echo switches itself on when a person types (picocom/screen send CR for Enter).
+  static console::Console console{
+      session, loop, store, console::ConsoleOptions{console::EchoMode::automatic, true, true}};
 
   if (info.has_cycle_counter) {
     f4::CycleCounter::start();
   }
   board_start_encoders(loop.left_decoder(), loop.right_decoder(), timer);
-  const drive::DriveConfig config = loop.config();
-  static_cast<void>(
-      timer.start(static_cast<std::uint32_t>(config.control_hz + 0.5f), &on_tick, &tick));
-  f4::Watchdog::start(watchdog_timeout_ms);
-  f4::enable_interrupts();
+  f4::enable_interrupts();  // the console UART from here on; the tick starts below
 
-  console.begin();
+  const char* const boot[] = {"\r\n# odocal-fw ",
+                              console::project_version,
+                              " board=",
+                              info.name,
+                              " clock=",
+                              f4::clock_source_name(info.clock.source),
+                              watchdog_reset ? " reset=watchdog" : " reset=power",
+                              "\r\n"};
+  write_line(session, boot, sizeof(boot) / sizeof(boot[0]));
+  // Loads the saved parameters into the loop (the flash is read before the tick runs).
+  static_cast<void>(console.start(timer.now_us()));
+  std::uint32_t rate_hz = tick_rate_hz(loop);
+  static_cast<void>(timer.start(rate_hz, &on_tick, &tick));
+  f4::Watchdog::start(watchdog_timeout_ms);
+
+  std::uint32_t last_rate_check_us = timer.now_us();
   for (;;) {
-    tick.main_alive_us.store(timer.now_us(), std::memory_order_relaxed);
-    if (!console.poll()) {
+    const std::uint32_t now_us = timer.now_us();
+    tick.main_alive_us.store(now_us, std::memory_order_relaxed);
+    console.poll(now_us);
+    if (now_us - last_rate_check_us > 100'000u) {
+      last_rate_check_us = now_us;
+      const std::uint32_t wanted = tick_rate_hz(loop);
+      if (wanted != rate_hz) {  // `set control_hz` took effect in the loop: follow it
+        rate_hz = wanted;
+        static_cast<void>(timer.start(rate_hz, &on_tick, &tick));
+      }
+    }
+    if (session.end_requested() && console.idle()) {
+      loop.stop();
+      board_exit(0);
+    }
+    if (console.idle()) {
       f4::wait_for_interrupt();  // every interrupt wakes the loop: the tick at least each period
     }
   }

@@ -23,9 +23,11 @@ class Guest:
                    "-monitor", "none", "-serial", "stdio",
                    "-semihosting-config", "enable=on,target=native", "-kernel", elf]
         if icount:
-            # One instruction = 1 ns of virtual time; idle time is skipped (sleep=off), so the
-            # run is deterministic per input and faster than real time.
-            command += ["-icount", "shift=0,sleep=off"]
+            # One instruction = 1 ns of virtual time while the guest runs (so the tick's duration
+            # in ns is its instruction count); while it sleeps in WFI the virtual clock follows
+            # the host's. (sleep=off would skip idle time, but then QEMU 7.2's SysTick and TIM2
+            # disagree by a factor of two, so the rate check below would be meaningless.)
+            command += ["-icount", "shift=0"]
         self.argv = command
         self.process = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                                         stderr=subprocess.PIPE)
@@ -105,8 +107,6 @@ def main():
     parser.add_argument("--elf", required=True)
     parser.add_argument("--timeout", type=int, default=240, help="whole session, s")
     parser.add_argument("--no-icount", action="store_true", help="real-time virtual clock")
-    parser.add_argument("--params", choices=["on", "off"], default="on",
-                        help="check get/set/save (off while the image has the interim console)")
     parser.add_argument("--tick-budget", type=int, default=2000,
                         help="max instructions of the control tick (with -icount)")
     args = parser.parse_args()
@@ -117,37 +117,37 @@ def main():
     guest = Guest(args.qemu, args.elf, not args.no_icount, args.timeout)
     checks = Checks()
     # QEMU's USART drops bytes that arrive before the receiver is on: wait for the prompt.
-    banner = guest.expect(rb"odocal-fw [^\r\n]*\r?\n", 30.0)
-    prompt = guest.expect(rb"> ", 10.0)
+    # The prompt is the console's banner line, printed once it listens.
+    banner = guest.expect(rb"# odocal-fw [^\r\n]*\r?\n", 30.0)
+    prompt = guest.expect(rb"# odocal \S+ console[^\r\n]*\r?\n", 10.0)
     if not checks.check(banner is not None and prompt is not None, "boots to the prompt"):
         print(guest.output.decode(errors="replace"))
         guest.process.kill()
         return 1
-    print("banner:", banner.group(0).decode().strip())
+    print("banner:", banner.group(0).decode().strip(), "|", prompt.group(0).decode().strip())
 
     reply = guest.command("version")
     checks.check(reply is not None and reply.startswith("ok") and "version=" in reply,
                  "version answers ok version=...", reply)
 
-    if args.params == "on":
-        reply = guest.command("get wheelbase_mm")
-        checks.check(reply is not None and reply.startswith("ok"), "get wheelbase_mm", reply)
-        reply = guest.command("set c_l 7")
-        checks.check(reply is not None and reply.startswith("err"), "set out of range refused",
-                     reply)
-        reply = guest.command("set kp 1x")
-        checks.check(reply is not None and reply.startswith("err"), "set with junk refused", reply)
-        reply = guest.command("get c_l")
-        checks.check(reply is not None and reply.startswith("ok") and
-                     abs(float(next(iter(v for k, v in fields(reply).items()
-                                         if k in ("c_l", "value")), "nan")) - 1.0) < 1e-6,
-                     "refused set changed nothing", reply)
-        reply = guest.command("set kff 0.034")
-        checks.check(reply is not None and reply.startswith("ok"), "set kff 0.034", reply)
-        reply = guest.command("save")
-        checks.check(reply is not None and reply.startswith("ok"), "save", reply)
-        reply = guest.command("get kff")
-        checks.check(reply is not None and "0.034" in reply, "get returns the saved value", reply)
+    reply = guest.command("get wheelbase_mm")
+    checks.check(reply is not None and reply.startswith("ok"), "get wheelbase_mm", reply)
+    reply = guest.command("set c_l 7")
+    checks.check(reply is not None and reply.startswith("err"), "set out of range refused",
+                 reply)
+    reply = guest.command("set kp 1x")
+    checks.check(reply is not None and reply.startswith("err"), "set with junk refused", reply)
+    reply = guest.command("get c_l")
+    checks.check(reply is not None and reply.startswith("ok") and
+                 abs(float(next(iter(v for k, v in fields(reply).items()
+                                     if k in ("c_l", "value")), "nan")) - 1.0) < 1e-6,
+                 "refused set changed nothing", reply)
+    reply = guest.command("set kff 0.034")
+    checks.check(reply is not None and reply.startswith("ok"), "set kff 0.034", reply)
+    reply = guest.command("save")
+    checks.check(reply is not None and reply.startswith("ok"), "save", reply)
+    reply = guest.command("get kff")
+    checks.check(reply is not None and "0.034" in reply, "get returns the saved value", reply)
 
     reply = guest.command("bogus")
     checks.check(reply is not None and reply.startswith("err"), "unknown command refused", reply)
@@ -185,19 +185,8 @@ def main():
     checks.check(status.get("mode") == "idle" and math.hypot(x, y) < 30.0 and abs(wrapped) < 3.0,
                  "umbmark-ccw 1 m square closes in odometry", f"x={x} y={y} theta={theta}")
 
-    # Tick rate: ticks counted against the clock, between two status replies.
-    first = fields(guest.command("status"))
-    time.sleep(1.0)
     second = fields(guest.command("status"))
-    try:
-        dticks = int(second["ticks"]) - int(first["ticks"])
-        dms = int(second["uptime_ms"]) - int(first["uptime_ms"])
-        rate_ok = dms > 100 and abs(dticks / dms - 1.0) < 0.01
-        detail = f"{dticks} ticks in {dms} ms"
-    except (KeyError, ValueError):
-        rate_ok, detail = False, str(second)
-    checks.check(rate_ok, "tick keeps 1 kHz", detail)
-    checks.check(second.get("faults") == "0", "no faults", second.get("faults", "?"))
+    checks.check(second.get("faults") == "none", "no faults", second.get("faults", "?"))
     if not args.no_icount:
         tick_us = float(second.get("tick_us_max", "nan"))
         instructions = tick_us * 1000.0  # -icount shift=0: 1 instruction = 1 ns
@@ -213,6 +202,20 @@ def main():
         guest.process.kill()
         status_code = -1
     checks.check(status_code == 0, "guest exits with status 0", str(status_code))
+    # Tick rate: the QEMU board counts ticks against TIM2's counter (QEMU's virtual clock at
+    # 1 GHz, independent of SysTick) and prints both when the session ends.
+    session = guest.expect(rb"# qemu-session ticks=(\d+) timer_us=(\d+)", 5.0)
+    if session:
+        ticks, timer_us = int(session.group(1)), int(session.group(2))
+        rate = ticks / (timer_us / 1e6) if timer_us else 0.0
+        # QEMU drops SysTick periods when its virtual clock jumps after a host stall (0.2..6 %
+        # measured on a loaded 2-core host), never adds any: the band catches a wrong reload or
+        # clock (x2, /2, 16 vs 168 MHz) and a tick that overruns its period.
+        checks.check(timer_us > 1_000_000 and 0.90 <= rate / 1000.0 <= 1.005,
+                     "tick keeps 1 kHz against an independent timer",
+                     f"{ticks} ticks in {timer_us} us = {rate:.2f} Hz")
+    else:
+        checks.check(False, "tick keeps 1 kHz against an independent timer", "no session line")
     if checks.failures:
         print("---- console transcript ----")
         print(guest.output.decode(errors="replace"))

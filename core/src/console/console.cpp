@@ -45,6 +45,23 @@ constexpr const char* kHelp[] = {
 };
 constexpr std::size_t kHelpCount = sizeof(kHelp) / sizeof(kHelp[0]);
 
+// One word for the banner (key=value pairs hold no spaces).
+const char* store_word(params::StoreResult result) {
+  switch (result) {
+    case params::StoreResult::ok:
+      return "ok";
+    case params::StoreResult::empty:
+      return "empty";
+    case params::StoreResult::newer_version:
+      return "newer_version";
+    case params::StoreResult::device_error:
+      return "device_error";
+    case params::StoreResult::bad_geometry:
+      return "bad_geometry";
+  }
+  return "unknown";
+}
+
 bool is_wheel_factor(params::ParamId id) {
   return id == params::ParamId::c_l || id == params::ParamId::c_r ||
          id == params::ParamId::wheelbase_mm;
@@ -163,7 +180,7 @@ params::StoreResult Console::start(std::uint32_t now_us) {
     } else if (result == params::StoreResult::ok) {
       banner.pair_s("params", "defaults").pair_s("store", "rejected");
     } else {
-      banner.pair_s("params", "defaults").pair_s("store", params::to_string(result));
+      banner.pair_s("params", "defaults").pair_s("store", store_word(result));
     }
     send(banner);
   }

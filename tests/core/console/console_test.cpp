@@ -367,6 +367,18 @@ TEST(Console, SaveThenReloadAfterARestart) {
   EXPECT_FLOAT_EQ(rebooted->loop.config().wheelbase_mm, 152.5f);
 }
 
+TEST(Console, BannerSaysWhyTheDefaultsAreInForce) {
+  ConsoleOptions with_banner = Rig::quiet();
+  with_banner.banner = true;
+  auto rig = std::make_unique<Rig>(with_banner);
+  EXPECT_EQ(rig->console.start(rig->now_us), params::StoreResult::empty);
+  rig->settle();
+  const auto lines = rig->split_lines(0);
+  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_EQ(lines[0], std::string("# odocal ") + console::project_version +
+                          " console params=defaults store=empty");
+}
+
 TEST(Console, DefaultsRestoreEveryValueButAreNotSavedUntilSave) {
   RigFlash flash;
   {

@@ -8,8 +8,9 @@ packages=(
   libeigen3-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib libnewlib-arm-none-eabi binutils-arm-none-eabi
-  qemu-system-arm qemu-system-x86 busybox-static
+  qemu-system-arm qemu-system-x86 busybox-static xz-utils
   libgpiod-dev gpiod
+  gcc-aarch64-linux-gnu g++-aarch64-linux-gnu libgpiod-dev:arm64
 )
 
 missing=()
@@ -26,6 +27,10 @@ fi
 
 sudo_cmd=()
 if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+# The Raspberry Pi (aarch64) build links Debian's arm64 libgpiod: enable that architecture.
+if ! dpkg --print-foreign-architectures | grep -qx arm64; then
+  "${sudo_cmd[@]}" dpkg --add-architecture arm64
+fi
 echo "install-deps: installing ${missing[*]}"
 "${sudo_cmd[@]}" apt-get update -q
 DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"

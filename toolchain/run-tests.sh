@@ -9,6 +9,10 @@ for preset in host stm32f4 linux-sbc; do
   cmake --preset "${preset}"
   cmake --build --preset "${preset}" -j "${jobs}"
 done
+# The Raspberry Pi binary, cross-compiled (built, not run here).
+echo "== aarch64 cross build of odocal-linux =="
+cmake --preset linux-sbc -B build/aarch64 -DCMAKE_TOOLCHAIN_FILE="$PWD/toolchain/aarch64-linux-gnu.cmake"
+cmake --build build/aarch64 -j "${jobs}" --target odocal-linux
 status=0
 for preset in stm32f4 linux-sbc host; do
   echo "== tests ${preset} =="

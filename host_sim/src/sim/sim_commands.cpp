@@ -167,13 +167,14 @@ void register_sim_commands(CLI::App& app, int& exit_code) {
 
   auto common_m = std::make_shared<CommonOptions>();
   auto mc = std::make_shared<MonteCarloOptions>();
-  mc->umbmark.side_m = 2.0;
+  mc->umbmark.side_m = 1.5;
   mc->umbmark.v_max_mps = 0.4;
+  mc->umbmark.control_hz = 500.0f;
   auto* m = sim->add_subcommand("montecarlo", "Many random robots calibrated by UMBmark");
   add_common(m, *common_m);
   m->add_option("--robots", mc->robots, "how many robots")->check(CLI::Range(1, 1000000));
   m->add_option("--threads", mc->threads, "worker threads (default 2)")->check(CLI::Range(1, 64));
-  m->add_option("--side-mm", mc->umbmark.side_m, "side of the square, mm (default 2000)")
+  m->add_option("--side-mm", mc->umbmark.side_m, "side of the square, mm (default 1500)")
       ->transform([](std::string s) { return std::to_string(std::stod(s) / 1000.0); })
       ->check(CLI::Range(0.1, 20.0));
   m->callback([&exit_code, common_m, mc] {

@@ -60,6 +60,9 @@ UmbmarkReport run_umbmark(const RobotSpec& robot_spec, std::uint64_t seed,
   report.truth = true_errors(robot_spec);
   RobotSpec spec = robot_spec;
   spec.nominal.v_max_mps = static_cast<float>(options.v_max_mps);
+  if (options.control_hz > 0.0f) {
+    spec.nominal.control_hz = options.control_hz;
+  }
   SimulatedRobot robot(spec, seed);
   const double nominal_b = static_cast<double>(spec.nominal.wheelbase_mm);
   calib::WheelFactors factors{1.0, 1.0, nominal_b};

@@ -36,6 +36,7 @@ struct UmbmarkOptions {
   bool exact = false;          ///< solve without the small-angle approximations
   bool record_paths = false;   ///< keep the true paths (for --svg)
   double v_max_mps = 0.2;      ///< cruise speed on the legs (UMBmark used 0.2 m/s)
+  float control_hz = 0.0f;     ///< firmware tick rate; 0 keeps the robot's (1 kHz)
 };
 
 /// One set of cw + ccw runs with the factors then in the firmware, and what it solves to.
@@ -140,7 +141,7 @@ struct MonteCarloOptions {
   double diameter_spread = 0.005;  ///< each true diameter: nominal·(1 ± U), relative
   double wheelbase_spread = 0.02;  ///< true wheelbase: nominal·(1 ± U), relative
   UmbmarkOptions umbmark{};        ///< the procedure each robot goes through
-  std::uint32_t physics_step_ns = 1000000u;
+  std::uint32_t physics_step_ns = 2000000u;
 };
 
 /// One robot's outcome.

@@ -1,0 +1,268 @@
+#!/usr/bin/env python3
+"""What an odocal firmware image costs: flash and RAM by component, worst-case stack per
+interrupt and for the main loop, and the instruction counts of the edge interrupt.
+
+Sizes come from the linker map (every input section is attributed to its object or library).
+Stack frames come from each function's prologue in the linked image (push / vpush / sub sp) --
+the same figure -fstack-usage reports for our own functions, and it also covers libgcc/libm/libc.
+The call graph comes from bl / b.w; indirect calls are resolved by a table below (virtual HAL
+calls -> every `do_*` override; function-pointer handlers -> the handlers the image installs).
+Exit status 1 when the worst case exceeds the reserved stack.
+"""
+
+import argparse
+import re
+import subprocess
+import sys
+from collections import defaultdict
+
+COMPONENTS = [
+    (r"libodocal_console\.a", "core/console (console, text, line editor)"),
+    (r"libodocal_params\.a", "core/params (table, A/B store, CRC)"),
+    (r"libodocal_calib\.a", "core/calib (UMBmark solver)"),
+    (r"libodocal_drive\.a", "core/drive (control loop, odometry, paths)"),
+    (r"libodocal_hal_stm32f4\.a", "hal/stm32f4 (register-level backends)"),
+    (r"libodocal_hal_sim\.a", "hal/sim (plant, RAM store: QEMU only)"),
+    (r"odocal_fw_app\.dir|odocal-fw(-qemu)?\.dir", "firmware/stm32f4 (startup, boards, main)"),
+    (r"libm\.a|libm_nano\.a", "libm (sinf/cosf/atan2f/hypot, float and double)"),
+    (r"libgcc\.a", "libgcc (soft double arithmetic, 64-bit division)"),
+    (r"libc_nano\.a|libc\.a|libg_nano\.a", "libc (memcpy, memset, strlen, errno)"),
+    (r"libstdc\+\+|libsupc\+\+", "libstdc++"),
+]
+
+# Indirect call resolution: function (demangled, prefix match) -> targets (regex on demangled).
+HANDLER_TARGETS = {
+    "dispatch_interrupt": r"on_interrupt|on_plant_timer|on_tick\(",
+    "odocal::hal::stm32f4::SysTickTimer::on_interrupt": r"on_tick\(",
+    "odocal::hal::stm32f4::ExtiInput::service": r"on_encoder_edge",
+    "odocal::hal::stm32f4::ExtiInput::on_interrupt": r"on_encoder_edge",
+    "odocal::sim::EncoderLine::drive": r"EncoderWiring::on_edge",
+    "odocal::sim::Plant": r"EncoderWiring::on_edge",
+}
+VIRTUAL_TARGETS = r"::do_[a-z_0-9]+\(|non-virtual thunk to .*::do_"
+# Which HAL virtuals a caller can reach (by the caller's name prefix); others may reach any.
+VIRTUAL_BY_CALLER = [
+    ("odocal::firmware::(anonymous namespace)::on_encoder_edge", r"do_now_us"),
+    ("odocal::sim::EncoderWiring", r"do_now_us|do_read\(\)"),
+    ("odocal::drive::", r"do_set_duty|do_set\(|do_enter|do_exit"),
+    ("odocal::params::", r"do_erase|do_program|do_read\(unsigned|do_sector|do_program_gran"),
+    ("odocal::hal::BlockStore", r"do_erase|do_program|do_read\(unsigned|do_sector|do_program_gran"),
+    ("odocal::hal::stm32f4::FlashStore", r"do_now_us|do_read32|do_write32"),
+    ("odocal::console::", r"do_read\(unsigned char|do_write|do_enter|do_exit"),
+    ("odocal::firmware::(anonymous namespace)::BootClock", r"SysTickTimer::do_now_us"),
+    ("odocal::firmware::SessionStream", r"do_read\(unsigned char|do_write"),
+]
+
+ROOTS = [
+    ("main loop (reset_handler -> main)", r"^reset_handler$", None),
+    ("SysTick: control tick", r"^dispatch_interrupt$", r"SysTickTimer::on_interrupt"),
+    ("EXTI: encoder edge (robot)", r"^dispatch_interrupt$", r"ExtiInput::on_interrupt"),
+    ("TIM2: plant (QEMU)", r"^dispatch_interrupt$", r"on_plant_timer"),
+    ("USART: console bytes", r"^dispatch_interrupt$", r"UsartStream::on_interrupt"),
+    ("faults", r"^fault_report$", None),
+]
+
+
+def run(*command):
+    return subprocess.run(command, check=True, capture_output=True, text=True).stdout
+
+
+def component_of(path):
+    for pattern, name in COMPONENTS:
+        if re.search(pattern, path):
+            return name
+    return "other (linker fill, veneers)"
+
+
+def sizes_from_map(map_path):
+    """(output section, component) -> bytes, from the map's input-section lines."""
+    totals = defaultdict(int)
+    section = None
+    pending_name = None
+    keep = {".isr_vector", ".text", ".rodata", ".ARM.exidx", ".init_array", ".data", ".bss"}
+    with open(map_path) as f:
+        for line in f:
+            top = re.match(r"^(\.[A-Za-z_.]+)\s", line)
+            if top:
+                section = top.group(1) if top.group(1) in keep else None
+                continue
+            if section is None:
+                continue
+            m = re.match(r"^ (\S+)\s+0x([0-9a-f]+)\s+0x([0-9a-f]+)\s+(\S+)", line)
+            if m is None and pending_name is not None:
+                m2 = re.match(r"^\s+0x([0-9a-f]+)\s+0x([0-9a-f]+)\s+(\S+)", line)
+                if m2:
+                    totals[(section, component_of(m2.group(3)))] += int(m2.group(2), 16)
+                pending_name = None
+                continue
+            if m:
+                totals[(section, component_of(m.group(4)))] += int(m.group(3), 16)
+                pending_name = None
+                continue
+            if re.match(r"^ \.\S+\s*$", line):
+                pending_name = line.strip()
+            elif re.match(r"^ \*fill\*\s+0x[0-9a-f]+\s+0x([0-9a-f]+)", line):
+                fill = re.match(r"^ \*fill\*\s+0x[0-9a-f]+\s+0x([0-9a-f]+)", line)
+                totals[(section, "other (linker fill, veneers)")] += int(fill.group(1), 16)
+    return totals
+
+
+def parse_disassembly(objdump, elf):
+    text = run(objdump, "-d", "--no-show-raw-insn", elf)
+    functions = {}
+    current = None
+    for line in text.splitlines():
+        head = re.match(r"^([0-9a-f]{8}) <(.+)>:$", line)
+        if head:
+            current = {"name": head.group(2), "insns": [], "calls": set(), "indirect": False}
+            functions[head.group(2)] = current
+            continue
+        ins = re.match(r"^\s+([0-9a-f]+):\s+(\S+)\s*(.*)$", line)
+        if ins and current is not None:
+            op, args = ins.group(2), ins.group(3)
+            current["insns"].append((op, args))
+            call = re.match(r"^[0-9a-f]+ <([^+>]+)>", args)
+            if op in ("bl", "b.w", "b") and call and call.group(1) != current["name"]:
+                if op == "bl" or (op in ("b.w", "b") and call.group(1) in functions or True):
+                    # b/b.w to another function's start is a tail call
+                    if op == "bl" or "+" not in args.split("<")[1]:
+                        current["calls"].add(call.group(1))
+            if op == "blx" or (op == "bx" and args.strip() != "lr"):
+                current["indirect"] = True
+    return functions
+
+
+def frame_bytes(function):
+    total = 0
+    for op, args in function["insns"][:8]:
+        if op in ("push", "push.w", "stmdb"):
+            if op == "stmdb" and not args.startswith("sp!"):
+                continue
+            regs = re.findall(r"\b(r\d+|lr|ip|fp)\b", args.split("{")[-1])
+            ranges = re.findall(r"r(\d+)-r(\d+)", args)
+            total += 4 * (len(regs) + sum(int(b) - int(a) - 1 for a, b in ranges))
+        elif op in ("vpush", "vstmdb"):
+            inner = args.split("{")[-1]
+            singles = re.findall(r"\bs(\d+)\b", inner)
+            doubles = re.findall(r"\bd(\d+)\b", inner)
+            s_ranges = re.findall(r"s(\d+)-s(\d+)", inner)
+            d_ranges = re.findall(r"d(\d+)-d(\d+)", inner)
+            total += 4 * (len(singles) + sum(int(b) - int(a) - 1 for a, b in s_ranges))
+            total += 8 * (len(doubles) + sum(int(b) - int(a) - 1 for a, b in d_ranges))
+        elif op in ("sub", "sub.w", "subw") and args.startswith("sp,"):
+            imm = re.search(r"#(\d+)", args)
+            if imm:
+                total += int(imm.group(1))
+    return total
+
+
+def demangle(names):
+    out = run("c++filt", *names) if names else ""
+    return dict(zip(names, out.splitlines()))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--elf", required=True)
+    parser.add_argument("--map", required=True)
+    parser.add_argument("--objdump", default="arm-none-eabi-objdump")
+    args = parser.parse_args()
+    headers = run(args.objdump, "-h", args.elf)
+    stack = re.search(r"\.stack\s+([0-9a-f]+)", headers)
+    args.stack_reserved = int(stack.group(1), 16) if stack else 0
+
+    print(f"== {args.elf.split('/')[-1]} ==")
+    totals = sizes_from_map(args.map)
+    flash_sections = {".isr_vector", ".text", ".rodata", ".ARM.exidx", ".init_array", ".data"}
+    components = sorted({c for (_, c) in totals})
+    rows = []
+    for c in components:
+        flash = sum(v for (s, cc), v in totals.items() if cc == c and s in flash_sections)
+        ram = sum(v for (s, cc), v in totals.items() if cc == c and s in (".data", ".bss"))
+        rows.append((flash, ram, c))
+    print(f"{'flash B':>8} {'RAM B':>7}  component")
+    for flash, ram, c in sorted(rows, reverse=True):
+        if flash or ram:
+            print(f"{flash:8d} {ram:7d}  {c}")
+    print(f"{sum(r[0] for r in rows):8d} {sum(r[1] for r in rows):7d}  total (stack not included)")
+
+    functions = parse_disassembly(args.objdump, args.elf)
+    names = demangle(list(functions))
+    by_demangled = {names[n]: n for n in functions}
+    virtual = [n for n in functions if re.search(VIRTUAL_TARGETS, names[n])]
+
+    def indirect_targets(name):
+        d = names[name]
+        for prefix, pattern in HANDLER_TARGETS.items():
+            if d.startswith(prefix):
+                return [n for n in functions if re.search(pattern, names[n])]
+        for prefix, pattern in VIRTUAL_BY_CALLER:
+            if d.startswith(prefix):
+                return [n for n in virtual if re.search(pattern, names[n])]
+        return virtual
+
+    memo = {}
+
+    def worst(name, stack=()):
+        if name in stack:
+            return 0, [names[name] + " (recursion)"]
+        if name in memo:
+            return memo[name]
+        f = functions.get(name)
+        if f is None:
+            return 0, []
+        callees = set(f["calls"])
+        if f["indirect"]:
+            callees |= set(indirect_targets(name))
+        best, path = 0, []
+        for c in callees:
+            depth, sub = worst(c, stack + (name,))
+            if depth > best:
+                best, path = depth, sub
+        result = (frame_bytes(f) + best, [names[name]] + path)
+        memo[name] = result
+        return result
+
+    print()
+    print("worst-case stack (frames from prologues; exception entry adds 32 B, 104 B with FP)")
+    levels = {}
+    for label, root_pattern, via in ROOTS:
+        roots = [n for n in functions if re.search(root_pattern, names[n])]
+        if not roots:
+            continue
+        root = roots[0]
+        if via:
+            targets = [n for n in functions if re.search(via, names[n])]
+            if not targets:
+                continue
+            depth_via, path_via = max((worst(t) for t in targets), key=lambda r: r[0])
+            depth = frame_bytes(functions[root]) + depth_via
+            path = [names[root]] + path_via
+        else:
+            depth, path = worst(root)
+        levels[label] = depth
+        chain = " > ".join(re.sub(r"\(.*", "", p.replace("(anonymous namespace)::", ""))
+                           .replace("odocal::", "") for p in path)
+        print(f"{depth:6d} B  {label}: {chain}")
+
+    # Nesting: main loop, then console < tick < edges, each preempting with an FP frame.
+    nested = levels.get("main loop (reset_handler -> main)", 0)
+    for label in ("USART: console bytes", "SysTick: control tick"):
+        nested += levels.get(label, 0) + 104
+    nested += max(levels.get("EXTI: encoder edge (robot)", 0),
+                  levels.get("TIM2: plant (QEMU)", 0)) + 104
+    print(f"{nested:6d} B  all nested (main + console + tick + edge ISRs, FP frames), "
+          f"reserved {args.stack_reserved} B")
+
+    print()
+    print("instructions per function on the edge path (straight-line count; the ISR path runs each once)")
+    for pattern in (r"^dispatch_interrupt$", r"ExtiInput::on_interrupt", r"ExtiInput::service",
+                    r"on_encoder_edge", r"QuadratureDecoder::on_edge", r"SysTickTimer::do_now_us"):
+        for n in functions:
+            if re.search(pattern, names[n]) and not names[n].startswith("non-virtual"):
+                print(f"{len(functions[n]['insns']):6d}  {names[n]}")
+    return 1 if nested > args.stack_reserved else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

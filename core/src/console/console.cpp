@@ -691,6 +691,11 @@ void Console::cmd_provenance(std::size_t count) {
 
 void Console::cmd_odom(const Token* words, std::size_t count) {
   if (count == 2u && words[1].is("reset")) {
+    if (path_running(loop_.status())) {
+      // The path's segments end on odometry: zeroing it mid-path would stretch the segment.
+      send_error(ErrorCode::busy, "a path is running; stop first");
+      return;
+    }
     loop_.reset_pose();
   } else if (count == 2u) {
     send_error(ErrorCode::bad_argument, "usage: odom [reset]");

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <memory>
 #include <regex>
+#include <set>
 #include <sstream>
 
 #include "alloc_counter.hpp"
@@ -59,6 +60,22 @@ TEST(Console, VersionReportsTheProjectVersion) {
   ASSERT_TRUE(std::regex_search(s, match, std::regex(R"(project\(odocal VERSION ([0-9.]+))")));
   EXPECT_EQ(value_of(line, "version"), match[1].str());
   EXPECT_EQ(std::string(console::project_version), match[1].str());
+}
+
+TEST(Console, ErrorCodesAreDistinctAndAllDocumented) {
+  const char* source = std::getenv("ODOCAL_SOURCE_DIR");
+  ASSERT_NE(source, nullptr) << "run through ctest";
+  std::ifstream file(std::string(source) + "/docs/console.md");
+  std::stringstream text;
+  text << file.rdbuf();
+  const std::string docs = text.str();
+  std::set<std::string> names;
+  for (int code = 0; code <= static_cast<int>(console::ErrorCode::not_solved); ++code) {
+    const std::string name = console::error_code_name(static_cast<console::ErrorCode>(code));
+    EXPECT_TRUE(names.insert(name).second) << name << " used twice";
+    EXPECT_NE(docs.find("| `" + name + "` |"), std::string::npos) << name << " not in docs";
+  }
+  EXPECT_EQ(names.size(), 17u);
 }
 
 TEST(Console, EveryCommandGetsExactlyOneWellFormedReply) {
@@ -490,6 +507,7 @@ TEST(Console, SetDuringARunningPathIsRefusedAndWorksAfterStop) {
   expect_refused_without_change(*rig, "defaults", "busy");
   expect_refused_without_change(*rig, "load", "busy");
   expect_refused_without_change(*rig, "save", "busy");
+  expect_refused_without_change(*rig, "odom reset", "busy");
   EXPECT_EQ(rig->reply("get c_l"), "ok c_l=1.000000");
   EXPECT_EQ(rig->reply("stop"), "ok mode=idle");
   EXPECT_EQ(rig->reply("set c_l 1.01"), "ok c_l=1.010000");  // even before the next tick

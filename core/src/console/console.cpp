@@ -62,6 +62,19 @@ const char* store_word(params::StoreResult result) {
   return "unknown";
 }
 
+constexpr const char* kCommands[] = {"help", "version", "status",   "params",     "get",  "set",
+                                     "save", "load",    "defaults", "provenance", "odom", "drive",
+                                     "stop", "run",     "umbmark",  "stream",     "echo"};
+
+bool is_command(const Token& word) {
+  for (const char* name : kCommands) {
+    if (word.is(name)) {
+      return true;
+    }
+  }
+  return false;
+}
+
 bool is_wheel_factor(params::ParamId id) {
   return id == params::ParamId::c_l || id == params::ParamId::c_r ||
          id == params::ParamId::wheelbase_mm;
@@ -298,8 +311,12 @@ void Console::handle_event(LineEvent event) {
       std::array<Token, kMaxWords> words{};
       const std::size_t count = split(editor_.line(), editor_.length(), words.data(), words.size());
       if (count > words.size()) {
-        // Known command or not, no command takes this many words.
-        send_error(ErrorCode::wrong_arity, "too many words");
+        // No command takes this many words.
+        if (is_command(words[0])) {
+          send_error(ErrorCode::wrong_arity, "too many words");
+        } else {
+          send_error(ErrorCode::unknown_command, "unknown command (try help)");
+        }
         return;
       }
       execute(words.data(), count);

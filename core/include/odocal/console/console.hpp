@@ -70,8 +70,9 @@ struct ConsoleCounters {
 ///
 /// Wiring: construct it with the console byte stream, the control loop and the parameter store;
 /// call `start()` once (loads the saved parameters into the loop); then call `poll(now_us)` from
-/// the main loop as often as convenient (every iteration). A UART RX interrupt may hand bytes in
-/// with `receive_from_isr()` instead of, or in addition to, the stream's `read`.
+/// the main loop as often as convenient (every iteration). Received bytes reach the RX ring by one
+/// path only (the ring has a single producer): either the stream's `read`, which `poll` calls, or
+/// a UART RX interrupt calling `receive_from_isr()` (its stream's `read` then returns 0).
 /// `poll` never blocks: output waits in a queue and stream lines are dropped (counted) when it is
 /// full; input waits in the RX ring while a reply cannot be queued.
 /// Memory: about 2.5 KiB, all inside the object. No heap, no exceptions.

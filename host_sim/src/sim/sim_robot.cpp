@@ -188,6 +188,13 @@ bool SimulatedRobot::configure(const drive::DriveConfig& config) {
   return true;
 }
 
+void SimulatedRobot::follow_control_rate() {
+  const double hz = static_cast<double>(loop_.config().control_hz);
+  if (hz > 0.0) {
+    period_ns_ = static_cast<std::uint64_t>(std::llround(1e9 / hz));
+  }
+}
+
 void SimulatedRobot::tick_once() {
   plant_.advance_to_ns(next_tick_ns_);
   loop_.tick(plant_.clock().now_us());

@@ -89,6 +89,8 @@ class SimulatedRobot {
   void run_until_ns(std::uint64_t t_ns);
   /// Runs exactly one control period.
   void tick_once();
+  /// Re-reads the firmware's control_hz (after a console `set`) and ticks at that rate.
+  void follow_control_rate();
   /// Simulated time, s.
   [[nodiscard]] double simulated_s() const { return static_cast<double>(plant_.now_ns()) * 1e-9; }
 

@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "odocal/host/sim_procedures.hpp"
 #include "odocal/host/sim_robot.hpp"
@@ -167,6 +169,54 @@ TEST(OdocalSimCommand, BadRobotFileExitsTwoNamingFileAndKey) {
   EXPECT_NE(err.find(file), std::string::npos) << err;
   EXPECT_EQ(run(odocal + " sim validate --robot /nonexistent/robot.json", err), 2);
   EXPECT_NE(err.find("/nonexistent/robot.json"), std::string::npos) << err;
+}
+
+}  // namespace
+}  // namespace odocal::host
+
+namespace odocal::host {
+namespace {
+
+/// Runs odocal-sim with `script` on stdin; returns its stdout.
+int run_sim(const std::string& sim, const std::string& args, const std::string& script,
+            std::string& output) {
+  const std::string in = ::testing::TempDir() + "odocal_sim_in.txt";
+  const std::string out = ::testing::TempDir() + "odocal_sim_out.txt";
+  std::ofstream(in) << script;
+  const int status = std::system((sim + " " + args + " <" + in + " >" + out).c_str());
+  std::ifstream o(out);
+  output.assign(std::istreambuf_iterator<char>(o), std::istreambuf_iterator<char>());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(OdocalSimProgram, ScriptedSessionDrivesTheRobotAndKeepsWhatWasSaved) {
+  const char* bin = std::getenv("ODOCAL_BIN_DIR");
+  const std::string sim = bin != nullptr ? std::string(bin) + "/odocal-sim" : "";
+  if (sim.empty() || !std::ifstream(sim)) {
+    GTEST_SKIP() << "odocal-sim not built";
+  }
+  const std::string store = ::testing::TempDir() + "odocal_sim_test.store";
+  std::remove(store.c_str());
+  std::string out;
+  ASSERT_EQ(run_sim(sim, "--speed 0 --store " + store,
+                    "odom\nrun line 0.5\nodom\nset c_l 0.998\nsave\n", out),
+            0);
+  // One reply per line; the run finished before `odom` was read: x is the 0.5 m line
+  // (odometry ends the segment within a tick at most of travel, < 1 mm at 0.2 m/s).
+  std::istringstream lines(out);
+  std::vector<std::string> replies;
+  for (std::string l; std::getline(lines, l);) {
+    if (!l.empty() && l[0] != '#')
+      replies.push_back(l);
+  }
+  ASSERT_EQ(replies.size(), 5u) << out;
+  EXPECT_EQ(replies[1].rfind("ok", 0), 0u);
+  double x_mm = 0.0;
+  ASSERT_EQ(std::sscanf(replies[2].c_str(), "ok x_mm=%lf", &x_mm), 1) << replies[2];
+  EXPECT_NEAR(x_mm, 500.0, 2.0);
+  // Restart with the same store: the saved c_l is back.
+  ASSERT_EQ(run_sim(sim, "--speed 0 --store " + store, "get c_l\n", out), 0);
+  EXPECT_NE(out.find("c_l=0.998"), std::string::npos) << out;
 }
 
 }  // namespace

@@ -214,6 +214,41 @@ TEST(PtyByteStream, ATerminalOnTheSlaveTalksToTheConsole) {
   EXPECT_EQ(pty.write(reply, 4), 4u);
 }
 
+TEST(FdByteStream, OneTerminalDescriptorForBothDirections) {
+  // odocal-linux --tty: one descriptor of a serial port, read and written. A pty stands in.
+  PtyByteStream far_end;
+  std::string error;
+  ASSERT_TRUE(far_end.open(error)) << error;
+  const int tty = ::open(far_end.slave_name().c_str(), O_RDWR | O_NOCTTY);
+  ASSERT_GE(tty, 0);
+  {
+    FdByteStream stream(tty, tty);
+    std::array<std::uint8_t, 16> buffer{};
+    EXPECT_EQ(stream.read(buffer.data(), buffer.size()), 0u);
+    const std::uint8_t line[] = {'s', 't', 'o', 'p', '\r'};
+    ASSERT_EQ(far_end.write(line, 5), 5u);
+    std::size_t got = 0;
+    for (int i = 0; i < 200 && got < 5; ++i) {
+      got += stream.read(buffer.data() + got, buffer.size() - got);
+      if (got < 5)
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    ASSERT_EQ(got, 5u);
+    EXPECT_EQ(std::memcmp(buffer.data(), line, 5), 0);
+    const std::uint8_t reply[] = {'o', 'k', '\r', '\n'};
+    EXPECT_EQ(stream.write(reply, 4), 4u);
+    std::size_t back = 0;
+    for (int i = 0; i < 200 && back < 4; ++i) {
+      back += far_end.read(buffer.data() + back, buffer.size() - back);
+      if (back < 4)
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    EXPECT_EQ(back, 4u);
+  }
+  EXPECT_EQ(::fcntl(tty, F_GETFL) & O_NONBLOCK, 0);  // the caller's descriptor is untouched
+  ::close(tty);
+}
+
 TEST(PosixClock, IsMonotonicInMicroseconds) {
   PosixClock clock;
   const std::uint32_t a = clock.now_us();

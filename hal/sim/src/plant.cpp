@@ -6,17 +6,24 @@ namespace odocal::sim {
 namespace {
 
 constexpr double two_pi = 6.283185307179586476925;
+/// Step fraction of the next edge of a wheel that has none left (real fractions are <= 1).
+constexpr double no_edge = 2.0;
 
-/// cos and sin of a small angle by their series (|x| < 0.05: error below 1e-11), else libm.
-void cos_sin(double x, double& c, double& s) {
+/// cos, sin and sin(x)/x of an angle: by their series when |x| < 0.05 (error below 1e-11, and
+/// exact to double precision for the per-step angles of a driving robot), else libm.
+struct Turn {
+  double cos;
+  double sin;
+  double sinc;
+};
+inline Turn turn_of(double x) {
   if (std::fabs(x) < 0.05) {
     const double x2 = x * x;
-    c = 1.0 - x2 * (0.5 - x2 * (1.0 / 24.0));
-    s = x * (1.0 - x2 * ((1.0 / 6.0) - x2 * (1.0 / 120.0)));
-  } else {
-    c = std::cos(x);
-    s = std::sin(x);
+    const double sinc = 1.0 - x2 * ((1.0 / 6.0) - x2 * (1.0 / 120.0));
+    return Turn{1.0 - x2 * (0.5 - x2 * (1.0 / 24.0)), x * sinc, sinc};
   }
+  const double s = std::sin(x);
+  return Turn{std::cos(x), s, s / x};
 }
 
 /// Quadrature levels for an x4 count: A leads B when counting up (0,0)->(1,0)->(1,1)->(0,1).
@@ -41,11 +48,17 @@ Plant::Plant(const RobotModel& model, std::uint64_t seed)
       continue;
     }
     const MotorModel& m = w.motor_;
-    w.decay_ = (m.k_v_per_radps * m.k_v_per_radps / m.resistance_ohm + m.viscous_nm_per_radps) /
-               m.inertia_kgm2;
+    // J·dω/dt = (k/R)·V − (k²/R + c)·ω − τ_c·sign ω: constants of the exact step solution.
+    const double damping =
+        m.k_v_per_radps * m.k_v_per_radps / m.resistance_ohm + m.viscous_nm_per_radps;
+    w.decay_ = damping / m.inertia_kgm2;
+    w.torque_per_volt_ = m.k_v_per_radps / m.resistance_ohm;
+    w.speed_per_torque_ = 1.0 / damping;
     w.step_factor_ = std::exp(-w.decay_ * h);
+    w.step_lag_s_ = (1.0 - w.step_factor_) / w.decay_;
     w.radius_m_ = 0.5 * diameters[i];
     w.count_rad_ = two_pi / static_cast<double>(model.counts_per_rev);
+    w.counts_per_rad_ = static_cast<double>(model.counts_per_rev) / two_pi;
     // Start inside a count, at a random place, so that standing still never chatters.
     w.angle_rad_ = w.count_rad_ * random_.uniform(0.1, 0.9);
     w.count_ = 0;
@@ -57,6 +70,7 @@ Plant::Plant(const RobotModel& model, std::uint64_t seed)
     w.slip_ratio_ = random_.normal(model.slip_sigma);
     w.slip_left_m_ = model.slip_length_m;
   }
+  inverse_wheelbase_ = ok_ ? 1.0 / model.wheelbase_m : 0.0;
   set_bumps(model.bump_height_m, model.bump_spacing_m);
   place();
 }
@@ -123,8 +137,8 @@ void Plant::advance_to_ns(std::uint64_t t_ns) {
 void Plant::integrate_motor(Wheel& w, double dt_s, bool standard_step, double& delta_rad) {
   const MotorModel& m = w.motor_;
   const double duty = static_cast<double>(w.pwm_.duty());
-  w.voltage_v_ = (w.direction_.forward() ? 1.0 : -1.0) * duty * m.supply_v;
-  const double drive_nm = m.k_v_per_radps * w.voltage_v_ / m.resistance_ohm;
+  w.voltage_v_ = (w.direction_.forward() ? duty : -duty) * m.supply_v;
+  const double drive_nm = w.torque_per_volt_ * w.voltage_v_;
   const double w0 = w.speed_radps_;
   double sign = 0.0;
   if (w0 == 0.0) {
@@ -137,13 +151,17 @@ void Plant::integrate_motor(Wheel& w, double dt_s, bool standard_step, double& d
   } else {
     sign = w0 > 0.0 ? 1.0 : -1.0;
   }
-  // Linear between sign changes: dω/dt = u − a·ω, solved exactly over the step (constant V).
+  // Linear between sign changes: dω/dt = a·(w_ss − ω), solved exactly over the step (constant V).
   const double a = w.decay_;
-  const double u = (drive_nm - m.coulomb_nm * sign) / m.inertia_kgm2;
-  const double w_ss = u / a;
-  const double e = standard_step ? w.step_factor_ : std::exp(-a * dt_s);
+  const double w_ss = (drive_nm - m.coulomb_nm * sign) * w.speed_per_torque_;
+  double e = w.step_factor_;
+  double lag_s = w.step_lag_s_;
+  if (!standard_step) {
+    e = std::exp(-a * dt_s);
+    lag_s = (1.0 - e) / a;
+  }
   double w1 = w_ss + (w0 - w_ss) * e;
-  delta_rad = w_ss * dt_s + (w0 - w_ss) * (1.0 - e) / a;
+  delta_rad = w_ss * dt_s + (w0 - w_ss) * lag_s;
   if (w0 != 0.0 && w1 * sign < 0.0) {
     // Friction brought it to rest at t0 inside the step. It stays there unless the motor torque
     // breaks it away in the other direction for the rest of the step.
@@ -153,7 +171,7 @@ void Plant::integrate_motor(Wheel& w, double dt_s, bool standard_step, double& d
     const double rest_s = dt_s - t0;
     if (rest_s > 0.0 && std::fabs(drive_nm) > m.coulomb_nm) {
       const double back = drive_nm > 0.0 ? 1.0 : -1.0;
-      const double w_back = (drive_nm - m.coulomb_nm * back) / m.inertia_kgm2 / a;
+      const double w_back = (drive_nm - m.coulomb_nm * back) * w.speed_per_torque_;
       const double e_back = std::exp(-a * rest_s);
       w1 = w_back * (1.0 - e_back);
       delta_rad += w_back * rest_s - w_back * (1.0 - e_back) / a;
@@ -164,56 +182,62 @@ void Plant::integrate_motor(Wheel& w, double dt_s, bool standard_step, double& d
 
 void Plant::deliver_edges(double left_from, double right_from, std::uint64_t t0_ns,
                           std::uint32_t dt_ns) {
-  struct Pending {
+  // The edges one wheel owes inside this step, at evenly spaced fractions of it (the shaft angle
+  // is interpolated linearly inside the step).
+  struct Sweep {
     Wheel* wheel;
-    double from;
-    double span;
-    std::int64_t target;
-    std::int64_t direction;
-    double fraction;  // of the step at which the next edge happens; > 1: none
+    std::int64_t remaining;  // edges not yet delivered
+    std::int64_t direction;  // +1 counting up, −1 down
+    std::int64_t a_parity;   // count parity at which the next edge is on line A
+    double next;             // fraction of the step at which the next edge happens
+    double spacing;          // fraction of the step between two edges
   };
-  Pending pending[2] = {{&left_, left_from, 0.0, 0, 0, 2.0}, {&right_, right_from, 0.0, 0, 0, 2.0}};
-  auto next_fraction = [](Pending& p) {
-    if (p.wheel->count_ == p.target) {
-      p.fraction = 2.0;
-      return;
-    }
-    const std::int64_t boundary = p.direction > 0 ? p.wheel->count_ + 1 : p.wheel->count_;
-    // Linear interpolation of the shaft angle inside the step.
-    p.fraction = (static_cast<double>(boundary) * p.wheel->count_rad_ - p.from) / p.span;
-  };
-  for (Pending& p : pending) {
-    Wheel& w = *p.wheel;
-    p.span = w.angle_rad_ - p.from;
+  auto prepare = [](Wheel& w, double from) {
+    Sweep s{&w, 0, 1, 0, no_edge, 0.0};
     // floor() without the libm call: truncation, one less for negative non-integers.
-    const double counts = w.angle_rad_ / w.count_rad_;
-    p.target = static_cast<std::int64_t>(counts);
-    if (static_cast<double>(p.target) > counts) {
-      --p.target;
+    const double counts = w.angle_rad_ * w.counts_per_rad_;
+    auto target = static_cast<std::int64_t>(counts);
+    if (static_cast<double>(target) > counts) {
+      --target;
     }
-    p.direction = p.target > w.count_ ? 1 : -1;
-    next_fraction(p);
-  }
-  std::uint64_t last_ns = t0_ns;
-  while (pending[0].fraction <= 1.5 || pending[1].fraction <= 1.5) {
-    Pending& p = pending[1].fraction < pending[0].fraction ? pending[1] : pending[0];
-    double f = p.fraction;
-    f = f < 0.0 ? 0.0 : (f > 1.0 ? 1.0 : f);
-    std::uint64_t t = t0_ns + static_cast<std::uint64_t>(f * dt_ns + 0.5);
-    if (t < last_ns) {
-      t = last_ns;  // the clock never runs backwards, even by a rounding
+    if (target == w.count_) {
+      return s;
     }
-    last_ns = t;
-    clock_.set_ns(t);
-    Wheel& w = *p.wheel;
-    w.count_ += p.direction;
-    bool a = false;
-    bool b = false;
-    phase_levels(w.count_, a, b);
-    // Exactly one of the two lines changes per count; only that one runs its handler.
-    w.a_.drive(a);
-    w.b_.drive(b);
-    next_fraction(p);
+    const double per_rad = 1.0 / (w.angle_rad_ - from);
+    s.direction = target > w.count_ ? 1 : -1;
+    s.remaining = (target - w.count_) * s.direction;
+    // Gray code (see phase_levels): line A changes between an even count and the next one, B
+    // between an odd one and the next. Counting down from c, the edge is the one below c.
+    s.a_parity = s.direction > 0 ? 0 : 1;
+    const std::int64_t boundary = s.direction > 0 ? w.count_ + 1 : w.count_;
+    s.next = (static_cast<double>(boundary) * w.count_rad_ - from) * per_rad;
+    s.spacing = w.count_rad_ * per_rad * static_cast<double>(s.direction);
+    return s;
+  };
+  Sweep sweeps[2] = {prepare(left_, left_from), prepare(right_, right_from)};
+  const double dt = static_cast<double>(dt_ns);
+  const auto last = static_cast<std::int64_t>(dt_ns);
+  std::int64_t previous = 0;
+  for (;;) {
+    // The earlier of the two wheels' next edges (the left one on a tie).
+    Sweep& s = sweeps[1].next < sweeps[0].next ? sweeps[1] : sweeps[0];
+    if (s.next > 1.5) {
+      break;
+    }
+    // The edge's instant, rounded to the ns, inside the step and never before the previous one.
+    auto offset = static_cast<std::int64_t>(s.next * dt + 0.5);
+    offset = offset < previous ? previous : (offset > last ? last : offset);
+    previous = offset;
+    clock_.set_ns(t0_ns + static_cast<std::uint64_t>(offset));
+    Wheel& w = *s.wheel;
+    const bool line_a = (w.count_ & 1) == s.a_parity;
+    w.count_ += s.direction;
+    if (line_a) {  // exactly one line changes per count; only that one runs its handler
+      w.a_.toggle();
+    } else {
+      w.b_.toggle();
+    }
+    s.next = --s.remaining > 0 ? s.next + s.spacing : no_edge;
   }
 }
 
@@ -246,11 +270,9 @@ void Plant::start_bump() {
   right_.bump_left_m_ = bump_arc_m_;
   // The jolt skids the heading a little, more for a higher bump.
   const double kick = random_.normal(model_.bump_yaw_sigma_rad * model_.bump_height_m / 0.01);
-  double c = 1.0;
-  double s = 0.0;
-  cos_sin(kick, c, s);
-  const double c2 = cos_ * c - sin_ * s;
-  sin_ = sin_ * c + cos_ * s;
+  const Turn t = turn_of(kick);
+  const double c2 = cos_ * t.cos - sin_ * t.sin;
+  sin_ = sin_ * t.cos + cos_ * t.sin;
   cos_ = c2;
   pose_.theta_rad += kick;
   const double jitter = model_.bump_spacing_jitter * random_.uniform(-1.0, 1.0);
@@ -287,18 +309,15 @@ void Plant::step(std::uint32_t dt_ns) {
 
     // Rigid body, no lateral slip: the centre moves on the arc the two contact points define.
     const double ds = 0.5 * (s_left + s_right);
-    const double dtheta = (s_right - s_left) / model_.wheelbase_m;
-    const double half = 0.5 * dtheta;
-    double ch = 1.0;
-    double sh = 0.0;
-    cos_sin(half, ch, sh);
-    const double sinc = std::fabs(half) < 1.0e-4 ? 1.0 - half * half / 6.0 : sh / half;
-    const double cm = cos_ * ch - sin_ * sh;
-    const double sm = sin_ * ch + cos_ * sh;
-    pose_.x_m += ds * sinc * cm;
-    pose_.y_m += ds * sinc * sm;
-    double c = cm * ch - sm * sh;
-    double s = sm * ch + cm * sh;
+    const double dtheta = (s_right - s_left) * inverse_wheelbase_;
+    const Turn half = turn_of(0.5 * dtheta);
+    const double cm = cos_ * half.cos - sin_ * half.sin;
+    const double sm = sin_ * half.cos + cos_ * half.sin;
+    const double chord = ds * half.sinc;
+    pose_.x_m += chord * cm;
+    pose_.y_m += chord * sm;
+    const double c = cm * half.cos - sm * half.sin;
+    const double s = sm * half.cos + cm * half.sin;
     const double renorm = 1.5 - 0.5 * (c * c + s * s);  // one Newton step keeps |(c, s)| = 1
     cos_ = c * renorm;
     sin_ = s * renorm;

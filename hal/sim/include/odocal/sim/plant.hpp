@@ -52,6 +52,13 @@ class EncoderLine final : public hal::DigitalInput {
       }
     }
   }
+  /// Inverts the level and runs the handler (one quadrature edge). Plant-internal.
+  void toggle() {
+    level_ = !level_;
+    if (handler_ != nullptr) {
+      handler_(context_);
+    }
+  }
   /// Sets the level without running the handler (initial state).
   void preset(bool level) { level_ = level; }
   [[nodiscard]] bool level() const { return level_; }
@@ -113,10 +120,14 @@ class Wheel {
   EncoderLine a_;
   EncoderLine b_;
   MotorModel motor_{};
-  double decay_ = 0.0;        ///< 1/time constant, 1/s
-  double step_factor_ = 0.0;  ///< exp(−decay·h) for the standard step
+  double decay_ = 0.0;             ///< 1/time constant a, 1/s
+  double torque_per_volt_ = 0.0;   ///< k/R, N·m per V
+  double speed_per_torque_ = 0.0;  ///< 1/(J·a): steady speed per net torque, rad/s per N·m
+  double step_factor_ = 0.0;       ///< exp(−a·h) for the standard step h
+  double step_lag_s_ = 0.0;        ///< (1 − exp(−a·h))/a for the standard step, s
   double radius_m_ = 0.03;
-  double count_rad_ = 0.0;  ///< angle per count
+  double count_rad_ = 0.0;       ///< angle per count
+  double counts_per_rad_ = 0.0;  ///< 1/count_rad_
   double angle_rad_ = 0.0;
   double speed_radps_ = 0.0;
   double voltage_v_ = 0.0;
@@ -201,6 +212,7 @@ class Plant {
   WorldPose pose_{};
   double cos_ = 1.0;
   double sin_ = 0.0;
+  double inverse_wheelbase_ = 0.0;  ///< 1/true wheelbase, 1/m
   double distance_m_ = 0.0;
   double bump_next_m_ = 0.0;  ///< centre travel until the next bump
   double bump_ratio_ = 1.0;   ///< horizontal progress per unit of wheel travel on a bump

@@ -36,7 +36,10 @@ void phase_levels(std::int64_t count, bool& a, bool& b) {
 }  // namespace
 
 Plant::Plant(const RobotModel& model, std::uint64_t seed)
-    : model_(model), ok_(check(model) == ModelError::none), random_(seed) {
+    : model_(model),
+      ok_(check(model) == ModelError::none),
+      random_(seed),
+      floor_random_(Random::derive(seed, 1u)) {
   Wheel* wheels[2] = {&left_, &right_};
   const MotorModel motors[2] = {model.left_motor, model.right_motor};
   const double diameters[2] = {model.left_diameter_m, model.right_diameter_m};
@@ -80,19 +83,33 @@ void Plant::set_bumps(double height_m, double spacing_m) {
   if (spacing_m > 0.0) {
     model_.bump_spacing_m = spacing_m;
   }
-  bump_ratio_ = 1.0;
-  bump_arc_m_ = 0.0;
-  if (model_.bump_height_m > 0.0) {
-    // A wheel of radius r rolling over a cable of radius c (height 2c): its centre follows an arc
-    // of radius r + c over ±ψ0, cos ψ0 = (r − c)/(r + c), while the floor distance covered is
-    // only the chord 4·sqrt(r·c). The wheel turns by the arc: extra rotation, shorter progress.
-    const double r = 0.25 * (model_.left_diameter_m + model_.right_diameter_m);
-    const double c = 0.5 * model_.bump_height_m;
-    const double psi0 = std::acos((r - c) / (r + c));
-    bump_arc_m_ = 2.0 * (r + c) * psi0;
-    bump_ratio_ = 4.0 * std::sqrt(r * c) / bump_arc_m_;
+  Wheel* const wheels[2] = {&left_, &right_};
+  for (Wheel* w : wheels) {
+    w->bump_arc_m_ = 0.0;
+    w->bump_chord_m_ = 0.0;
+    w->bump_ratio_ = 1.0;
+    if (model_.bump_height_m > 0.0 && ok_) {
+      // A wheel of radius r rolling over a cable of radius c (height 2c): its centre follows an
+      // arc of radius r + c over ±ψ0, cos ψ0 = (r − c)/(r + c), while the floor distance covered
+      // is only the chord 4·sqrt(r·c). The wheel turns by the arc: extra rotation, less progress.
+      const double r = w->radius_m_;
+      const double c = 0.5 * model_.bump_height_m;
+      const double psi0 = std::acos((r - c) / (r + c));
+      w->bump_arc_m_ = 2.0 * (r + c) * psi0;
+      w->bump_chord_m_ = 4.0 * std::sqrt(r * c);
+      w->bump_ratio_ = w->bump_chord_m_ / w->bump_arc_m_;
+    }
   }
-  bump_next_m_ = model_.bump_spacing_m * random_.uniform();
+  place_cables();
+}
+
+void Plant::place_cables() {
+  Wheel* const wheels[2] = {&left_, &right_};
+  for (Wheel* w : wheels) {
+    w->bump_left_m_ = 0.0;
+    w->bump_next_m_ =
+        model_.bump_height_m > 0.0 ? model_.bump_spacing_m * floor_random_.uniform() : 0.0;
+  }
 }
 
 void Plant::place(const WorldPose& pose) {
@@ -101,9 +118,7 @@ void Plant::place(const WorldPose& pose) {
   sin_ = std::sin(pose.theta_rad);
   left_.speed_radps_ = 0.0;
   right_.speed_radps_ = 0.0;
-  left_.bump_left_m_ = 0.0;
-  right_.bump_left_m_ = 0.0;
-  bump_next_m_ = model_.bump_spacing_m * random_.uniform();
+  place_cables();
 }
 
 bool Plant::at_rest(double radps) const {
@@ -246,12 +261,8 @@ double Plant::ground_travel(Wheel& w, double rolled_m) {
   if (magnitude == 0.0) {
     return 0.0;
   }
-  double ground = magnitude * (1.0 + w.slip_ratio_);
-  if (w.bump_left_m_ > 0.0) {
-    const double on_bump = magnitude < w.bump_left_m_ ? magnitude : w.bump_left_m_;
-    ground -= on_bump * (1.0 - bump_ratio_) * (1.0 + w.slip_ratio_);
-    w.bump_left_m_ -= on_bump;
-  }
+  const double floor_m = model_.bump_height_m > 0.0 ? over_cables(w, magnitude) : magnitude;
+  const double ground = floor_m * (1.0 + w.slip_ratio_);
   w.slip_left_m_ -= magnitude;
   if (w.slip_left_m_ <= 0.0) {
     w.slip_ratio_ = random_.normal(model_.slip_sigma);
@@ -263,20 +274,50 @@ double Plant::ground_travel(Wheel& w, double rolled_m) {
   return rolled_m < 0.0 ? -ground : ground;
 }
 
-void Plant::start_bump() {
-  ++bumps_;
-  // Both wheels roll over the cable (laid across the path).
-  left_.bump_left_m_ = bump_arc_m_;
-  right_.bump_left_m_ = bump_arc_m_;
-  // The jolt skids the heading a little, more for a higher bump.
-  const double kick = random_.normal(model_.bump_yaw_sigma_rad * model_.bump_height_m / 0.01);
-  const Turn t = turn_of(kick);
-  const double c2 = cos_ * t.cos - sin_ * t.sin;
-  sin_ = sin_ * t.cos + cos_ * t.sin;
-  cos_ = c2;
-  pose_.theta_rad += kick;
-  const double jitter = model_.bump_spacing_jitter * random_.uniform(-1.0, 1.0);
-  bump_next_m_ += model_.bump_spacing_m * (1.0 + jitter);
+double Plant::over_cables(Wheel& w, double rolled_m) {
+  // Floor progress of the contact point (before slip, which moves the cables by ~1e-3 of their
+  // spacing at most) for `rolled_m` > 0 of wheel travel, forwards or backwards alike.
+  double floor_m = 0.0;
+  double rolled_left = rolled_m;
+  for (;;) {
+    if (w.bump_left_m_ > 0.0) {
+      // On a cable: the wheel turns through the arc while its contact covers only the chord.
+      const double on = rolled_left < w.bump_left_m_ ? rolled_left : w.bump_left_m_;
+      floor_m += on * w.bump_ratio_;
+      w.bump_left_m_ -= on;
+      rolled_left -= on;
+      if (rolled_left <= 0.0) {
+        return floor_m;
+      }
+    }
+    if (rolled_left < w.bump_next_m_) {  // flat floor all the way
+      w.bump_next_m_ -= rolled_left;
+      return floor_m + rolled_left;
+    }
+    floor_m += w.bump_next_m_;
+    rolled_left -= w.bump_next_m_;
+    start_bump(w);
+  }
+}
+
+void Plant::start_bump(Wheel& w) {
+  ++w.bumps_;
+  w.bump_left_m_ = w.bump_arc_m_;
+  // The next cable lies `spacing` (± jitter) of floor after this one's start; the crossing
+  // itself covers the chord. Cables closer than a chord follow each other directly.
+  const double jitter = model_.bump_spacing_jitter * floor_random_.uniform(-1.0, 1.0);
+  const double next = model_.bump_spacing_m * (1.0 + jitter) - w.bump_chord_m_;
+  w.bump_next_m_ = next > 0.0 ? next : 0.0;
+  // Besides the yaw that follows from this wheel's lost ground travel, the jolt skids the heading
+  // a little (zero mean, more for a higher cable).
+  const double skid = floor_random_.normal(model_.bump_yaw_sigma_rad * model_.bump_height_m / 0.01);
+  if (skid != 0.0) {
+    const Turn t = turn_of(skid);
+    const double c2 = cos_ * t.cos - sin_ * t.sin;
+    sin_ = sin_ * t.cos + cos_ * t.sin;
+    cos_ = c2;
+    pose_.theta_rad += skid;
+  }
 }
 
 void Plant::step(std::uint32_t dt_ns) {
@@ -296,12 +337,6 @@ void Plant::step(std::uint32_t dt_ns) {
 
     const double rolled_left = left_.radius_m_ * left_delta;
     const double rolled_right = right_.radius_m_ * right_delta;
-    if (model_.bump_height_m > 0.0) {
-      bump_next_m_ -= std::fabs(0.5 * (rolled_left + rolled_right));
-      if (bump_next_m_ <= 0.0) {
-        start_bump();
-      }
-    }
     const double s_left = ground_travel(left_, rolled_left);
     const double s_right = ground_travel(right_, rolled_right);
     left_.ground_m_ += s_left;

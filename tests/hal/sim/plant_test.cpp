@@ -184,34 +184,125 @@ TEST(Plant, DecoderWiredThroughTheHalCountsEveryEdgeAndNoIllegalOne) {
   EXPECT_GT(snap.edges, 5000u);
 }
 
-TEST(Plant, BumpsShortenTheProgressByTheCableGeometry) {
+/// A quiet robot with equal 60 mm wheels on a floor of 10 mm cables every 200 mm (±10 %), no
+/// random skid: every heading change comes from the wheels' ground travel.
+RobotModel cable_robot() {
   RobotModel m = quiet_robot();
-  m.bump_height_m = 0.010;
-  m.bump_spacing_m = 0.2;
-  m.bump_yaw_sigma_rad = 0.0;
   m.left_diameter_m = 0.06;
   m.right_diameter_m = 0.06;
+  m.bump_height_m = 0.010;
+  m.bump_spacing_m = 0.2;
+  m.bump_spacing_jitter = 0.1;
+  m.bump_yaw_sigma_rad = 0.0;
+  return m;
+}
+
+/// Wheel travel lost on one cable: over a cable of radius c a wheel of radius r turns through the
+/// arc 2(r+c)·acos((r−c)/(r+c)) while covering the chord 4·sqrt(r·c).
+double loss_per_cable(const RobotModel& m) {
+  const double r = 0.5 * m.left_diameter_m;
+  const double c = 0.5 * m.bump_height_m;
+  return 2.0 * (r + c) * std::acos((r - c) / (r + c)) - 4.0 * std::sqrt(r * c);
+}
+
+/// How far a wheel's crossing count may stray from floor distance / spacing: the first cable is
+/// anywhere in the first spacing (±1), and the sum of n uniform ±jitter spacings has a standard
+/// deviation of spacing·jitter·sqrt(n/3) (4 of them).
+double crossing_tolerance(const RobotModel& m, double crossings) {
+  return 1.0 + 4.0 * m.bump_spacing_jitter * std::sqrt(crossings / 3.0);
+}
+
+TEST(Plant, EachWheelLosesTheCableGeometryOnEveryCableItsOwnContactCrosses) {
+  const RobotModel m = cable_robot();
+  const double lost = loss_per_cable(m);
+  // 10 mm cable, 30 mm wheel: an arc of 54.27 mm against a chord of 48.99 mm.
+  ASSERT_NEAR(lost, 0.00528, 0.00001);
   Plant plant(m, 9u);
   const double left0 = plant.left().angle_rad();
+  const double right0 = plant.right().angle_rad();
   set_wheel(plant.left(), 0.3f);
   set_wheel(plant.right(), 0.3f);
-  plant.advance_to_ns(12'000'000'000u);
+  plant.advance_to_ns(40'000'000'000u);
   set_wheel(plant.left(), 0.0f);
   set_wheel(plant.right(), 0.0f);
-  plant.advance_to_ns(14'000'000'000u);
-  const double rolled = 0.03 * (plant.left().angle_rad() - left0);
-  const std::uint32_t bumps = plant.bumps_crossed();
-  ASSERT_GE(bumps, 8u);
-  // Over a 10 mm cable a 30 mm wheel turns through an arc of 2(r+c)·acos((r−c)/(r+c)) while
-  // covering the chord 4·sqrt(r·c): 54.27 mm against 48.99 mm, 5.28 mm lost per bump.
-  const double r = 0.03;
-  const double c = 0.005;
-  const double lost = 2.0 * (r + c) * std::acos((r - c) / (r + c)) - 4.0 * std::sqrt(r * c);
-  EXPECT_NEAR(lost, 0.00528, 0.00001);
-  // Every bump but possibly the last is fully crossed.
-  EXPECT_LE(plant.distance_m(), rolled - (bumps - 1) * lost + 1e-9);
-  EXPECT_GE(plant.distance_m(), rolled - bumps * lost - 1e-9);
-  EXPECT_NEAR(plant.pose().y_m, 0.0, 1e-9);  // symmetric crossings, no kick: still straight
+  plant.advance_to_ns(42'000'000'000u);
+  ASSERT_TRUE(plant.at_rest());
+
+  const double rolled[2] = {0.03 * (plant.left().angle_rad() - left0),
+                            0.03 * (plant.right().angle_rad() - right0)};
+  const Wheel* wheels[2] = {&plant.left(), &plant.right()};
+  for (int i = 0; i < 2; ++i) {
+    const double ground = wheels[i]->ground_m();
+    const double crossings = wheels[i]->bumps_crossed();
+    ASSERT_GT(ground, 9.0);
+    // Every cable but possibly the last one is fully crossed.
+    const double loss = rolled[i] - ground;
+    EXPECT_GE(loss, (crossings - 1.0) * lost - 1e-9) << "wheel " << i;
+    EXPECT_LE(loss, crossings * lost + 1e-9) << "wheel " << i;
+    // One cable per spacing of floor: loss per metre = crossings per metre x loss per crossing.
+    const double expected_crossings = ground / m.bump_spacing_m;
+    const double tolerance = crossing_tolerance(m, expected_crossings);
+    EXPECT_NEAR(crossings, expected_crossings, tolerance) << "wheel " << i;
+    EXPECT_NEAR(loss / ground, lost / m.bump_spacing_m, tolerance * lost / ground) << "wheel " << i;
+  }
+  EXPECT_EQ(plant.bumps_crossed(), plant.left().bumps_crossed() + plant.right().bumps_crossed());
+  // No skid: the heading is exactly what the two wheels' ground travel makes of a rigid body.
+  const double heading =
+      (plant.right().ground_m() - plant.left().ground_m()) / plant.model().wheelbase_m;
+  EXPECT_NEAR(plant.pose().theta_rad, heading, 1e-9);
+  EXPECT_NE(plant.left().ground_m(), plant.right().ground_m());  // the wheels' own phases
+}
+
+TEST(Plant, TurnInPlaceOverCablesUnderRotatesByTheGroundLossOfAStraightRun) {
+  const RobotModel m = cable_robot();
+  const double lost = loss_per_cable(m);
+  Plant plant(m, 4u);
+  const double left0 = plant.left().angle_rad();
+  const double right0 = plant.right().angle_rad();
+  set_wheel(plant.left(), -0.3f);
+  set_wheel(plant.right(), 0.3f);
+  plant.advance_to_ns(40'000'000'000u);
+  set_wheel(plant.left(), 0.0f);
+  set_wheel(plant.right(), 0.0f);
+  plant.advance_to_ns(42'000'000'000u);
+  ASSERT_TRUE(plant.at_rest());
+
+  const double rolled_left = 0.03 * (left0 - plant.left().angle_rad());
+  const double rolled_right = 0.03 * (plant.right().angle_rad() - right0);
+  // The rotation the rolled travel gives on a smooth floor (true wheelbase).
+  const double smooth = (rolled_left + rolled_right) / m.wheelbase_m;
+  ASSERT_GT(smooth, 100.0);  // about 20 turns: 10 m of floor per wheel
+  // Every spacing of floor costs spacing + lost of wheel travel, turning or not: on average the
+  // turn achieves spacing/(spacing + lost) of the smooth-floor rotation (2.6 % short here).
+  const double expected = m.bump_spacing_m / (m.bump_spacing_m + lost);
+  const double crossings = 0.5 * plant.bumps_crossed();  // per wheel
+  const double tolerance = crossing_tolerance(m, crossings) * lost /
+                           (0.5 * (rolled_left + rolled_right));  // as a fraction of the travel
+  EXPECT_NEAR(plant.pose().theta_rad / smooth, expected, tolerance);
+  EXPECT_LT(plant.pose().theta_rad / smooth, 1.0 - 0.5 * (1.0 - expected));
+  // The under-rotation is each wheel's own lost ground travel, cable by cable.
+  EXPECT_NEAR(plant.pose().theta_rad,
+              (plant.right().ground_m() - plant.left().ground_m()) / m.wheelbase_m, 1e-9);
+}
+
+TEST(Plant, SmoothFloorRunDoesNotDependOnTheCableSettings) {
+  // The cables draw from their own random stream: a smooth floor is the same whatever their
+  // spacing, jitter or skid.
+  RobotModel a;
+  RobotModel b;
+  b.bump_spacing_m = 0.37;
+  b.bump_spacing_jitter = 0.5;
+  b.bump_yaw_sigma_rad = 0.1;
+  Plant pa(a, 8u);
+  Plant pb(b, 8u);
+  for (Plant* p : {&pa, &pb}) {
+    set_wheel(p->left(), 0.3f);
+    set_wheel(p->right(), 0.31f);
+    p->advance_to_ns(3'000'000'000u);
+  }
+  EXPECT_EQ(pa.pose().x_m, pb.pose().x_m);
+  EXPECT_EQ(pa.pose().theta_rad, pb.pose().theta_rad);
+  EXPECT_EQ(pa.bumps_crossed(), 0u);
 }
 
 TEST(Plant, PhysicsStepDoesNotChangeTheMotion) {

@@ -1,8 +1,9 @@
 #pragma once
 /// @file
 /// The simulated robot: two DC motors with quadrature encoders, rigid-body motion on the floor,
-/// slip and bumps, and the "absolute" measurement. It is the `sim` HAL backend: the firmware sees
-/// it only through hal::PwmOutput, hal::DigitalOutput, hal::DigitalInput and hal::MonotonicClock.
+/// slip, floor cables that each wheel rolls over, and the "absolute" measurement. It is the `sim`
+/// HAL backend: the firmware sees it only through hal::PwmOutput, hal::DigitalOutput,
+/// hal::DigitalInput and hal::MonotonicClock.
 ///
 /// Fixed-size, no heap, no exceptions, no I/O: it also runs inside the QEMU firmware image.
 /// Single-threaded: the owner advances it with `advance_to_ns()` from one event loop, and edge
@@ -112,6 +113,8 @@ class Wheel {
   [[nodiscard]] double voltage_v() const { return voltage_v_; }
   /// Ground distance the contact point travelled, m (signed, with slip and bumps).
   [[nodiscard]] double ground_m() const { return ground_m_; }
+  /// Floor cables (bumps) this wheel has started to roll over since construction.
+  [[nodiscard]] std::uint32_t bumps_crossed() const { return bumps_; }
 
  private:
   friend class Plant;
@@ -135,7 +138,13 @@ class Wheel {
   std::int64_t count_ = 0;  ///< floor(angle / count_rad)
   double slip_ratio_ = 0.0;
   double slip_left_m_ = 0.0;  ///< wheel travel until the slip ratio is redrawn
-  double bump_left_m_ = 0.0;  ///< wheel travel still on the current bump
+  // Floor cables, crossed by this wheel's own contact point (Plant::set_bumps).
+  double bump_arc_m_ = 0.0;    ///< wheel travel (rolled) spent over one cable
+  double bump_chord_m_ = 0.0;  ///< floor distance covered meanwhile
+  double bump_ratio_ = 1.0;    ///< chord / arc: floor progress per rolled travel on a cable
+  double bump_next_m_ = 0.0;   ///< floor distance to the next cable
+  double bump_left_m_ = 0.0;   ///< rolled travel still on the current cable
+  std::uint32_t bumps_ = 0u;
 };
 
 /// Planar pose in the world frame: x, y in m, θ in rad (counter-clockwise, not wrapped).
@@ -178,11 +187,12 @@ class Plant {
   [[nodiscard]] const WorldPose& pose() const { return pose_; }
   /// Path length of the robot centre, m (backwards counts negative).
   [[nodiscard]] double distance_m() const { return distance_m_; }
-  /// How many bumps the robot has crossed since construction.
-  [[nodiscard]] std::uint32_t bumps_crossed() const { return bumps_; }
+  /// Cable crossings since construction, both wheels together (each wheel counts its own).
+  [[nodiscard]] std::uint32_t bumps_crossed() const { return left_.bumps_ + right_.bumps_; }
 
-  /// Puts the robot down at `pose` (a new run): wheels at rest, a fresh random offset of the first
-  /// bump. Wheel angles and encoder lines are kept (the firmware's decoders stay consistent).
+  /// Puts the robot down at `pose` (a new run): wheels at rest, a fresh random distance from each
+  /// wheel to its first cable. Wheel angles and encoder lines are kept (the firmware's decoders
+  /// stay consistent).
   void place(const WorldPose& pose = WorldPose{});
 
   /// Both wheels slower than `radps`.
@@ -192,7 +202,11 @@ class Plant {
   /// standard deviations (UMBmark's sonar calibrator).
   [[nodiscard]] WorldPose measure();
 
-  /// Changes the floor: bump height (0 = smooth) and mean spacing, m. Both >= 0; spacing > 0.
+  /// Changes the floor: cable height (0 = smooth) and mean spacing, m (height >= 0 and below the
+  /// wheel radius; a spacing <= 0 keeps the current one). Each wheel meets a cable every
+  /// `spacing` (± the model's jitter) of floor its own contact point sweeps, at its own random
+  /// phase; rolling over one it turns through an arc while covering only the chord, so it loses
+  /// ground travel, and the heading follows from the two wheels' ground travel.
   void set_bumps(double height_m, double spacing_m);
 
  private:
@@ -200,11 +214,14 @@ class Plant {
   void integrate_motor(Wheel& wheel, double dt_s, bool standard_step, double& delta_rad);
   void deliver_edges(double left_from, double right_from, std::uint64_t t0_ns, std::uint32_t dt_ns);
   double ground_travel(Wheel& wheel, double rolled_m);
-  void start_bump();
+  double over_cables(Wheel& wheel, double rolled_m);
+  void start_bump(Wheel& wheel);
+  void place_cables();
 
   RobotModel model_;
   bool ok_ = false;
   Random random_;
+  Random floor_random_;  ///< the cables' own stream: a smooth floor draws nothing from it
   Wheel left_;
   Wheel right_;
   SimClock clock_;
@@ -214,10 +231,6 @@ class Plant {
   double sin_ = 0.0;
   double inverse_wheelbase_ = 0.0;  ///< 1/true wheelbase, 1/m
   double distance_m_ = 0.0;
-  double bump_next_m_ = 0.0;  ///< centre travel until the next bump
-  double bump_ratio_ = 1.0;   ///< horizontal progress per unit of wheel travel on a bump
-  double bump_arc_m_ = 0.0;   ///< wheel travel spent climbing over one bump
-  std::uint32_t bumps_ = 0u;
 };
 
 }  // namespace odocal::sim

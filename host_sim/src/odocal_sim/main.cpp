@@ -16,6 +16,7 @@
 #include "odocal/console/console.hpp"
 #include "odocal/host/sim_robot.hpp"
 #include "odocal/params/param_store.hpp"
+#include "odocal/params/param_table.hpp"
 #include "odocal/posix/fd_byte_stream.hpp"
 #include "odocal/posix/file_block_store.hpp"
 #include "odocal/sim/ram_block_store.hpp"
@@ -40,6 +41,100 @@ class OutputOnly final : public odocal::hal::ByteStream {
   }
   odocal::hal::ByteStream& inner_;
 };
+
+/// The console's stream with a hold switch: while held, the console reads nothing and what it
+/// writes is kept aside instead of sent (odocal-sim types its own start-up `set` lines).
+class HoldableStream final : public odocal::hal::ByteStream {
+ public:
+  explicit HoldableStream(odocal::hal::ByteStream& inner) : inner_(inner) {}
+  void hold(bool on) {
+    held_ = on;
+    kept_.clear();
+  }
+  /// What the console wrote since `hold(true)`.
+  [[nodiscard]] const std::string& kept() const { return kept_; }
+  /// Writes past the console (a `#` comment line of the program's own).
+  void write_through(const std::string& text) {
+    static_cast<void>(
+        inner_.write(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+  }
+
+ private:
+  std::size_t do_read(std::uint8_t* out, std::size_t capacity) override {
+    return held_ ? 0u : inner_.read(out, capacity);
+  }
+  std::size_t do_write(const std::uint8_t* data, std::size_t size) override {
+    if (held_) {
+      kept_.append(reinterpret_cast<const char*>(data), size);
+      return size;
+    }
+    return inner_.write(data, size);
+  }
+  odocal::hal::ByteStream& inner_;
+  bool held_ = false;
+  std::string kept_;
+};
+
+/// Types `line` into the console and runs it until it has answered; returns the reply.
+std::string type_line(odocal::console::Console& console, HoldableStream& stream,
+                      odocal::host::SimulatedRobot& robot, const std::string& line) {
+  stream.hold(true);
+  for (char c : line) {
+    while (!console.receive_from_isr(static_cast<std::uint8_t>(c))) {
+      console.poll(robot.plant().clock().now_us());
+    }
+  }
+  do {
+    console.poll(robot.plant().clock().now_us());
+  } while (!console.idle());
+  std::string reply = stream.kept();
+  stream.hold(false);
+  return reply;
+}
+
+/// With no usable saved set, the firmware starts from what the robot file says it is told
+/// (wheel_diameter_mm, wheelbase_mm, counts_per_rev), as if it had been built for that robot:
+/// each value that differs from the parameter in force is `set` through the console (in force,
+/// not saved). @return false, with `error`, when the firmware refuses one.
+bool apply_robot_nominal(odocal::console::Console& console, HoldableStream& stream,
+                         odocal::host::SimulatedRobot& robot, const odocal::host::RobotSpec& spec,
+                         std::string& applied, std::string& error) {
+  using odocal::params::ParamId;
+  const odocal::drive::DriveConfig& told = spec.nominal;
+  struct Told {
+    ParamId id;
+    float value;
+  };
+  // Keep the loop's check wheelbase > diameter/4 true after each step: a larger wheel first
+  // while the old wheelbase allows it, otherwise the wheelbase first.
+  const float old_wheelbase = console.params().get(ParamId::wheelbase_mm);
+  const bool diameter_first = old_wheelbase > told.wheel_diameter_mm * 0.25f;
+  const Told order[3] = {{diameter_first ? ParamId::wheel_diameter_mm : ParamId::wheelbase_mm,
+                          diameter_first ? told.wheel_diameter_mm : told.wheelbase_mm},
+                         {diameter_first ? ParamId::wheelbase_mm : ParamId::wheel_diameter_mm,
+                          diameter_first ? told.wheelbase_mm : told.wheel_diameter_mm},
+                         {ParamId::counts_per_rev, told.counts_per_rev}};
+  for (const Told& t : order) {
+    if (console.params().get(t.id) == t.value) {
+      continue;
+    }
+    char line[96];
+    const char* name = odocal::params::param_info(t.id).name;
+    std::snprintf(line, sizeof line, "set %s %.9g\n", name, static_cast<double>(t.value));
+    const std::string reply = type_line(console, stream, robot, line);
+    if (reply.rfind("ok", 0) != 0) {
+      error = std::string(name) + ": the firmware refused it: " + reply;
+      while (!error.empty() && (error.back() == '\n' || error.back() == '\r')) {
+        error.pop_back();
+      }
+      return false;
+    }
+    char pair[64];
+    std::snprintf(pair, sizeof pair, " %s=%.9g", name, static_cast<double>(t.value));
+    applied += pair;
+  }
+  return true;
+}
 
 /// Reads whole lines from a non-blocking stream (waiting with poll), one at a time.
 class LineReader {
@@ -124,7 +219,10 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   app.add_flag("--pty", use_pty, "console on a pseudo-terminal (prints its path) instead of stdio");
   app.add_option("--store", store_file, "parameter store file (kept across restarts)");
-  app.add_option("--robot", robot_file, "robot file (flat JSON, see docs/simulation.md)");
+  app.add_option("--robot", robot_file,
+                 "robot file (flat JSON, see docs/simulation.md): the real robot, and what the "
+                 "firmware is told (wheel_diameter_mm, wheelbase_mm, counts_per_rev) when the "
+                 "store holds no saved parameters; a saved set wins");
   app.add_option("--speed", speed, "simulated time per real time; 0 = as fast as possible")
       ->check(CLI::Range(0.0, 1.0e6));
   app.add_option("--seed", seed, "seed of the simulated robot's random terms");
@@ -190,8 +288,9 @@ int main(int argc, char** argv) {
       console_stream = output_only.get();
     }
   }
+  HoldableStream holdable(*console_stream);
   console::Console console(
-      *console_stream, robot.loop(), store,
+      holdable, robot.loop(), store,
       console::ConsoleOptions{terminal ? console::EchoMode::automatic : console::EchoMode::off,
                               terminal, terminal});
 
@@ -201,7 +300,21 @@ int main(int argc, char** argv) {
   sigaction(SIGTERM, &action, nullptr);
 
   robot.tick_once();
-  static_cast<void>(console.start(robot.plant().clock().now_us()));
+  const params::StoreResult stored = console.start(robot.plant().clock().now_us());
+  while (!console.idle()) {  // the banner goes out first
+    console.poll(robot.plant().clock().now_us());
+  }
+  if (!robot_file.empty() && stored != params::StoreResult::ok) {
+    std::string applied;
+    if (!apply_robot_nominal(console, holdable, robot, spec, applied, error)) {
+      std::fprintf(stderr, "odocal-sim: %s: %s\n", robot_file.c_str(), error.c_str());
+      return 2;
+    }
+    if (!applied.empty()) {
+      holdable.write_through("# robot file" + applied + " (in force, not saved)" +
+                             (terminal ? "\r\n" : "\n"));
+    }
+  }
   Pacer pacer(speed);
   std::string line;
   bool input_done = false;

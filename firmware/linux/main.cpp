@@ -28,7 +28,6 @@
 #include "odocal/params/param_store.hpp"
 #include "odocal/posix/fd_byte_stream.hpp"
 #include "odocal/posix/file_block_store.hpp"
-#include "status_stream.hpp"
 
 namespace {
 
@@ -319,11 +318,13 @@ int run(const Options& options, const LinuxConfig& config) {
     input_fd = fd_stream->input_fd();
   }
   const bool terminal = options.pty || tty_fd >= 0 || isatty(STDIN_FILENO) == 1;
-  linux_target::StatusStream stream(*raw, &linux_status_pairs, &robot);
-  console::Console console(
-      stream, *robot.loop, store,
-      console::ConsoleOptions{terminal ? console::EchoMode::automatic : console::EchoMode::off,
-                              terminal, true});
+  console::ConsoleOptions console_options;
+  console_options.echo = terminal ? console::EchoMode::automatic : console::EchoMode::off;
+  console_options.crlf = terminal;
+  console_options.banner = true;
+  console_options.status_pairs = &linux_status_pairs;  // tick_rt, lateness, dropped edges, ...
+  console_options.status_context = &robot;
+  console::Console console(*raw, *robot.loop, store, console_options);
 
   SetupResult started = robot.encoders->start(config.event_priority, config.event_holdback_us);
   if (!started.ok()) {
@@ -359,7 +360,6 @@ int run(const Options& options, const LinuxConfig& config) {
     static_cast<void>(poll(&wait, 1, console.idle() ? 5 : 0));
     const std::uint32_t now_us = robot.clock.now_us();
     console.poll(now_us);
-    stream.flush();
     if (now_us - last_rate_check_us > 100000u) {
       last_rate_check_us = now_us;
       const std::uint32_t wanted = rate_of();

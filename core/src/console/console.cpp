@@ -113,6 +113,21 @@ class Console::Reply {
     return *this;
   }
   Reply& pair_s(const char* k, const char* value) { return key(k).text(value); }
+  /// Lets `fill(out, capacity)` write into the free space; keeps the printable ASCII prefix.
+  template <typename Fill>
+  Reply& append_with(Fill fill) {
+    char* out = buffer_.data() + length_;
+    std::size_t n = fill(out, max_reply - length_);
+    if (n > max_reply - length_) {
+      n = max_reply - length_;
+    }
+    std::size_t printable = 0u;
+    while (printable < n && out[printable] >= 0x20 && out[printable] < 0x7f) {
+      ++printable;
+    }
+    length_ += printable;
+    return *this;
+  }
   [[nodiscard]] const char* data() const { return buffer_.data(); }
   [[nodiscard]] std::size_t size() const { return length_; }
 
@@ -539,6 +554,11 @@ void Console::cmd_status(std::size_t count) {
       .pair_u("umbmark_ccw", ccw_count_)
       .pair_u("stream_dropped", c.stream_dropped)
       .pair_u("rx_dropped", c.rx_dropped);
+  if (options_.status_pairs != nullptr) {
+    reply.append_with([this](char* out, std::size_t capacity) {
+      return options_.status_pairs(options_.status_context, out, capacity);
+    });
+  }
   send(reply);
 }
 

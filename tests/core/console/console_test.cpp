@@ -711,3 +711,43 @@ TEST(Console, PollingACommandSessionAllocatesNothing) {
 
 }  // namespace
 }  // namespace odocal::test
+
+namespace odocal::test {
+namespace {
+
+std::size_t target_pairs(void* context, char* out, std::size_t capacity) {
+  const char* text = static_cast<const char*>(context);
+  std::size_t n = 0;
+  while (text[n] != '\0' && n < capacity) {
+    out[n] = text[n];
+    ++n;
+  }
+  return n;
+}
+
+TEST(Console, StatusCarriesTheTargetsOwnPairs) {
+  console::ConsoleOptions options = Rig::quiet();
+  static const char kPairs[] = " tick_rt=1 pwm=sysfs";
+  options.status_pairs = target_pairs;
+  options.status_context = const_cast<char*>(kPairs);
+  Rig rig(options);
+  (void)rig.console.start(rig.now_us);
+  const std::string line = rig.reply("status");
+  EXPECT_EQ(line.substr(0, 8), "ok mode=");
+  EXPECT_EQ(line.substr(line.size() - (sizeof(kPairs) - 1)), kPairs);
+}
+
+TEST(Console, StatusPairsStopAtTheFirstNonPrintableByte) {
+  console::ConsoleOptions options = Rig::quiet();
+  static const char kPairs[] = " a=1\n err x";
+  options.status_pairs = target_pairs;
+  options.status_context = const_cast<char*>(kPairs);
+  Rig rig(options);
+  (void)rig.console.start(rig.now_us);
+  const auto lines = rig.send("status");
+  ASSERT_EQ(lines.size(), 1u);  // the newline in the target's text did not split the reply
+  EXPECT_EQ(lines[0].substr(lines[0].size() - 4), " a=1");
+}
+
+}  // namespace
+}  // namespace odocal::test

@@ -56,6 +56,11 @@ struct ConsoleOptions {
   EchoMode echo = EchoMode::off;
   bool crlf = true;    ///< end output lines with CR LF (UART, pty) rather than LF (stdio pipes)
   bool banner = true;  ///< `start()` prints a `# odocal ...` line
+  /// Optional: the target appends its own ` key=value` pairs (each with a leading space) to the
+  /// `status` reply: writes at most `capacity` bytes into `out` and returns how many. Called from
+  /// the main loop inside `poll`. Printable ASCII only; anything else is cut off there.
+  std::size_t (*status_pairs)(void* context, char* out, std::size_t capacity) = nullptr;
+  void* status_context = nullptr;  ///< passed to `status_pairs`
 };
 
 /// Counters reported by `status`.
@@ -78,8 +83,9 @@ struct ConsoleCounters {
 /// Memory: about 2.5 KiB, all inside the object. No heap, no exceptions.
 class Console {
  public:
-  static constexpr std::size_t rx_capacity = 256u;      ///< RX ring (255 usable bytes)
-  static constexpr std::size_t max_reply = 400u;        ///< longest reply line, bytes
+  static constexpr std::size_t rx_capacity = 256u;  ///< RX ring (255 usable bytes)
+  static constexpr std::size_t max_reply =
+      560u;  ///< longest reply line, bytes (status + target pairs)
   static constexpr std::size_t umbmark_capacity = 16u;  ///< runs kept per direction
 
   Console(hal::ByteStream& stream, drive::ControlLoop& loop, params::ParamStore& store,

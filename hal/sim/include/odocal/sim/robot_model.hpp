@@ -35,12 +35,14 @@ struct RobotModel {
   MotorModel right_motor{};
 
   // Non-systematic error sources.
-  double slip_sigma = 5.0e-4;          ///< standard deviation of each wheel's slip ratio (unitless)
-  double slip_length_m = 0.05;         ///< the slip ratio is redrawn after this much wheel travel
-  double bump_height_m = 0.0;          ///< height of the floor bumps (cables), 0 = a smooth floor
-  double bump_spacing_m = 0.2;         ///< mean wheel travel between two bumps
-  double bump_spacing_jitter = 0.1;    ///< relative spread of that spacing (uniform ±)
-  double bump_yaw_sigma_rad = 2.0e-3;  ///< random skid of the heading per bump per 10 mm of height
+  double slip_sigma = 5.0e-4;        ///< standard deviation of each wheel's slip ratio (unitless)
+  double slip_length_m = 0.05;       ///< the slip ratio is redrawn after this much wheel travel
+  double bump_height_m = 0.0;        ///< height of the floor bumps (cables), 0 = a smooth floor
+  double bump_spacing_m = 0.2;       ///< mean floor distance each wheel sweeps between two cables
+  double bump_spacing_jitter = 0.1;  ///< relative spread of that spacing (uniform ±)
+  /// Zero-mean random skid of the heading at each cable a wheel meets, per 10 mm of height (on
+  /// top of the yaw that follows from that wheel's lost ground travel).
+  double bump_yaw_sigma_rad = 2.0e-3;
 
   // The "absolute" measurement at the end of a run (UMBmark's sonar calibrator: ±2 mm, ±0.4°).
   double measure_sigma_m = 0.002;              ///< per-axis position noise, standard deviation

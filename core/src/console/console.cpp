@@ -183,7 +183,15 @@ Console::Console(hal::ByteStream& stream, drive::ControlLoop& loop, params::Para
       store_(store),
       options_(options),
       echo_(options.echo == EchoMode::on),
-      params_(params::default_params()) {}
+      params_(default_set()) {}
+
+params::ParamSet Console::default_set() const {
+  if (options_.defaults != nullptr && params::all_in_range(*options_.defaults) &&
+      drive::valid(params::to_drive_config(*options_.defaults))) {
+    return *options_.defaults;
+  }
+  return params::default_params();
+}
 
 params::StoreResult Console::start(std::uint32_t now_us) {
   last_now_us_ = now_us;
@@ -196,7 +204,7 @@ params::StoreResult Console::start(std::uint32_t now_us) {
     params_ = loaded;
     used = true;
   } else {
-    params_ = params::default_params();
+    params_ = default_set();
     (void)loop_.configure(params::to_drive_config(params_));
   }
   unsaved_ = false;
@@ -700,7 +708,7 @@ void Console::cmd_defaults(std::size_t count) {
     send_error(ErrorCode::busy, "the robot is moving; stop first");
     return;
   }
-  if (!apply(params::default_params())) {
+  if (!apply(default_set())) {
     return;
   }
   unsaved_ = true;

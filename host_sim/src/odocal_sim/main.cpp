@@ -9,6 +9,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <thread>
@@ -42,96 +43,21 @@ class OutputOnly final : public odocal::hal::ByteStream {
   odocal::hal::ByteStream& inner_;
 };
 
-/// The console's stream with a hold switch: while held, the console reads nothing and what it
-/// writes is kept aside instead of sent (odocal-sim types its own start-up `set` lines).
-class HoldableStream final : public odocal::hal::ByteStream {
- public:
-  explicit HoldableStream(odocal::hal::ByteStream& inner) : inner_(inner) {}
-  void hold(bool on) {
-    held_ = on;
-    kept_.clear();
-  }
-  /// What the console wrote since `hold(true)`.
-  [[nodiscard]] const std::string& kept() const { return kept_; }
-  /// Writes past the console (a `#` comment line of the program's own).
-  void write_through(const std::string& text) {
-    static_cast<void>(
-        inner_.write(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
-  }
-
- private:
-  std::size_t do_read(std::uint8_t* out, std::size_t capacity) override {
-    return held_ ? 0u : inner_.read(out, capacity);
-  }
-  std::size_t do_write(const std::uint8_t* data, std::size_t size) override {
-    if (held_) {
-      kept_.append(reinterpret_cast<const char*>(data), size);
-      return size;
-    }
-    return inner_.write(data, size);
-  }
-  odocal::hal::ByteStream& inner_;
-  bool held_ = false;
-  std::string kept_;
-};
-
-/// Types `line` into the console and runs it until it has answered; returns the reply.
-std::string type_line(odocal::console::Console& console, HoldableStream& stream,
-                      odocal::host::SimulatedRobot& robot, const std::string& line) {
-  stream.hold(true);
-  for (char c : line) {
-    while (!console.receive_from_isr(static_cast<std::uint8_t>(c))) {
-      console.poll(robot.plant().clock().now_us());
-    }
-  }
-  do {
-    console.poll(robot.plant().clock().now_us());
-  } while (!console.idle());
-  std::string reply = stream.kept();
-  stream.hold(false);
-  return reply;
-}
-
-/// With no usable saved set, the firmware starts from what the robot file says it is told
-/// (wheel_diameter_mm, wheelbase_mm, counts_per_rev), as if it had been built for that robot:
-/// each value that differs from the parameter in force is `set` through the console (in force,
-/// not saved). @return false, with `error`, when the firmware refuses one.
-bool apply_robot_nominal(odocal::console::Console& console, HoldableStream& stream,
-                         odocal::host::SimulatedRobot& robot, const odocal::host::RobotSpec& spec,
-                         std::string& applied, std::string& error) {
-  using odocal::params::ParamId;
-  const odocal::drive::DriveConfig& told = spec.nominal;
-  struct Told {
-    ParamId id;
-    float value;
-  };
-  // Keep the loop's check wheelbase > diameter/4 true after each step: a larger wheel first
-  // while the old wheelbase allows it, otherwise the wheelbase first.
-  const float old_wheelbase = console.params().get(ParamId::wheelbase_mm);
-  const bool diameter_first = old_wheelbase > told.wheel_diameter_mm * 0.25f;
-  const Told order[3] = {{diameter_first ? ParamId::wheel_diameter_mm : ParamId::wheelbase_mm,
-                          diameter_first ? told.wheel_diameter_mm : told.wheelbase_mm},
-                         {diameter_first ? ParamId::wheelbase_mm : ParamId::wheel_diameter_mm,
-                          diameter_first ? told.wheelbase_mm : told.wheel_diameter_mm},
-                         {ParamId::counts_per_rev, told.counts_per_rev}};
-  for (const Told& t : order) {
-    if (console.params().get(t.id) == t.value) {
-      continue;
-    }
-    char line[96];
-    const char* name = odocal::params::param_info(t.id).name;
-    std::snprintf(line, sizeof line, "set %s %.9g\n", name, static_cast<double>(t.value));
-    const std::string reply = type_line(console, stream, robot, line);
-    if (reply.rfind("ok", 0) != 0) {
-      error = std::string(name) + ": the firmware refused it: " + reply;
-      while (!error.empty() && (error.back() == '\n' || error.back() == '\r')) {
-        error.pop_back();
-      }
-      return false;
-    }
-    char pair[64];
-    std::snprintf(pair, sizeof pair, " %s=%.9g", name, static_cast<double>(t.value));
-    applied += pair;
+/// The firmware's parameter defaults on this simulated robot: the built-in ones, with the robot
+/// file's nominal keys (wheel_diameter_mm, wheelbase_mm, counts_per_rev) as if the firmware had
+/// been built for that robot. They are in force when the store holds no usable saved set, and
+/// `defaults` restores them. @return false, with `error`, when the firmware would refuse them.
+bool robot_defaults(const odocal::host::RobotSpec& spec, odocal::params::ParamSet& set,
+                    std::string& error) {
+  set = odocal::params::default_params();
+  odocal::drive::DriveConfig told = odocal::params::to_drive_config(set);
+  told.wheel_diameter_mm = spec.nominal.wheel_diameter_mm;
+  told.wheelbase_mm = spec.nominal.wheelbase_mm;
+  told.counts_per_rev = spec.nominal.counts_per_rev;
+  odocal::params::from_drive_config(told, set);
+  if (!odocal::params::all_in_range(set) || !odocal::drive::valid(told)) {
+    error = "wheel_diameter_mm, wheelbase_mm or counts_per_rev outside the firmware's ranges";
+    return false;
   }
   return true;
 }
@@ -288,11 +214,17 @@ int main(int argc, char** argv) {
       console_stream = output_only.get();
     }
   }
-  HoldableStream holdable(*console_stream);
-  console::Console console(
-      holdable, robot.loop(), store,
-      console::ConsoleOptions{terminal ? console::EchoMode::automatic : console::EchoMode::off,
-                              terminal, terminal});
+  params::ParamSet defaults;
+  if (!robot_defaults(spec, defaults, error)) {
+    std::fprintf(stderr, "odocal-sim: %s: %s\n", robot_file.c_str(), error.c_str());
+    return 2;
+  }
+  console::ConsoleOptions console_options;
+  console_options.echo = terminal ? console::EchoMode::automatic : console::EchoMode::off;
+  console_options.crlf = terminal;
+  console_options.banner = terminal;
+  console_options.defaults = &defaults;
+  console::Console console(*console_stream, robot.loop(), store, console_options);
 
   struct sigaction action {};
   action.sa_handler = on_signal;
@@ -304,16 +236,16 @@ int main(int argc, char** argv) {
   while (!console.idle()) {  // the banner goes out first
     console.poll(robot.plant().clock().now_us());
   }
-  if (!robot_file.empty() && stored != params::StoreResult::ok) {
-    std::string applied;
-    if (!apply_robot_nominal(console, holdable, robot, spec, applied, error)) {
-      std::fprintf(stderr, "odocal-sim: %s: %s\n", robot_file.c_str(), error.c_str());
-      return 2;
-    }
-    if (!applied.empty()) {
-      holdable.write_through("# robot file" + applied + " (in force, not saved)" +
-                             (terminal ? "\r\n" : "\n"));
-    }
+  if (!robot_file.empty() && stored != params::StoreResult::ok && terminal) {
+    char note[160];
+    std::snprintf(note, sizeof note,
+                  "# robot file: wheel_diameter_mm=%.9g wheelbase_mm=%.9g counts_per_rev=%.9g "
+                  "(firmware defaults)\r\n",
+                  static_cast<double>(spec.nominal.wheel_diameter_mm),
+                  static_cast<double>(spec.nominal.wheelbase_mm),
+                  static_cast<double>(spec.nominal.counts_per_rev));
+    static_cast<void>(
+        console_stream->write(reinterpret_cast<const std::uint8_t*>(note), std::strlen(note)));
   }
   Pacer pacer(speed);
   std::string line;

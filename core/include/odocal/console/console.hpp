@@ -61,6 +61,10 @@ struct ConsoleOptions {
   /// the main loop inside `poll`. Printable ASCII only; anything else is cut off there.
   std::size_t (*status_pairs)(void* context, char* out, std::size_t capacity) = nullptr;
   void* status_context = nullptr;  ///< passed to `status_pairs`
+  /// Optional: the parameter set of this robot build, used when the store holds no usable set
+  /// and restored by `defaults` (e.g. the simulator's robot file). nullptr, out of range or
+  /// refused by the loop: the built-in defaults. Must outlive the console.
+  const params::ParamSet* defaults = nullptr;
 };
 
 /// Counters reported by `status`.
@@ -126,6 +130,7 @@ class Console {
   void handle_event(LineEvent event);
   void execute(const Token* words, std::size_t count);
   void continue_listing();
+  [[nodiscard]] params::ParamSet default_set() const;
   void emit_stream(std::uint32_t now_us);
 
   void send(Reply& reply);

@@ -751,3 +751,39 @@ TEST(Console, StatusPairsStopAtTheFirstNonPrintableByte) {
 
 }  // namespace
 }  // namespace odocal::test
+
+namespace odocal::test {
+namespace {
+
+TEST(Console, ATargetsOwnDefaultsAreUsedWithAnEmptyStoreAndRestoredByDefaults) {
+  params::ParamSet mine = params::default_params();
+  drive::DriveConfig told = params::to_drive_config(mine);
+  told.wheel_diameter_mm = 72.5f;
+  told.wheelbase_mm = 201.25f;
+  params::from_drive_config(told, mine);
+  console::ConsoleOptions options = Rig::quiet();
+  options.defaults = &mine;
+  Rig rig(options);
+  (void)rig.console.start(rig.now_us);
+  EXPECT_EQ(rig.reply("get wheel_diameter_mm"), "ok wheel_diameter_mm=72.500000");
+  EXPECT_EQ(rig.reply("set wheelbase_mm 180"), "ok wheelbase_mm=180.000000");
+  EXPECT_EQ(rig.reply("defaults").rfind("ok", 0), 0u);
+  EXPECT_EQ(rig.reply("get wheelbase_mm"), "ok wheelbase_mm=201.250000");
+  rig.tick(2);
+  EXPECT_FLOAT_EQ(rig.loop.config().wheelbase_mm, 201.25f);
+}
+
+TEST(Console, InvalidTargetDefaultsFallBackToTheBuiltInOnes) {
+  params::ParamSet bad = params::default_params();
+  drive::DriveConfig told = params::to_drive_config(bad);
+  told.wheel_diameter_mm = 900.0f;  // in range alone, but wider than 4x the wheelbase allows
+  params::from_drive_config(told, bad);
+  console::ConsoleOptions options = Rig::quiet();
+  options.defaults = &bad;
+  Rig rig(options);
+  (void)rig.console.start(rig.now_us);
+  EXPECT_EQ(rig.reply("get wheel_diameter_mm"), "ok wheel_diameter_mm=60.000000");
+}
+
+}  // namespace
+}  // namespace odocal::test

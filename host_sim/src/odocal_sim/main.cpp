@@ -166,6 +166,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   host::SimulatedRobot robot(spec, seed);
+  robot.measure_tick_time(true);  // `status` reports the tick's host time
 
   // Parameters: a file (kept across restarts) or RAM (forgotten at exit).
   std::unique_ptr<posix::FileBlockStore> file_store;

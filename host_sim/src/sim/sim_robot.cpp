@@ -1,5 +1,6 @@
 #include "odocal/host/sim_robot.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -197,7 +198,14 @@ void SimulatedRobot::follow_control_rate() {
 
 void SimulatedRobot::tick_once() {
   plant_.advance_to_ns(next_tick_ns_);
-  loop_.tick(plant_.clock().now_us());
+  if (measure_tick_time_) {
+    const auto start = std::chrono::steady_clock::now();
+    loop_.tick(plant_.clock().now_us());
+    const std::chrono::duration<float, std::micro> took = std::chrono::steady_clock::now() - start;
+    loop_.note_tick_duration_us(took.count());
+  } else {
+    loop_.tick(plant_.clock().now_us());
+  }
   next_tick_ns_ += period_ns_;
 }
 

@@ -89,6 +89,10 @@ class SimulatedRobot {
   void run_until_ns(std::uint64_t t_ns);
   /// Runs exactly one control period.
   void tick_once();
+  /// With `on`, each tick's host execution time is reported to the loop (`status` shows it as
+  /// tick_us_avg / tick_us_max), as a target's cycle counter would. Off by default: procedures
+  /// need no clock reads.
+  void measure_tick_time(bool on) { measure_tick_time_ = on; }
   /// Re-reads the firmware's control_hz (after a console `set`) and ticks at that rate.
   void follow_control_rate();
   /// Simulated time, s.
@@ -106,6 +110,7 @@ class SimulatedRobot {
   sim::EncoderWiring left_wiring_;
   sim::EncoderWiring right_wiring_;
   std::uint64_t period_ns_ = 1000000u;
+  bool measure_tick_time_ = false;
   std::uint64_t next_tick_ns_ = 0u;
 };
 

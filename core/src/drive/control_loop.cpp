@@ -51,8 +51,8 @@ void ControlLoop::apply_config(const DriveConfig& config) {
   right_controller_.set_gains(gains_of(config_));
 }
 
-void ControlLoop::take_command(const Inbox& inbox, std::uint32_t now_us) {
-  (void)now_us;
+void ControlLoop::take_command(const Inbox& inbox, const EncoderSnapshot& left,
+                               const EncoderSnapshot& right) {
   if (inbox.reset_pose) {
     odometry_.reset();
   }
@@ -64,8 +64,8 @@ void ControlLoop::take_command(const Inbox& inbox, std::uint32_t now_us) {
       faults_ = fault_none;  // stop acknowledges faults
       left_stall_us_ = 0u;
       right_stall_us_ = 0u;
-      illegal_base_left_ = left_decoder_.snapshot().illegal;
-      illegal_base_right_ = right_decoder_.snapshot().illegal;
+      illegal_base_left_ = left.illegal;  // from this tick's snapshot, not a fresh racy read
+      illegal_base_right_ = right.illegal;
       break;
     case Command::drive:
       if (mode_ != Mode::fault) {
@@ -193,7 +193,7 @@ void ControlLoop::tick(std::uint32_t now_us) {
   if (inbox.config_pending) {
     apply_config(inbox.config);
   }
-  take_command(inbox, now_us);
+  take_command(inbox, left_snap, right_snap);
 
   // 2. Estimate wheel speeds. 3. Odometry from the wheel increments.
   left_speed_.update(left_snap, now_us);

@@ -109,7 +109,7 @@ class ControlLoop {
   };
 
   void apply_config(const DriveConfig& config);
-  void take_command(const Inbox& inbox, std::uint32_t now_us);
+  void take_command(const Inbox& inbox, const EncoderSnapshot& left, const EncoderSnapshot& right);
   [[nodiscard]] Twist twist_for_mode(float dt_s, std::uint32_t dt_us);
   void check_faults(const EncoderSnapshot& left, const EncoderSnapshot& right, std::uint32_t dt_us);
   void drive_motors(float left_duty, float right_duty);

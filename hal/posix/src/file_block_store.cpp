@@ -56,6 +56,14 @@ bool FileBlockStore::open(std::string& error) {
     return false;
   }
   struct stat info {};
+  if (::fstat(fd, &info) == 0 && S_ISREG(info.st_mode) && info.st_size == 0) {
+    // An empty file (e.g. from mktemp or `: > store.bin`) is a new, erased flash.
+    ::close(fd);
+    std::fill(image_.begin(), image_.end(), 0xFFu);
+    usable_ = true;
+    return true;
+  }
+  // Any other size is not ours: refuse rather than overwrite someone's file.
   if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode) ||
       static_cast<std::size_t>(info.st_size) != image_.size()) {
     error = path_ + ": not a store image of " + std::to_string(image_.size()) + " bytes";

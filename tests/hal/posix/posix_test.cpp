@@ -45,6 +45,23 @@ TEST(FileBlockStore, MissingFileIsAnErasedDevice) {
   EXPECT_EQ(file_size(path), 0u);  // nothing written yet
 }
 
+TEST(FileBlockStore, AnEmptyFileIsAnErasedDeviceThatCanBeProgrammed) {
+  const std::string path = temp_path("empty.bin");
+  { std::ofstream create(path); }  // as `mktemp` or `: > store.bin` leave it
+  ASSERT_EQ(file_size(path), 0u);
+  FileBlockStore store(path, 1024, 2, 4);
+  std::string error;
+  ASSERT_TRUE(store.open(error)) << error;
+  std::array<std::uint8_t, 4> bytes{};
+  ASSERT_EQ(store.read(0, bytes.data(), bytes.size()), hal::StoreStatus::ok);
+  for (auto b : bytes)
+    EXPECT_EQ(b, 0xFF);
+  const std::array<std::uint8_t, 4> data{1, 2, 3, 4};
+  ASSERT_EQ(store.program(8, data.data(), data.size()), hal::StoreStatus::ok);
+  EXPECT_EQ(file_size(path), 2048u);  // now a full image
+  std::remove(path.c_str());
+}
+
 TEST(FileBlockStore, KeepsFlashRulesAndPersistsAcrossReopen) {
   const std::string path = temp_path("rules.bin");
   {

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -215,8 +216,10 @@ TEST(CliBootstrap, JsonKeysDeterminismAndProvenance) {
     EXPECT_NEAR(u["r_l"].get<double>(), u["boot_l"].get<double>() / u["lr_l"].get<double>(), 1e-12);
   }
   const json& p = doc["provenance"];
-  EXPECT_EQ(p["interval"], "percentile-t-calibrated");
+  // DESIGN: the percentile interval at the chosen level, unless --interval calibrated.
+  EXPECT_EQ(p["interval"], "percentile");
   EXPECT_EQ(p["level"], 0.95);
+  EXPECT_EQ(p["effective_level"], 0.95);
   EXPECT_EQ(p["seed"], 7);
   EXPECT_EQ(p["replicates"], 2000);
   expect_no_nan(doc);
@@ -224,9 +227,15 @@ TEST(CliBootstrap, JsonKeysDeterminismAndProvenance) {
   EXPECT_NE(parse_json(other_seed)["unknowns"][0]["boot_l"], doc["unknowns"][0]["boot_l"]);
   // With the geometry, eq. 7 factors per unknown: the fixture's left wheel runs 1.5 % slow.
   const json factors = parse_json(odocal(bootstrap_args + files +
-                                         " --interval percentile --wheelbase-mm 150 --dl-mm 60 "
+                                         " --interval calibrated --wheelbase-mm 150 --dl-mm 60 "
                                          "--dr-mm 60"));
-  EXPECT_EQ(factors["provenance"]["interval"], "percentile");
+  EXPECT_EQ(factors["provenance"]["interval"], "percentile-t-calibrated");
+  // t_34 widening (m = 20): 2Φ(t_34,0.975) − 1 ≈ 0.958, and the interval is wider.
+  EXPECT_NEAR(factors["provenance"]["effective_level"].get<double>(), 0.958, 1e-3);
+  const json& plain = doc["unknowns"][0];
+  const json& wide = factors["unknowns"][0];
+  EXPECT_GT(wide["ci_l"][1].get<double>() - wide["ci_l"][0].get<double>(),
+            plain["ci_l"][1].get<double>() - plain["ci_l"][0].get<double>());
   for (const json& u : factors["unknowns"]) {
     EXPECT_NEAR(u["factors_lr"]["f_lat"].get<double>(), 0.985, 0.01);
     EXPECT_NEAR(u["factors_lr"]["f_lon"].get<double>(), 1.0, 0.01);
@@ -284,6 +293,254 @@ TEST(CliRos2, BadInput) {
   EXPECT_NE(missing.err.find("field 'e_b'"), std::string::npos) << missing.err;
   EXPECT_EQ(odocal("ros2 --c-l 0.99").status, 2);
   EXPECT_EQ(odocal("ros2 --from x.json --c-l 0.99").status, 2);
+}
+
+// ------------------------------------------------------------------ review findings
+
+std::string temp_file(const std::string& name, const std::string& bytes) {
+  const std::string path = ::testing::TempDir() + name;
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A spreadsheet export: UTF-8 byte order mark before the header, CRLF line ends. Same figures as
+// the plain file.
+TEST(CliCsv, ByteOrderMarkAndCrlfAreAccepted) {
+  const auto exported = [](const std::string& name) {
+    std::string crlf = "\xEF\xBB\xBF";
+    for (const char c : read_text(data(name))) {
+      crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+    }
+    return temp_file("bom_" + name, crlf);
+  };
+  const json plain = parse_json(odocal(umbmark_args + " --cw " + data("umbmark_cw.csv") +
+                                       " --ccw " + data("umbmark_ccw.csv")));
+  const json bom = parse_json(odocal(umbmark_args + " --cw " + exported("umbmark_cw.csv") +
+                                     " --ccw " + exported("umbmark_ccw.csv")));
+  EXPECT_EQ(bom["e_d"], plain["e_d"]);
+  EXPECT_EQ(bom["e_b"], plain["e_b"]);
+  const std::string accuracy_bom = temp_file(
+      "bom_accuracy.csv", "\xEF\xBB\xBFscenario,trial,x_mm,y_mm\r\nNC,1,3,4\r\nCL,1,0,1\r\n");
+  const json accuracy = parse_json(odocal("accuracy --json " + accuracy_bom));
+  EXPECT_EQ(accuracy["scenarios"][0]["name"], "NC");
+  EXPECT_NEAR(accuracy["scenarios"][1]["improvement_pct"].get<double>(), 80.0, 1e-9);
+  // A BOM anywhere but the start of line 1 is still junk.
+  expect_bad_input(
+      odocal("accuracy " +
+             temp_file("bom_late.csv", "scenario,trial,x_mm,y_mm\n\xEF\xBB\xBFNC,1,3,4\n")),
+      "bom_late.csv", "2", "scenario");
+}
+
+// ROS 2 declares the multipliers as doubles: every value must read back as a float (a '.' or an
+// exponent), and as exactly the double odocal computed.
+TEST(CliRos2, ValuesAreFloatLiteralsThatRoundTrip) {
+  const auto values = [](const Result& yaml) {
+    std::vector<std::string> out;
+    for (const std::string key : {"wheel_separation_multiplier", "left_wheel_radius_multiplier",
+                                  "right_wheel_radius_multiplier"}) {
+      const auto at = yaml.out.find("    " + key + ": ");
+      EXPECT_NE(at, std::string::npos) << key;
+      const auto start = at + key.size() + 6;
+      out.push_back(yaml.out.substr(start, yaml.out.find('\n', start) - start));
+    }
+    return out;
+  };
+  const Result ones = odocal("ros2 --c-l 1 --c-r 2 --e-b 1.000000000000000222");
+  ASSERT_EQ(ones.status, 0) << ones.err;
+  const std::vector<std::string> text = values(ones);
+  const double expected[3] = {1.000000000000000222, 1.0, 2.0};
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NE(text[i].find_first_of(".eE"), std::string::npos) << text[i];
+    EXPECT_EQ(std::stod(text[i]), expected[i]) << text[i];
+  }
+  const std::string json_file = ::testing::TempDir() + "odocal_cli_umbmark_rt.json";
+  const Result u = odocal(umbmark_args + " --cw " + data("umbmark_cw.csv") + " --ccw " +
+                          data("umbmark_ccw.csv"));
+  ASSERT_EQ(u.status, 0);
+  std::ofstream(json_file) << u.out;
+  const json doc = json::parse(u.out);
+  const std::vector<std::string> from = values(odocal("ros2 --from " + json_file));
+  EXPECT_EQ(std::stod(from[0]), doc["e_b"].get<double>());
+  EXPECT_EQ(std::stod(from[1]), doc["c_l"].get<double>());
+  EXPECT_EQ(std::stod(from[2]), doc["c_r"].get<double>());
+}
+
+TEST(CliRos2, ControllerNameAndMultipliersAreValidated) {
+  const std::string values = "ros2 --c-l 0.99 --c-r 1.01 --e-b 1.02 --controller ";
+  EXPECT_EQ(odocal(values + "_base_2").status, 0);
+  for (const std::string bad : {"'a b'", "2base", "''", "'base:'", "'x\ny'", "base-1"}) {
+    const Result r = odocal(values + bad);
+    EXPECT_EQ(r.status, 2) << bad;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+    EXPECT_NE(r.err.find("--controller"), std::string::npos) << r.err;
+  }
+  for (const std::string bad : {"--c-l 0", "--c-l nan", "--c-r inf", "--e-b 11", "--e-b 1x"}) {
+    const Result r = odocal("ros2 --c-l 1 --c-r 1 --e-b 1 " + bad);
+    EXPECT_EQ(r.status, 2) << bad;
+    EXPECT_NE(r.err.find(bad.substr(0, 5)), std::string::npos) << r.err;
+  }
+  const std::string zero = temp_file("ros2_zero.json", R"({"c_l": 0, "c_r": 1, "e_b": 1})");
+  const Result r = odocal("ros2 --from " + zero);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("field 'c_l'"), std::string::npos) << r.err;
+}
+
+// Errors of 1e155 mm overflow x² + y²; scenario names that are not text break the JSON.
+TEST(CliAccuracy, AbsurdErrorsAndNonAsciiNamesAreRefused) {
+  expect_bad_input(odocal("accuracy --json " + data("accuracy_huge.csv")), "accuracy_huge.csv", "4",
+                   "x_mm");
+  const std::string bad_name = temp_file("accuracy_not_utf8.csv",
+                                         "scenario,trial,x_mm,y_mm\nNC,1,1,1\nN\xFF"
+                                         "C,1,2,2\n");
+  const Result r = odocal("accuracy --json " + bad_name);
+  expect_bad_input(r, "accuracy_not_utf8.csv", "3", "scenario");
+  EXPECT_NE(r.err.find("ASCII"), std::string::npos) << r.err;
+}
+
+// A baseline RMS of 0 leaves the improvement undefined: null in JSON, n/a in text, never 0.
+TEST(CliAccuracy, ZeroBaselineHasNoImprovementInJsonOrText) {
+  const json doc = parse_json(odocal("accuracy --json " + data("accuracy_zero_baseline.csv")));
+  ASSERT_EQ(doc["scenarios"].size(), 2u);
+  EXPECT_EQ(doc["scenarios"][0]["rms_mm"], 0.0);
+  EXPECT_NEAR(doc["scenarios"][1]["rms_mm"].get<double>(), std::sqrt(12.5), 1e-12);
+  for (const json& s : doc["scenarios"]) {
+    EXPECT_TRUE(s["improvement_pct"].is_null());
+  }
+  const Result text = odocal("accuracy " + data("accuracy_zero_baseline.csv"));
+  EXPECT_EQ(text.status, 0);
+  EXPECT_NE(text.out.find("n/a"), std::string::npos) << text.out;
+  EXPECT_EQ(text.out.find("0.0 \n"), std::string::npos) << text.out;
+}
+
+// Every command-line number: a finite decimal within human bounds, else exit 2 naming the flag,
+// with a short message (no 300-digit bounds) and nothing on stdout.
+TEST(CliFlags, NumbersAreFiniteAndBounded) {
+  const std::string umbmark_files =
+      " --cw " + data("umbmark_cw.csv") + " --ccw " + data("umbmark_ccw.csv");
+  const std::string umbmark = "umbmark" + umbmark_files;
+  const std::string lateral_files = " --trials " + data("lateral_trials.csv");
+  const std::string lateral_ok = "--length-mm 1000 --wheelbase-mm 150 --dl-mm 60 --dr-mm 60";
+  const std::string bootstrap = "bootstrap --training " + data("bootstrap_training.csv") +
+                                " --unknowns " + data("bootstrap_unknowns.csv");
+  struct Case {
+    std::string args;
+    std::string flag;
+  };
+  const Case cases[] = {
+      {umbmark + " --wheelbase-mm 340 --side-mm nan", "--side-mm"},
+      {umbmark + " --wheelbase-mm 340 --side-mm 4000x", "--side-mm"},
+      {umbmark + " --wheelbase-mm 340 --side-mm 0x10", "--side-mm"},
+      {umbmark + " --wheelbase-mm 340 --side-mm 1e400", "--side-mm"},
+      {umbmark + " --side-mm 4000 --wheelbase-mm inf", "--wheelbase-mm"},
+      {umbmark + " --side-mm 4000 --wheelbase-mm 0", "--wheelbase-mm"},
+      {"lateral" + lateral_files + " --wheelbase-mm 150 --dl-mm 60 --dr-mm 60 --length-mm -1",
+       "--length-mm"},
+      {"lateral" + lateral_files + " --length-mm 1000 --wheelbase-mm 150 --dr-mm 60 --dl-mm nan",
+       "--dl-mm"},
+      {"lateral" + lateral_files + " --length-mm 1000 --wheelbase-mm 150 --dl-mm 60 --dr-mm 1e9",
+       "--dr-mm"},
+      {"lateral" + lateral_files + " " + lateral_ok + " --theta-l-rad 1e-300", "--theta-l-rad"},
+      {"lateral" + lateral_files + " " + lateral_ok + " --theta-l-rad 1910", "--theta-l-rad"},
+      {"lateral" + lateral_files + " " + lateral_ok + " --theta-l-rad -1", "--theta-l-rad"},
+      {bootstrap + " --level 0", "--level"},
+      {bootstrap + " --level 1", "--level"},
+      {bootstrap + " --level nan", "--level"},
+      {bootstrap + " --b 0", "--b"},
+      {bootstrap + " --b 99", "--b"},
+      {bootstrap + " --b 1000001", "--b"},
+      {bootstrap + " --b 2e3", "--b"},
+      {bootstrap + " --seed -1", "--seed"},
+      {bootstrap + " --seed 18446744073709551616", "--seed"},
+      {bootstrap + " --seed 1.5", "--seed"},
+      {bootstrap + " --wheelbase-mm 150 --dl-mm 60 --dr-mm nan", "--dr-mm"},
+      {bootstrap + " --dl-mm 60", "--wheelbase-mm"},
+      {bootstrap + " --date 2020-13-45", "--date"},
+      {bootstrap + " --date 2021-02-29", "--date"},
+      {bootstrap + " --date 2021-04-31", "--date"},
+      {bootstrap + " --date 2021-1-01", "--date"},
+      {"accuracy " + data("table3_systematic.csv") + " --date 0000-00-00", "--date"},
+  };
+  for (const Case& c : cases) {
+    const Result r = odocal(c.args);
+    EXPECT_EQ(r.status, 2) << c.args << "\n" << r.err;
+    EXPECT_TRUE(r.out.empty()) << c.args << "\n" << r.out;
+    EXPECT_NE(r.err.find(c.flag), std::string::npos) << c.args << "\n" << r.err;
+    EXPECT_LT(r.err.size(), 400u) << r.err;
+  }
+  // The edges that are allowed.
+  EXPECT_EQ(odocal(bootstrap + " --seed 18446744073709551615 --b 100 --level 0.5 --date "
+                               "2024-02-29")
+                .status,
+            0);
+  EXPECT_EQ(odocal("lateral" + lateral_files + " " + lateral_ok + " --theta-l-rad 34").status, 0);
+}
+
+// β = 0 exactly: the legs are straight, the radius infinite. JSON has no infinity: null; the
+// angles are 0, never −0.
+TEST(CliUmbmark, StraightLegsHaveNoRadiusAndNoNegativeZero) {
+  const std::string files =
+      " --cw " + data("umbmark_zero.csv") + " --ccw " + data("umbmark_zero.csv");
+  for (const std::string exact : {"", " --exact"}) {
+    const Result r = odocal(umbmark_args + exact + files);
+    const json doc = parse_json(r);
+    EXPECT_TRUE(doc["radius_mm"].is_null());
+    EXPECT_EQ(doc["beta_deg"], 0.0);
+    EXPECT_EQ(doc["alpha_deg"], 0.0);
+    EXPECT_FALSE(std::signbit(doc["beta_deg"].get<double>()));
+    EXPECT_FALSE(std::signbit(doc["alpha_deg"].get<double>()));
+    EXPECT_EQ(r.out.find("-0.0"), std::string::npos) << r.out;
+    EXPECT_EQ(doc["e_d"], 1.0);
+    const Result text = odocal("umbmark --side-mm 4000 --wheelbase-mm 340" + exact + files);
+    EXPECT_EQ(text.status, 0);
+    EXPECT_NE(text.out.find("inf"), std::string::npos) << text.out;
+    EXPECT_EQ(text.out.find("-0 "), std::string::npos) << text.out;
+  }
+  // With a curvature the radius is a number: R = (L/2)/sin(β/2).
+  const json curved = parse_json(odocal(umbmark_args + " --cw " + data("umbmark_cw.csv") +
+                                        " --ccw " + data("umbmark_ccw.csv")));
+  const double beta_rad = curved["beta_deg"].get<double>() * M_PI / 180.0;
+  EXPECT_NEAR(curved["radius_mm"].get<double>(), 2000.0 / std::sin(beta_rad / 2.0), 1e-6);
+}
+
+TEST(CliBootstrap, AbsurdTrainingValuesAreRefusedByLineAndField) {
+  const Result r = odocal(bootstrap_args + " --training " + data("bootstrap_training_absurd.csv") +
+                          " --unknowns " + data("bootstrap_unknowns.csv"));
+  expect_bad_input(r, "bootstrap_training_absurd.csv", "6", "xdot");
+  EXPECT_EQ(r.err.find("degenerate"), std::string::npos) << r.err;
+}
+
+// An unknown standing still: its LR estimates are 0, so r = boot/lr is undefined (null), and
+// its eq. 7 factors too; every other field is a number and the other unknowns are unaffected.
+TEST(CliBootstrap, UnknownAtRestHasNullRatiosOnly) {
+  const std::string files = " --training " + data("bootstrap_training.csv") + " --unknowns " +
+                            data("bootstrap_unknowns_at_rest.csv");
+  const json doc =
+      parse_json(odocal(bootstrap_args + files + " --wheelbase-mm 150 --dl-mm 60 --dr-mm 60"));
+  ASSERT_EQ(doc["unknowns"].size(), 2u);
+  const json& rest = doc["unknowns"][0];
+  EXPECT_TRUE(rest["r_l"].is_null());
+  EXPECT_TRUE(rest["r_r"].is_null());
+  EXPECT_TRUE(rest["factors_lr"].is_null());
+  EXPECT_EQ(rest["lr_l"], 0.0);
+  for (const char* key : {"lr_r", "boot_l", "boot_r"}) {
+    EXPECT_TRUE(rest[key].is_number()) << key;
+  }
+  EXPECT_TRUE(rest["ci_l"][0].is_number());
+  const json& moving = doc["unknowns"][1];
+  EXPECT_NEAR(moving["r_l"].get<double>(),
+              moving["boot_l"].get<double>() / moving["lr_l"].get<double>(), 1e-12);
+  EXPECT_TRUE(moving["factors_lr"].is_object());
+  expect_no_nan(doc);
+  const Result text = odocal("bootstrap" + files);
+  EXPECT_EQ(text.status, 0) << text.err;
+  EXPECT_NE(text.out.find("n/a"), std::string::npos) << text.out;
 }
 
 }  // namespace

@@ -11,7 +11,7 @@ const char* to_string(AccuracyStatus status) {
     case AccuracyStatus::no_trials:
       return "no trials";
     case AccuracyStatus::non_finite:
-      return "a trial error is NaN or infinite";
+      return "a trial error or the result is NaN or infinite";
     case AccuracyStatus::bad_baseline:
       return "baseline RMS must be finite and > 0";
   }
@@ -22,15 +22,30 @@ AccuracyStatus rms_radial_error(const EndError* trials, std::size_t count, doubl
   if (trials == nullptr || count == 0) {
     return AccuracyStatus::no_trials;
   }
-  double sum_sq = 0.0;
+  // r = hypot(x, y) (Maddahi Tables 3-4, r_e) cannot overflow where x² + y² would; the squares
+  // are summed relative to the largest r, so the RMS is finite whenever every r is.
+  double largest = 0.0;
   for (std::size_t i = 0; i < count; ++i) {
-    if (!std::isfinite(trials[i].x_mm) || !std::isfinite(trials[i].y_mm)) {
+    const double r = std::hypot(trials[i].x_mm, trials[i].y_mm);
+    if (!std::isfinite(trials[i].x_mm) || !std::isfinite(trials[i].y_mm) || !std::isfinite(r)) {
       return AccuracyStatus::non_finite;
     }
-    // r² = x² + y² (Maddahi Tables 3-4, r_e); RMS over the trials.
-    sum_sq += trials[i].x_mm * trials[i].x_mm + trials[i].y_mm * trials[i].y_mm;
+    largest = r > largest ? r : largest;
   }
-  rms_mm = std::sqrt(sum_sq / static_cast<double>(count));
+  if (largest == 0.0) {
+    rms_mm = 0.0;
+    return AccuracyStatus::ok;
+  }
+  double sum_sq = 0.0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const double ratio = std::hypot(trials[i].x_mm, trials[i].y_mm) / largest;
+    sum_sq += ratio * ratio;
+  }
+  const double rms = largest * std::sqrt(sum_sq / static_cast<double>(count));
+  if (!std::isfinite(rms)) {
+    return AccuracyStatus::non_finite;
+  }
+  rms_mm = rms;
   return AccuracyStatus::ok;
 }
 
@@ -41,7 +56,12 @@ AccuracyStatus improvement_pct(double rms_mm, double baseline_rms_mm, double& pe
   if (!std::isfinite(baseline_rms_mm) || baseline_rms_mm <= 0.0) {
     return AccuracyStatus::bad_baseline;
   }
-  percent = 100.0 * (1.0 - rms_mm / baseline_rms_mm);  // k_I of Tables 3 and 4, as a reduction
+  // k_I of Tables 3 and 4, as a reduction; the ratio overflows for a tiny baseline.
+  const double value = 100.0 * (1.0 - rms_mm / baseline_rms_mm);
+  if (!std::isfinite(value)) {
+    return AccuracyStatus::non_finite;
+  }
+  percent = value == 0.0 ? 0.0 : value;  // never -0
   return AccuracyStatus::ok;
 }
 

@@ -39,6 +39,14 @@ struct Model {
   double residual_mean[2] = {0.0, 0.0};
 };
 
+/// numerator / denominator into `quotient` when it is finite; false (and 0) otherwise.
+bool ratio(double numerator, double denominator, double& quotient) {
+  const double q = denominator != 0.0 ? numerator / denominator : 0.0;
+  const bool defined = denominator != 0.0 && std::isfinite(q);
+  quotient = defined ? q : 0.0;
+  return defined;
+}
+
 /// Standard normal CDF.
 double normal_cdf(double z) {
   return 0.5 * std::erfc(-z / std::sqrt(2.0));
@@ -154,8 +162,6 @@ const char* to_string(BootstrapStatus status) {
       return "level must be strictly between 0 and 1";
     case BootstrapStatus::scratch_too_small:
       return "scratch storage too small";
-    case BootstrapStatus::degenerate_estimate:
-      return "a linear-regression estimate is zero, so the ratio boot/lr is undefined";
   }
   return "unknown status";
 }
@@ -229,14 +235,6 @@ BootstrapStatus run_bootstrap(const BootstrapInput& input, BootstrapEstimate* es
   };
   const auto pool_size = static_cast<std::uint32_t>(2 * m);
 
-  // The ratios r = boot/lr need a non-zero LR estimate: refuse before writing anything.
-  for (std::size_t u = 0; u < input.unknown_count; ++u) {
-    const Eigen::Vector2d lr = out.psi * design_row(input.unknowns[u]);
-    if (!(std::fabs(lr(0)) > 0.0) || !(std::fabs(lr(1)) > 0.0)) {
-      return BootstrapStatus::degenerate_estimate;
-    }
-  }
-
   Random random(input.seed);
   double* scratch = input.scratch;
   for (std::size_t b = 0; b < b_count; ++b) {
@@ -285,8 +283,9 @@ BootstrapStatus run_bootstrap(const BootstrapInput& input, BootstrapEstimate* es
     e.ci_l_hi = values[0][3];
     e.ci_r_lo = values[1][2];
     e.ci_r_hi = values[1][3];
-    e.r_l = e.boot_l / e.lr_l;  // Table 1, r_L
-    e.r_r = e.boot_r / e.lr_r;  // Table 1, r_R
+    // Table 1, r_L and r_R; undefined (not refused) where the LR estimate is 0.
+    e.r_l_defined = ratio(e.boot_l, e.lr_l, e.r_l);
+    e.r_r_defined = ratio(e.boot_r, e.lr_r, e.r_r);
   }
   fit_out = out;
   return BootstrapStatus::ok;

@@ -1,6 +1,7 @@
 #include "odocal/calib/umbmark.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Core>
 #include <Eigen/LU>
@@ -115,6 +116,11 @@ void square_end(double side_mm, double wheelbase_mm, T e_d, T e_b, bool clockwis
 
 bool finite(double v) {
   return std::isfinite(v);
+}
+
+/// −0 as +0, so that no figure reads "-0.0" (e.g. β of error-free runs is 0/(−4L) = −0).
+double unsigned_zero(double v) {
+  return v == 0.0 ? 0.0 : v;
 }
 
 struct Centroid {
@@ -268,7 +274,9 @@ UmbmarkStatus solve_umbmark(const UmbmarkInput& input, UmbmarkResult& result) {
   }
   double e_d = (1.0 + half_b_over_r) / (1.0 - half_b_over_r);
   double e_b = quarter_turn_rad / (quarter_turn_rad - alpha);  // UMBmark eq. 6.29
-  double radius = beta == 0.0 ? 0.0 : (side / 2.0) / std::sin(beta / 2.0);
+  // UMBmark eq. 6.22: a straight leg (β = 0) has an infinite radius.
+  const double straight = std::numeric_limits<double>::infinity();
+  double radius = beta == 0.0 ? straight : (side / 2.0) / std::sin(beta / 2.0);
 
   if (input.exact) {
     Eigen::Vector4d observed(cw.x, cw.y, ccw.x, ccw.y);
@@ -279,14 +287,18 @@ UmbmarkStatus solve_umbmark(const UmbmarkInput& input, UmbmarkResult& result) {
     // (k_R − k_L)·L/(E_b·b) along an arc of length L.
     alpha = quarter_turn_rad - quarter_turn_rad / e_b;
     beta = 2.0 * (e_d - 1.0) / (e_d + 1.0) * side / (e_b * b);
-    radius = beta == 0.0 ? 0.0 : side / beta;
+    radius = beta == 0.0 ? straight : side / beta;
     out.exact = true;
   }
   if (!finite(e_d) || !finite(e_b) || e_d <= 0.0 || e_b <= 0.0) {
     return UmbmarkStatus::degenerate;
   }
-  out.alpha_deg = alpha * rad_to_deg;
-  out.beta_deg = beta * rad_to_deg;
+  out.x_cg_cw = unsigned_zero(out.x_cg_cw);
+  out.y_cg_cw = unsigned_zero(out.y_cg_cw);
+  out.x_cg_ccw = unsigned_zero(out.x_cg_ccw);
+  out.y_cg_ccw = unsigned_zero(out.y_cg_ccw);
+  out.alpha_deg = unsigned_zero(alpha * rad_to_deg);
+  out.beta_deg = unsigned_zero(beta * rad_to_deg);
   out.radius_mm = radius;
   out.e_d = e_d;
   out.e_b = e_b;

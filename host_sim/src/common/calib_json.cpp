@@ -1,5 +1,6 @@
 #include "odocal/host/calib_json.hpp"
 
+#include <cmath>
 #include <ctime>
 #include <stdexcept>
 
@@ -41,7 +42,8 @@ nlohmann::json umbmark_to_json(const calib::UmbmarkResult& r) {
       {"e_max_syst_mm", r.e_max_syst_mm},
       {"alpha_deg", r.alpha_deg},
       {"beta_deg", r.beta_deg},
-      {"radius_mm", r.radius_mm},
+      // β = 0: straight legs, infinite radius; JSON has no infinity, so null.
+      {"radius_mm", std::isfinite(r.radius_mm) ? nlohmann::json(r.radius_mm) : nullptr},
       {"e_d", r.e_d},
       {"e_b", r.e_b},
       {"c_l", r.c_l},
@@ -114,8 +116,13 @@ std::vector<ScenarioAccuracy> compute_accuracy(const std::vector<AccuracyTrial>&
   const double reference_rms = reference->rms_mm;
   for (ScenarioAccuracy& s : out) {
     double pct = 0.0;
-    if (calib::improvement_pct(s.rms_mm, reference_rms, pct) == calib::AccuracyStatus::ok) {
+    const calib::AccuracyStatus status = calib::improvement_pct(s.rms_mm, reference_rms, pct);
+    if (status == calib::AccuracyStatus::ok) {
       s.improvement_pct = pct;
+    } else if (status != calib::AccuracyStatus::bad_baseline || reference_rms != 0.0) {
+      // A zero baseline RMS leaves the improvement undefined (null); anything else is an error.
+      throw std::invalid_argument("scenario '" + s.name + "': improvement against '" + base +
+                                  "': " + calib::to_string(status));
     }
   }
   return out;
@@ -136,8 +143,8 @@ nlohmann::json bootstrap_to_json(const std::vector<calib::BootstrapEstimate>& es
         {"boot_r", e.boot_r},
         {"ci_l", {e.ci_l_lo, e.ci_l_hi}},
         {"ci_r", {e.ci_r_lo, e.ci_r_hi}},
-        {"r_l", e.r_l},
-        {"r_r", e.r_r},
+        {"r_l", e.r_l_defined ? nlohmann::json(e.r_l) : nullptr},
+        {"r_r", e.r_r_defined ? nlohmann::json(e.r_r) : nullptr},
     });
   }
   nlohmann::json psi = nlohmann::json::array();

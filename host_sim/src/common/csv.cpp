@@ -127,6 +127,11 @@ CsvTable read_csv(const std::string& path, const std::vector<std::string>& colum
   bool have_header = false;
   while (std::getline(in, line)) {
     ++number;
+    // A UTF-8 byte order mark (spreadsheet exports) is not part of the first header name.
+    constexpr std::string_view bom = "\xEF\xBB\xBF";
+    if (number == 1 && line.compare(0, bom.size(), bom) == 0) {
+      line.erase(0, bom.size());
+    }
     const std::string content = trim(line);
     if (content.empty() || content.front() == '#') {
       continue;

@@ -100,6 +100,27 @@ TEST(Accuracy, HandComputedValuesAndErrors) {
   EXPECT_EQ(rms_radial_error(bad, 1, rms), AccuracyStatus::non_finite);
   EXPECT_EQ(improvement_pct(1.0, 0.0, pct), AccuracyStatus::bad_baseline);
   EXPECT_EQ(improvement_pct(NAN, 1.0, pct), AccuracyStatus::non_finite);
+  // 1e300 / 1e-10 overflows: refused, not returned as −inf.
+  EXPECT_EQ(improvement_pct(1e300, 1e-10, pct), AccuracyStatus::non_finite);
+  ASSERT_EQ(improvement_pct(10.0, 10.0, pct), AccuracyStatus::ok);
+  EXPECT_FALSE(std::signbit(pct));
+}
+
+// r = hypot(x, y): errors of 1e155 mm would overflow x² + y² (1e310) but not r. The RMS of
+// equal radial errors r is r itself; all-zero errors give 0.
+TEST(Accuracy, HugeErrorsDoNotOverflow) {
+  const EndError huge[2] = {{1e155, 1e155}, {-1e155, 1e155}};
+  double rms = 0.0;
+  ASSERT_EQ(rms_radial_error(huge, 2, rms), AccuracyStatus::ok);
+  EXPECT_NEAR(rms / (std::sqrt(2.0) * 1e155), 1.0, 1e-12);
+  const EndError tiny[2] = {{3e-200, 4e-200}, {0.0, 0.0}};
+  ASSERT_EQ(rms_radial_error(tiny, 2, rms), AccuracyStatus::ok);
+  EXPECT_NEAR(rms / 3.5355339e-200, 1.0, 1e-7);
+  const EndError zero[1] = {{0.0, 0.0}};
+  ASSERT_EQ(rms_radial_error(zero, 1, rms), AccuracyStatus::ok);
+  EXPECT_EQ(rms, 0.0);
+  const EndError beyond[1] = {{1.5e308, 1.5e308}};  // r itself is not a double
+  EXPECT_EQ(rms_radial_error(beyond, 1, rms), AccuracyStatus::non_finite);
 }
 
 }  // namespace

@@ -146,12 +146,54 @@ TEST(Bootstrap, RefusesDegenerateAndBadInput) {
   in.scratch_count = scratch.size();
   in.level = 1.0;
   EXPECT_EQ(run_bootstrap(in, out.data(), out.size(), fit), BootstrapStatus::bad_level);
-  in.level = 0.95;
-  const UnknownRow zero[1] = {{0.0, 0.0, 0.0}};
-  in.unknowns = zero;
-  in.unknown_count = 1;
-  EXPECT_EQ(run_bootstrap(in, out.data(), out.size(), fit), BootstrapStatus::degenerate_estimate);
   EXPECT_EQ(out[0].boot_l, 123.0);  // nothing written on refusal
+}
+
+// DESIGN: "percentile interval at the chosen level" unless the caller asks for the calibrated one.
+TEST(Bootstrap, PlainPercentileIsTheDefault) {
+  EXPECT_EQ(BootstrapInput{}.method, IntervalMethod::percentile);
+  Random noise(2);
+  const auto training = make_training(true_psi(), 0.05, noise);
+  const std::vector<UnknownRow> unknowns = {{0.3, 0.015, 0.012}};
+  std::vector<double> scratch(bootstrap_scratch_count(500, 1));
+  BootstrapInput in;
+  in.training = training.data();
+  in.training_count = training.size();
+  in.unknowns = unknowns.data();
+  in.unknown_count = 1;
+  in.replicates = 500;
+  in.scratch = scratch.data();
+  in.scratch_count = scratch.size();
+  BootstrapEstimate e;
+  BootstrapFit fit;
+  ASSERT_EQ(run_bootstrap(in, &e, 1, fit), BootstrapStatus::ok);
+  EXPECT_EQ(fit.effective_level, 0.95);  // the level asked for, not widened
+}
+
+// An unknown standing still (Ẋ = 0) has LR estimates of exactly 0: its ratios boot/lr are
+// undefined and flagged, not refused; everything else is a number (boot ≈ 0 ± residual scatter).
+TEST(Bootstrap, UnknownAtRestLeavesOnlyTheRatiosUndefined) {
+  Random noise(2);
+  const auto training = make_training(true_psi(), 0.05, noise);
+  const std::vector<UnknownRow> unknowns = {{0.0, 0.0, 0.0}, {0.3, 0.015, 0.012}};
+  std::vector<double> scratch;
+  const BootRun run = bootstrap(training, unknowns, 1000, 5, IntervalMethod::percentile, scratch);
+  ASSERT_EQ(run.status, BootstrapStatus::ok);
+  const BootstrapEstimate& rest = run.estimates[0];
+  EXPECT_FALSE(rest.r_l_defined);
+  EXPECT_FALSE(rest.r_r_defined);
+  EXPECT_EQ(rest.lr_l, 0.0);
+  EXPECT_EQ(rest.lr_r, 0.0);
+  // The prediction at rest is the resampled residual alone: mean within a few σ/√B of 0, the 95 %
+  // interval about ±2σ = ±0.1 rad/s.
+  EXPECT_NEAR(rest.boot_l, 0.0, 5.0 * 0.05 / std::sqrt(1000.0));
+  EXPECT_LT(rest.ci_l_lo, 0.0);
+  EXPECT_GT(rest.ci_l_hi, 0.0);
+  EXPECT_NEAR(rest.ci_r_hi - rest.ci_r_lo, 4.0 * 0.05, 0.08);
+  const BootstrapEstimate& moving = run.estimates[1];
+  EXPECT_TRUE(moving.r_l_defined);
+  EXPECT_TRUE(moving.r_r_defined);
+  EXPECT_DOUBLE_EQ(moving.r_l, moving.boot_l / moving.lr_l);
 }
 
 // The paper's Table 1 defines r_L = θ̂_L,BT / θ̂_L,LR (not the reverse); its printed columns agree

@@ -94,7 +94,16 @@ TEST(Umbmark, NoErrorMeansNoCorrection) {
     ASSERT_EQ(solve(zero, zero, 4000.0, 340.0, exact, r), UmbmarkStatus::ok);
     EXPECT_NEAR(r.e_d, 1.0, 1e-12);
     EXPECT_NEAR(r.e_b, 1.0, 1e-12);
-    EXPECT_EQ(r.radius_mm, 0.0);  // documented: 0 instead of infinity when β = 0
+    // Straight legs: the curvature radius is infinite (odocal prints JSON null), and the
+    // angles are +0, never −0 (β = 0/(−4L) would be −0).
+    EXPECT_TRUE(std::isinf(r.radius_mm));
+    EXPECT_GT(r.radius_mm, 0.0);
+    EXPECT_EQ(r.beta_deg, 0.0);
+    EXPECT_EQ(r.alpha_deg, 0.0);
+    EXPECT_FALSE(std::signbit(r.beta_deg));
+    EXPECT_FALSE(std::signbit(r.alpha_deg));
+    EXPECT_FALSE(std::signbit(r.x_cg_cw));
+    EXPECT_FALSE(std::signbit(r.y_cg_ccw));
     EXPECT_NEAR(r.wheelbase_new_mm, 340.0, 1e-9);
     EXPECT_FALSE(r.second_pass_recommended);
   }

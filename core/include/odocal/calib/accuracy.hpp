@@ -19,19 +19,22 @@ struct EndError {
 enum class AccuracyStatus : std::uint8_t {
   ok,
   no_trials,     ///< zero trials
-  non_finite,    ///< a NaN or Inf in a trial
+  non_finite,    ///< a NaN or Inf in a trial, or a result that would not be finite
   bad_baseline,  ///< baseline RMS not finite or not > 0
 };
 
 /// A short lower-case message for a status.
 [[nodiscard]] const char* to_string(AccuracyStatus status);
 
-/// RMS of the radial errors: sqrt(mean(x² + y²)), mm.
+/// RMS of the radial errors: sqrt(mean(x² + y²)), mm. Computed with hypot and relative to the
+/// largest error, so it is finite for any finite errors (no overflow of x²).
 [[nodiscard]] AccuracyStatus rms_radial_error(const EndError* trials, std::size_t count,
                                               double& rms_mm);
 
 /// Improvement against a baseline, percent: 100·(1 − rms/rms_baseline) (Tables 3 and 4, k_I).
-/// Negative when the scenario is worse than the baseline.
+/// Negative when the scenario is worse than the baseline. `bad_baseline` when the baseline RMS
+/// is 0 (nothing to improve on: the caller reports "no figure", not 0 %); `non_finite` when the
+/// ratio overflows.
 [[nodiscard]] AccuracyStatus improvement_pct(double rms_mm, double baseline_rms_mm,
                                              double& percent);
 

@@ -41,9 +41,9 @@ inline constexpr std::uint32_t bootstrap_max_replicates = 1000000;
 
 /// How the interval is taken from the B predictions.
 enum class IntervalMethod : std::uint8_t {
-  /// The paper's plain percentile interval at the requested level. With m = 20 trials it covers
-  /// a little less than the level (the resampled residuals are thinner-tailed than the
-  /// t-distributed prediction error).
+  /// The paper's plain percentile interval at the requested level (DESIGN; the default). With
+  /// m = 20 trials it covers a little less than the level (the resampled residuals are
+  /// thinner-tailed than the t-distributed prediction error).
   percentile,
   /// Percentile interval at a widened level 2Φ(t_ν,q) − 1, where q = (1 + level)/2 and
   /// ν = 2(m − p) is the residual degrees of freedom of the pooled fit: the normal-theory
@@ -60,7 +60,7 @@ struct BootstrapInput {
   std::uint32_t replicates = 1000;  ///< B
   std::uint64_t seed = 1;
   double level = 0.95;  ///< interval level, in (0, 1)
-  IntervalMethod method = IntervalMethod::calibrated_percentile;
+  IntervalMethod method = IntervalMethod::percentile;
   /// Storage for the predictions: at least bootstrap_scratch_count(replicates, unknown_count).
   double* scratch = nullptr;
   std::size_t scratch_count = 0;
@@ -78,7 +78,11 @@ struct BootstrapEstimate {
   double boot_l = 0.0, boot_r = 0.0;  ///< mean of the B bootstrap predictions
   double ci_l_lo = 0.0, ci_l_hi = 0.0;
   double ci_r_lo = 0.0, ci_r_hi = 0.0;
-  double r_l = 1.0, r_r = 1.0;  ///< boot / lr per wheel (dimensionless)
+  /// boot / lr per wheel (dimensionless); meaningful only when the matching `*_defined` is true.
+  double r_l = 1.0, r_r = 1.0;
+  /// False when that wheel's LR estimate is 0 (e.g. an unknown standing still, Ẋ = 0) or the
+  /// quotient is not finite: the ratio is undefined and r is left at 0.
+  bool r_l_defined = true, r_r_defined = true;
 };
 
 /// The fitted model and what the intervals used.
@@ -92,13 +96,12 @@ struct BootstrapFit {
 /// Why a fit or bootstrap was refused. Nothing is written to the outputs unless `ok`.
 enum class BootstrapStatus : std::uint8_t {
   ok,
-  too_few_rows,         ///< training rows outside [min, max]_training, or no unknowns
-  non_finite,           ///< a NaN or Inf in a row
-  degenerate,           ///< the training design Ẋ is rank deficient (or nearly so)
-  bad_replicates,       ///< B outside [bootstrap_min_replicates, bootstrap_max_replicates]
-  bad_level,            ///< level not in (0, 1)
-  scratch_too_small,    ///< scratch missing or shorter than bootstrap_scratch_count
-  degenerate_estimate,  ///< an LR prediction is ~0, so r = boot/lr is undefined
+  too_few_rows,       ///< training rows outside [min, max]_training, or no unknowns
+  non_finite,         ///< a NaN or Inf in a row
+  degenerate,         ///< the training design Ẋ is rank deficient (or nearly so)
+  bad_replicates,     ///< B outside [bootstrap_min_replicates, bootstrap_max_replicates]
+  bad_level,          ///< level not in (0, 1)
+  scratch_too_small,  ///< scratch missing or shorter than bootstrap_scratch_count
 };
 
 /// A short lower-case message for a status.

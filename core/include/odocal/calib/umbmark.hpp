@@ -35,11 +35,13 @@ struct UmbmarkResult {
   double x_cg_cw = 0.0, y_cg_cw = 0.0, x_cg_ccw = 0.0, y_cg_ccw = 0.0;  ///< mm
   double r_cg_cw = 0.0, r_cg_ccw = 0.0;                                 ///< mm
   double e_max_syst_mm = 0.0;
-  double alpha_deg = 0.0;  ///< > 0: each nominal 90° turn under-rotates
-  double beta_deg = 0.0;   ///< > 0: a straight leg curves to the left
-  double radius_mm = 0.0;  ///< curvature radius of a leg; +inf-free: 0 when beta == 0
-  double e_d = 1.0;        ///< D_R / D_L
-  double e_b = 1.0;        ///< b_actual / b_nominal
+  double alpha_deg = 0.0;  ///< > 0: each nominal 90° turn under-rotates (never −0)
+  double beta_deg = 0.0;   ///< > 0: a straight leg curves to the left (never −0)
+  /// Curvature radius of a leg, mm (> 0: curves left). +infinity when β == 0 (straight legs);
+  /// `odocal` prints it as JSON null and "inf" in text.
+  double radius_mm = 0.0;
+  double e_d = 1.0;  ///< D_R / D_L
+  double e_b = 1.0;  ///< b_actual / b_nominal
   double c_l = 1.0, c_r = 1.0;
   double wheelbase_new_mm = 0.0;
   double sem_mm = 0.0;                   ///< standard error of the mean of the return errors

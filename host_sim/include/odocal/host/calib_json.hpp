@@ -37,7 +37,8 @@ struct Provenance {
 
 /// The `odocal umbmark` object: keys x_cg_cw y_cg_cw x_cg_ccw y_cg_ccw r_cg_cw r_cg_ccw
 /// e_max_syst_mm alpha_deg beta_deg radius_mm e_d e_b c_l c_r wheelbase_new_mm sem_mm
-/// second_pass_recommended (plus sigma_mm). No provenance: add it with `with_provenance`.
+/// second_pass_recommended (plus sigma_mm). `radius_mm` is null when β = 0 (straight legs,
+/// infinite radius). No provenance: add it with `with_provenance`.
 [[nodiscard]] nlohmann::json umbmark_to_json(const calib::UmbmarkResult& result);
 
 /// One scenario of an accuracy report.
@@ -45,7 +46,8 @@ struct ScenarioAccuracy {
   std::string name;
   std::size_t trials = 0;
   double rms_mm = 0.0;
-  /// 100·(1 − rms/rms_baseline); empty (JSON null) when there is no baseline to compare with.
+  /// 100·(1 − rms/rms_baseline); empty (JSON null) when the baseline RMS is 0, so there is
+  /// nothing to improve on.
   std::optional<double> improvement_pct;
 };
 
@@ -61,8 +63,9 @@ struct AccuracyTrial {
 };
 
 /// Groups trials by scenario (first-appearance order), computes each RMS and the improvement
-/// against `baseline` (default: the first scenario). Throws std::invalid_argument when `baseline`
-/// names no scenario, or a scenario's figures cannot be computed (the message says why).
+/// against `baseline` (default: the first scenario); a baseline RMS of 0 leaves every
+/// improvement empty. Throws std::invalid_argument when `baseline` names no scenario, or a
+/// scenario's figures cannot be computed or are not finite (the message says why).
 [[nodiscard]] std::vector<ScenarioAccuracy> compute_accuracy(
     const std::vector<AccuracyTrial>& trials, const std::string& baseline = {});
 
@@ -70,6 +73,7 @@ struct AccuracyTrial {
 [[nodiscard]] nlohmann::json lateral_to_json(const calib::LateralResult& result);
 
 /// `{"unknowns": [{lr_l, lr_r, boot_l, boot_r, ci_l:[lo,hi], ci_r:[lo,hi], r_l, r_r}, ...],
+///   (r_l / r_r null where the ratio is undefined: that wheel's LR estimate is 0)
 ///   "psi": [[..3..],[..3..]], "residual_scale": .., "effective_level": ..}`.
 [[nodiscard]] nlohmann::json bootstrap_to_json(
     const std::vector<calib::BootstrapEstimate>& estimates, const calib::BootstrapFit& fit);

@@ -32,7 +32,8 @@ struct CsvRow {
   std::vector<std::string> fields;
 };
 
-/// A read CSV file. Blank lines and lines starting with '#' are skipped.
+/// A read CSV file. Blank lines and lines starting with '#' are skipped; a UTF-8 byte order mark
+/// at the start of the file and CRLF line ends are accepted.
 struct CsvTable {
   std::string file;
   std::vector<std::string> columns;

@@ -92,10 +92,18 @@ TEST(OdocalSimRobotFile, ASavedParameterSetWinsOverTheRobotFile) {
   }
   const std::string store = ::testing::TempDir() + "odocal_sim_robot_file.store";
   std::remove(store.c_str());
-  const std::string first =
-      temp_file("odocal_sim_robot_b.json", R"({"wheel_diameter_mm": 80, "wheelbase_mm": 250.5})");
-  const std::string second =
-      temp_file("odocal_sim_robot_c.json", R"({"wheel_diameter_mm": 65, "wheelbase_mm": 170})");
+  // The real robot must be near what the firmware is told (5 % on the wheels, 10 % on the
+  // wheelbase), so each file gives it too.
+  const std::string first = temp_file("odocal_sim_robot_b.json",
+                                      R"({"wheel_diameter_mm": 80, "wheelbase_mm": 250.5,
+                                          "true_left_diameter_mm": 80,
+                                          "true_right_diameter_mm": 80.1,
+                                          "true_wheelbase_mm": 251})");
+  const std::string second = temp_file("odocal_sim_robot_c.json",
+                                       R"({"wheel_diameter_mm": 65, "wheelbase_mm": 170,
+                                           "true_left_diameter_mm": 65,
+                                           "true_right_diameter_mm": 65.1,
+                                           "true_wheelbase_mm": 171})");
   std::vector<std::string> replies;
   std::string out;
   // Empty store: the first file's values are in force; the user saves them.
@@ -116,6 +124,43 @@ TEST(OdocalSimRobotFile, ASavedParameterSetWinsOverTheRobotFile) {
   ASSERT_EQ(replies.size(), 3u) << out;
   EXPECT_DOUBLE_EQ(value_of(replies[0], "wheel_diameter_mm"), 65.0);
   EXPECT_DOUBLE_EQ(value_of(replies[1], "wheelbase_mm"), 170.0);
+}
+
+/// Runs odocal-sim with `args` and empty input; returns its exit status, `err` its stderr.
+int run_sim_status(const std::string& args, std::string& err) {
+  const std::string err_file = ::testing::TempDir() + "odocal_sim_robot_err.txt";
+  const int status =
+      std::system((sim_program() + " " + args + " </dev/null >/dev/null 2>" + err_file).c_str());
+  std::ifstream e(err_file);
+  err.assign(std::istreambuf_iterator<char>(e), std::istreambuf_iterator<char>());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(OdocalSimRobotFile, ANumberTooLargeForADoubleExitsTwoNamingFileAndKey) {
+  if (sim_program().empty()) {
+    GTEST_SKIP() << "odocal-sim not built";
+  }
+  const std::string robot =
+      temp_file("odocal_sim_robot_big.json", R"({"wheel_diameter_mm":1e400})");
+  std::string err;
+  EXPECT_EQ(run_sim_status("--robot " + robot, err), 2);
+  EXPECT_NE(err.find(robot + ": wheel_diameter_mm: "), std::string::npos) << err;
+}
+
+TEST(OdocalSimSpeed, OnlyZeroOrAFiniteDecimalInRangeIsAccepted) {
+  if (sim_program().empty()) {
+    GTEST_SKIP() << "odocal-sim not built";
+  }
+  std::string err;
+  for (const char* bad : {"nan", "0x1", "1e-300", "-1", "inf", "2x", "1e400", "0.001", "2e6"}) {
+    EXPECT_EQ(run_sim_status(std::string("--speed ") + bad, err), 2) << bad;
+    EXPECT_NE(err.find("--speed"), std::string::npos) << bad << ": " << err;
+  }
+  EXPECT_EQ(run_sim_status("--seed -1", err), 2);
+  EXPECT_NE(err.find("--seed"), std::string::npos) << err;
+  for (const char* good : {"0", "0.01", "1", "1e6", "250.5"}) {
+    EXPECT_EQ(run_sim_status(std::string("--speed ") + good, err), 0) << good << ": " << err;
+  }
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "odocal/host/sim_numbers.hpp"
 #include "odocal/host/sim_procedures.hpp"
 #include "odocal/host/sim_robot.hpp"
 
@@ -131,6 +132,80 @@ TEST(RobotFile, RefusesBadRobotsNamingTheKey) {
   EXPECT_FALSE(parse_robot("[1, 2]", "r.json", spec, error));
 }
 
+TEST(RobotFile, RangeErrorsNameTheKeyThatIsWrong) {
+  const BadRobot cases[] = {
+      // Numbers a double cannot hold: refused, not thrown.
+      {R"({"wheel_diameter_mm": 1e400})", "wheel_diameter_mm"},
+      {R"({"slip_sigma": -1e400})", "slip_sigma"},
+      // Outside the firmware's ranges: the key at fault, not the wheel diameter.
+      {R"({"counts_per_rev": 4000000})", "counts_per_rev"},
+      {R"({"counts_per_rev": 1e9})", "counts_per_rev"},
+      {R"({"wheelbase_mm": 1e9})", "wheelbase_mm"},
+      // Accepted before, but the firmware could not run them.
+      {R"({"counts_per_rev": 4})", "counts_per_rev"},
+      {R"({"counts_per_rev": 8})", "counts_per_rev"},
+      {R"({"measure_sigma_mm": 1e9})", "measure_sigma_mm"},
+      {R"({"wheel_diameter_mm": 5, "wheelbase_mm": 10})", "wheelbase_mm"},
+      {R"({"wheel_diameter_mm": 5, "wheelbase_mm": 20})", "true_left_diameter_mm"},
+      {R"({"wheel_diameter_mm": 1000, "wheelbase_mm": 5000})", "wheelbase_mm"},
+      {R"({"true_left_diameter_mm": 30, "true_right_diameter_mm": 90})", "true_left_diameter_mm"},
+      {R"({"true_right_diameter_mm": 63.1})", "true_right_diameter_mm"},
+      {R"({"true_wheelbase_mm": 166})", "true_wheelbase_mm"},
+      // The last of two equal keys used to win silently.
+      {R"({"wheelbase_mm": 150, "wheelbase_mm": 160})", "wheelbase_mm"},
+  };
+  for (const BadRobot& c : cases) {
+    RobotSpec spec;
+    std::string error;
+    EXPECT_FALSE(parse_robot(c.text, "r.json", spec, error)) << c.text;
+    EXPECT_EQ(error.rfind(std::string("r.json: ") + c.key + ": ", 0), 0u)
+        << c.text << " -> " << error;
+  }
+  // The edges of the ranges are accepted: 720 counts, 100 mm noise, real wheels within 5 % and
+  // wheelbase within 10 % of what the firmware is told, 12-4000 mm wheelbase.
+  RobotSpec spec;
+  std::string error;
+  EXPECT_TRUE(parse_robot(R"({"counts_per_rev": 720, "measure_sigma_mm": 100,
+                              "true_left_diameter_mm": 57, "true_right_diameter_mm": 63,
+                              "true_wheelbase_mm": 165})",
+                          "r.json", spec, error))
+      << error;
+  EXPECT_TRUE(parse_robot(R"({"wheel_diameter_mm": 1000, "wheelbase_mm": 4000,
+                              "true_left_diameter_mm": 1000, "true_right_diameter_mm": 1000,
+                              "true_wheelbase_mm": 4000})",
+                          "r.json", spec, error))
+      << error;
+}
+
+TEST(SimNumbers, OnlyPlainFiniteDecimalsAreNumbers) {
+  EXPECT_EQ(parse_real("4000"), 4000.0);
+  EXPECT_EQ(parse_real("-2.5e3"), -2500.0);
+  for (const char* bad : {"", "abc", "4000x", " 400", "0x10", "nan", "inf", "1e400", "1e"}) {
+    EXPECT_FALSE(parse_real(bad).has_value()) << bad;
+  }
+  EXPECT_EQ(parse_whole("18446744073709551615"), UINT64_MAX);
+  for (const char* bad : {"", "-1", "+1", "1.0", "1e3", "0x2", "3x", "18446744073709551616"}) {
+    EXPECT_FALSE(parse_whole(bad).has_value()) << bad;
+  }
+}
+
+TEST(SimUmbmark, AFailedRunSaysWhereAndKeepsTheTimeSimulated) {
+  // 8 counts per turn (a robot file refuses it): the wheel loop cannot finish a square.
+  RobotSpec spec = default_robot();
+  spec.nominal.counts_per_rev = 8.0f;
+  spec.truth.counts_per_rev = 8u;
+  UmbmarkOptions options;
+  options.side_m = 0.5;
+  options.runs = 2;
+  const UmbmarkReport report = run_umbmark(spec, 1u, options);
+  ASSERT_FALSE(report.ok);
+  EXPECT_NE(report.error.find("pass 1, cw run 1: the square did not complete"), std::string::npos)
+      << report.error;
+  // It ran at least until the first square gave up.
+  EXPECT_GT(report.simulated_s, 1.0);
+  EXPECT_GT(umbmark_report_json(report).at("simulated_s").get<double>(), 1.0);
+}
+
 TEST(RobotFile, EveryKeyIsOptionalAndFallsBackToTheDefaultRobot) {
   RobotSpec spec;
   std::string error;
@@ -169,6 +244,121 @@ TEST(OdocalSimCommand, BadRobotFileExitsTwoNamingFileAndKey) {
   EXPECT_NE(err.find(file), std::string::npos) << err;
   EXPECT_EQ(run(odocal + " sim validate --robot /nonexistent/robot.json", err), 2);
   EXPECT_NE(err.find("/nonexistent/robot.json"), std::string::npos) << err;
+}
+
+std::string odocal_program() {
+  const char* bin = std::getenv("ODOCAL_BIN_DIR");
+  const std::string odocal = bin != nullptr ? std::string(bin) + "/odocal" : "";
+  return odocal.empty() || !std::ifstream(odocal) ? std::string() : odocal;
+}
+
+/// Runs a shell command; returns its exit status, `out` its stdout and `err` its stderr.
+int run_both(const std::string& command, std::string& out, std::string& err) {
+  const std::string out_file = ::testing::TempDir() + "odocal_sim_out2.txt";
+  const std::string err_file = ::testing::TempDir() + "odocal_sim_err2.txt";
+  const int status = std::system((command + " >" + out_file + " 2>" + err_file).c_str());
+  std::ifstream o(out_file);
+  out.assign(std::istreambuf_iterator<char>(o), std::istreambuf_iterator<char>());
+  std::ifstream e(err_file);
+  err.assign(std::istreambuf_iterator<char>(e), std::istreambuf_iterator<char>());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(OdocalSimCommand, NumericFlagsAreReadStrictlyAndRefusedNamingFlagAndRange) {
+  const std::string odocal = odocal_program();
+  if (odocal.empty()) {
+    GTEST_SKIP() << "odocal not built";
+  }
+  struct Bad {
+    const char* args;
+    const char* flag;
+  };
+  const Bad cases[] = {
+      {"umbmark --side-mm abc", "--side-mm"},
+      {"umbmark --side-mm 1e400", "--side-mm"},
+      {"umbmark --side-mm 4000x", "--side-mm"},
+      {"umbmark --side-mm nan", "--side-mm"},
+      {"umbmark --side-mm 50", "--side-mm"},
+      {"umbmark --side-mm 20001", "--side-mm"},
+      {"umbmark --runs 3x", "--runs"},
+      {"umbmark --seed -1", "--seed"},
+      {"umbmark --seed 0x10", "--seed"},
+      {"umbmark --seed 18446744073709551616", "--seed"},
+      {"montecarlo --side-mm abc --robots 1", "--side-mm"},
+      {"montecarlo --robots -1", "--robots"},
+      {"montecarlo --robots 1e3", "--robots"},
+      {"montecarlo --robots 1 --threads 0", "--threads"},
+      {"validate --trials 5", "--trials"},
+      {"validate --replicates 1e3", "--replicates"},
+  };
+  for (const Bad& c : cases) {
+    std::string out;
+    std::string err;
+    EXPECT_EQ(run_both(odocal + " sim " + c.args + " --json", out, err), 2) << c.args;
+    EXPECT_TRUE(out.empty()) << c.args << ": " << out;
+    EXPECT_EQ(err.rfind(c.flag, 0), 0u) << c.args << ": " << err;
+  }
+  // The side is checked and shown in mm (not in metres).
+  std::string out;
+  std::string err;
+  EXPECT_EQ(run_both(odocal + " sim umbmark --side-mm 50", out, err), 2);
+  EXPECT_NE(err.find("100 to 20000 mm"), std::string::npos) << err;
+  // A valid side reaches the procedure in metres: the report gives it back in mm.
+  ASSERT_EQ(run_both(odocal + " sim umbmark --side-mm 250.5 --runs 2 --json", out, err), 0) << err;
+  EXPECT_EQ(nlohmann::json::parse(out).at("side_mm").get<double>(), 250.5);
+}
+
+TEST(OdocalSimCommand, AnUnwritablePictureIsAnErrorBeforeAnyResult) {
+  const std::string odocal = odocal_program();
+  if (odocal.empty()) {
+    GTEST_SKIP() << "odocal not built";
+  }
+  std::string out;
+  std::string err;
+  EXPECT_EQ(run_both(odocal + " sim umbmark --side-mm 200 --runs 2 --json --svg /nonexistent/x.svg",
+                     out, err),
+            2);
+  EXPECT_TRUE(out.empty()) << out;
+  EXPECT_NE(err.find("/nonexistent/x.svg"), std::string::npos) << err;
+  // A writable one is written, and the result printed.
+  const std::string svg = ::testing::TempDir() + "odocal_sim_picture.svg";
+  std::remove(svg.c_str());
+  ASSERT_EQ(run_both(odocal + " sim umbmark --side-mm 200 --runs 2 --json --svg " + svg, out, err),
+            0)
+      << err;
+  EXPECT_FALSE(out.empty());
+  std::ifstream picture(svg);
+  const std::string text((std::istreambuf_iterator<char>(picture)),
+                         std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("<svg"), std::string::npos);
+}
+
+TEST(OdocalSimCommand, ProcedureFailureExitsTwoWithTheTimeSimulated) {
+  const std::string odocal = odocal_program();
+  if (odocal.empty()) {
+    GTEST_SKIP() << "odocal not built";
+  }
+  // A tiny robot the file accepts (5 mm wheels, 12 mm wheelbase, each true value at the edge of
+  // its tolerance) whose straight trials leave the regression degenerate.
+  const std::string file = ::testing::TempDir() + "tiny_robot.json";
+  std::ofstream(file) << R"({"wheel_diameter_mm": 5, "wheelbase_mm": 12,
+                             "true_left_diameter_mm": 5.25, "true_right_diameter_mm": 4.75,
+                             "true_wheelbase_mm": 10.8})";
+  const std::string svg = ::testing::TempDir() + "odocal_sim_failed.svg";
+  std::remove(svg.c_str());
+  std::string out;
+  std::string err;
+  EXPECT_EQ(
+      run_both(odocal + " sim validate --replicates 100 --json --svg " + svg + " --robot " + file,
+               out, err),
+      2);
+  EXPECT_EQ(err.rfind("odocal sim: validate: ", 0), 0u) << err;
+  const nlohmann::json j = nlohmann::json::parse(out);
+  EXPECT_TRUE(j.contains("error"));
+  // The straight trials ran: 20 of 1.5 m at 0.1-0.3 m/s, some 150 s of robot time at least.
+  EXPECT_GT(j.at("simulated_s").get<double>(), 100.0) << out;
+  // No picture is left behind by a failed run.
+  EXPECT_FALSE(std::ifstream(svg).good());
 }
 
 }  // namespace

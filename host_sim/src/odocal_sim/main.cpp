@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -15,6 +16,7 @@
 #include <thread>
 
 #include "odocal/console/console.hpp"
+#include "odocal/host/sim_numbers.hpp"
 #include "odocal/host/sim_robot.hpp"
 #include "odocal/params/param_store.hpp"
 #include "odocal/params/param_table.hpp"
@@ -149,9 +151,12 @@ int main(int argc, char** argv) {
                  "robot file (flat JSON, see docs/simulation.md): the real robot, and what the "
                  "firmware is told (wheel_diameter_mm, wheelbase_mm, counts_per_rev) when the "
                  "store holds no saved parameters; a saved set wins");
-  app.add_option("--speed", speed, "simulated time per real time; 0 = as fast as possible")
-      ->check(CLI::Range(0.0, 1.0e6));
-  app.add_option("--seed", seed, "seed of the simulated robot's random terms");
+  app.add_option("--speed", speed,
+                 "simulated time per real time: 0 = as fast as possible, else 0.01 to 1000000 "
+                 "(default 1)")
+      ->check(host::real_in(0.01, 1.0e6, "", true));
+  app.add_option("--seed", seed, "seed of the simulated robot's random terms")
+      ->check(host::whole_in(0u, UINT64_MAX));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -35,6 +35,7 @@ MonteCarloRobot simulate_robot(const RobotSpec& base, std::uint64_t seed, std::s
   r.truth = report.truth;
   r.simulated_s = report.simulated_s;
   if (!report.ok) {
+    r.error = report.error;
     return r;
   }
   r.ok = true;

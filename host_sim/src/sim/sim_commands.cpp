@@ -3,12 +3,14 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <memory>
 #include <string>
 
+#include "odocal/host/sim_numbers.hpp"
 #include "odocal/host/sim_procedures.hpp"
 
 namespace odocal::host {
@@ -24,7 +26,8 @@ struct CommonOptions {
 
 void add_common(CLI::App* sub, CommonOptions& o) {
   sub->add_option("--robot", o.robot_file, "robot file (flat JSON; see docs/simulation.md)");
-  sub->add_option("--seed", o.seed, "seed of every random term (same seed, same output)");
+  sub->add_option("--seed", o.seed, "seed of every random term (same seed, same output)")
+      ->check(whole_in(0u, UINT64_MAX));
   sub->add_flag("--json", o.json, "print one JSON object on stdout");
   sub->add_option("--svg", o.svg_file, "write a picture (SVG) to this file");
 }
@@ -76,22 +79,48 @@ bool load_robot(const CommonOptions& o, RobotSpec& spec) {
   return true;
 }
 
-bool write_svg(const std::string& path, const std::string& svg) {
-  if (path.empty()) {
+/// Checks, before anything is simulated, that the picture can be written: an error found only
+/// after the run would leave a whole report on stdout with exit status 2. A file this creates is
+/// removed again when the run fails (`discard_svg`).
+bool check_svg(const CommonOptions& o, bool& created) {
+  created = false;
+  if (o.svg_file.empty()) {
     return true;
   }
-  std::ofstream out(path);
-  out << svg;
-  if (!out) {
-    std::cerr << "odocal sim: " << path << ": cannot write\n";
+  created = access(o.svg_file.c_str(), F_OK) != 0;
+  std::ofstream probe(o.svg_file, std::ios::app);
+  if (!probe) {
+    std::cerr << "odocal sim: " << o.svg_file << ": cannot write\n";
+    created = false;
     return false;
   }
   return true;
 }
 
-/// Prints the report and the picture; returns the exit status.
-int finish(const CommonOptions& o, bool ok, const nlohmann::json& json, const std::string& text,
-           const std::string& svg, const std::string& error) {
+void discard_svg(const CommonOptions& o, bool created) {
+  if (created) {
+    std::remove(o.svg_file.c_str());
+  }
+}
+
+/// Writes the picture, then the report; returns the exit status. A failed procedure (`ok`
+/// false) prints its report (the error and `simulated_s`) but no picture, says why on stderr and
+/// returns 2, as every error of `odocal`; so does a picture that cannot be written, which then
+/// leaves stdout empty.
+int finish(const CommonOptions& o, bool svg_created, bool ok, const nlohmann::json& json,
+           const std::string& text, const std::string& svg, const std::string& error) {
+  if (ok && !o.svg_file.empty()) {
+    std::ofstream out(o.svg_file);
+    out << svg;
+    out.close();
+    if (!out) {
+      std::cerr << "odocal sim: " << o.svg_file << ": cannot write\n";
+      return 2;
+    }
+  }
+  if (!ok) {
+    discard_svg(o, svg_created);
+  }
   if (o.json) {
     std::cout << json.dump(2) << "\n";
   } else {
@@ -99,9 +128,23 @@ int finish(const CommonOptions& o, bool ok, const nlohmann::json& json, const st
   }
   if (!ok) {
     std::cerr << "odocal sim: " << error << "\n";
-    return 1;
+    return 2;
   }
-  return write_svg(o.svg_file, svg) ? 0 : 2;
+  return 0;
+}
+
+/// `--side-mm`: read in mm, strictly, and checked in mm; the procedures take metres.
+constexpr double side_min_mm = 100.0;
+constexpr double side_max_mm = 20000.0;
+
+void add_side_mm(CLI::App* sub, double& side_mm, const char* help) {
+  sub->add_option("--side-mm", side_mm, help)->check(real_in(side_min_mm, side_max_mm, "mm"));
+}
+
+/// Loads the robot and checks the picture's path: false (exit 2, reason on stderr) when either
+/// fails, before anything is simulated.
+bool prepare(const CommonOptions& o, RobotSpec& spec, bool& svg_created) {
+  return load_robot(o, spec) && check_svg(o, svg_created);
 }
 
 }  // namespace
@@ -113,28 +156,31 @@ void register_sim_commands(CLI::App& app, int& exit_code) {
   // The option storage lives as long as the app (the callbacks run from app.parse).
   auto common_u = std::make_shared<CommonOptions>();
   auto umb = std::make_shared<UmbmarkOptions>();
+  auto umb_side_mm = std::make_shared<double>(umb->side_m * 1e3);
   auto* u = sim->add_subcommand("umbmark", "UMBmark: 5 cw + 5 ccw squares, solve, apply, repeat");
   add_common(u, *common_u);
-  u->add_option("--side-mm", umb->side_m, "side of the square, mm")
-      ->transform([](std::string s) { return std::to_string(std::stod(s) / 1000.0); })
-      ->check(CLI::Range(0.1, 20.0));
-  u->add_option("--runs", umb->runs, "runs per direction per pass")->check(CLI::Range(2, 64));
+  add_side_mm(u, *umb_side_mm, "side of the square, mm (100 to 20000, default 4000)");
+  u->add_option("--runs", umb->runs, "runs per direction per pass (2 to 64, default 5)")
+      ->check(whole_in(2u, 64u));
   u->add_flag("--exact", umb->exact, "solve without the small-angle approximations");
-  u->callback([&exit_code, common_u, umb] {
+  u->callback([&exit_code, common_u, umb, umb_side_mm] {
     RobotSpec spec;
-    if (!load_robot(*common_u, spec)) {
+    bool svg_created = false;
+    if (!prepare(*common_u, spec, svg_created)) {
       exit_code = 2;
       return;
     }
     UmbmarkOptions options = *umb;
+    options.side_m = *umb_side_mm * 1e-3;
     options.record_paths = !common_u->svg_file.empty();
     UmbmarkReport report;
     {
       Progress progress;
       report = run_umbmark(spec, common_u->seed, options, std::ref(progress));
     }
-    exit_code = finish(*common_u, report.ok, umbmark_report_json(report),
-                       umbmark_report_text(report), umbmark_report_svg(report), report.error);
+    exit_code =
+        finish(*common_u, svg_created, report.ok, umbmark_report_json(report),
+               umbmark_report_text(report), umbmark_report_svg(report), "umbmark: " + report.error);
   });
 
   auto common_v = std::make_shared<CommonOptions>();
@@ -143,14 +189,18 @@ void register_sim_commands(CLI::App& app, int& exit_code) {
       "validate",
       "Maddahi & Zareinia: straight trials, F_lat/F_lon by LR and bootstrap, unseen path");
   add_common(v, *common_v);
-  v->add_option("--trials", val->trials, "straight calibration trials per floor")
-      ->check(CLI::Range(6, 200));
-  v->add_option("--runs", val->runs, "unseen-path runs per scenario")->check(CLI::Range(1, 100));
-  v->add_option("--replicates", val->replicates, "bootstrap replicates B")
-      ->check(CLI::Range(100, 100000));
+  v->add_option("--trials", val->trials,
+                "straight calibration trials per floor (6 to 200, default 20)")
+      ->check(whole_in(6u, 200u));
+  v->add_option("--runs", val->runs, "unseen-path runs per scenario (1 to 100, default 5)")
+      ->check(whole_in(1u, 100u));
+  v->add_option("--replicates", val->replicates,
+                "bootstrap replicates B (100 to 100000, default 1000)")
+      ->check(whole_in(100u, 100000u));
   v->callback([&exit_code, common_v, val] {
     RobotSpec spec;
-    if (!load_robot(*common_v, spec)) {
+    bool svg_created = false;
+    if (!prepare(*common_v, spec, svg_created)) {
       exit_code = 2;
       return;
     }
@@ -161,8 +211,9 @@ void register_sim_commands(CLI::App& app, int& exit_code) {
       Progress progress;
       report = run_validate(spec, common_v->seed, options, std::ref(progress));
     }
-    exit_code = finish(*common_v, report.ok, validate_report_json(report),
-                       validate_report_text(report), validate_report_svg(report), report.error);
+    exit_code = finish(*common_v, svg_created, report.ok, validate_report_json(report),
+                       validate_report_text(report), validate_report_svg(report),
+                       "validate: " + report.error);
   });
 
   auto common_m = std::make_shared<CommonOptions>();
@@ -170,30 +221,47 @@ void register_sim_commands(CLI::App& app, int& exit_code) {
   mc->umbmark.side_m = 1.5;
   mc->umbmark.v_max_mps = 0.4;
   mc->umbmark.control_hz = 500.0f;
+  auto mc_side_mm = std::make_shared<double>(mc->umbmark.side_m * 1e3);
   auto* m = sim->add_subcommand("montecarlo", "Many random robots calibrated by UMBmark");
   add_common(m, *common_m);
-  m->add_option("--robots", mc->robots, "how many robots")->check(CLI::Range(1, 1000000));
-  m->add_option("--threads", mc->threads, "worker threads (default 2)")->check(CLI::Range(1, 64));
-  m->add_option("--side-mm", mc->umbmark.side_m, "side of the square, mm (default 1500)")
-      ->transform([](std::string s) { return std::to_string(std::stod(s) / 1000.0); })
-      ->check(CLI::Range(0.1, 20.0));
-  m->callback([&exit_code, common_m, mc] {
+  m->add_option("--robots", mc->robots, "how many robots (1 to 1000000, default 100)")
+      ->check(whole_in(1u, 1000000u));
+  m->add_option("--threads", mc->threads, "worker threads (1 to 64, default 2)")
+      ->check(whole_in(1u, 64u));
+  add_side_mm(m, *mc_side_mm, "side of the square, mm (100 to 20000, default 1500)");
+  m->callback([&exit_code, common_m, mc, mc_side_mm] {
     RobotSpec spec;
-    if (!load_robot(*common_m, spec)) {
+    bool svg_created = false;
+    if (!prepare(*common_m, spec, svg_created)) {
       exit_code = 2;
       return;
     }
+    MonteCarloOptions options = *mc;
+    options.umbmark.side_m = *mc_side_mm * 1e-3;
     MonteCarloReport report;
     {
       Progress progress;
-      report = run_montecarlo(spec, common_m->seed, *mc, std::ref(progress));
+      report = run_montecarlo(spec, common_m->seed, options, std::ref(progress));
     }
-    bool ok = true;
-    for (const MonteCarloRobot& r : report.robots)
-      ok = ok && r.ok;
-    exit_code =
-        finish(*common_m, ok, montecarlo_report_json(report), montecarlo_report_text(report),
-               montecarlo_report_svg(report), "some robots could not be calibrated");
+    std::size_t failed = 0;
+    const MonteCarloRobot* first_failure = nullptr;
+    for (const MonteCarloRobot& r : report.robots) {
+      if (!r.ok) {
+        ++failed;
+        if (first_failure == nullptr) {
+          first_failure = &r;
+        }
+      }
+    }
+    const std::string error = first_failure == nullptr
+                                  ? std::string()
+                                  : "montecarlo: " + std::to_string(failed) + " of " +
+                                        std::to_string(report.robots.size()) +
+                                        " robots could not be calibrated (robot " +
+                                        std::to_string(first_failure - report.robots.data()) +
+                                        ": " + first_failure->error + ")";
+    exit_code = finish(*common_m, svg_created, failed == 0, montecarlo_report_json(report),
+                       montecarlo_report_text(report), montecarlo_report_svg(report), error);
   });
 }
 

@@ -2,9 +2,12 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
+#include <utility>
 
 namespace odocal::host {
 
@@ -57,14 +60,62 @@ bool fail(std::string& error, const std::string& source, const std::string& key,
   return false;
 }
 
+std::string mm(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g mm", value);
+  return buffer;
+}
+
+// Ranges a robot file must keep so that the simulated firmware can run every procedure on it.
+// The firmware itself takes 5-1000 mm wheels and a 10-5000 mm wheelbase; the wheelbase range is
+// narrower so that a calibrated wheelbase (E_b·b, E_b up to 1.1/0.95) stays inside the firmware's.
+constexpr double wheel_diameter_min_mm = 5.0;
+constexpr double wheel_diameter_max_mm = 1000.0;
+constexpr double wheelbase_min_mm = 12.0;
+constexpr double wheelbase_max_mm = 4000.0;
+// Coarser encoders leave the firmware's wheel-speed loop hunting at the creep speed that ends each
+// segment: below about 720 counts per turn the simulated squares stall or take hours.
+constexpr double counts_per_rev_min = 720.0;
+constexpr double counts_per_rev_max = 1.0e6;  // the firmware's limit
+// The procedures correct errors of a few percent (UMBmark's formulas are small-angle ones, and
+// Maddahi's factors must stay in the firmware's 0.5-2): the real wheels within 5 % of what the
+// firmware is told, the real wheelbase within 10 %.
+constexpr double true_diameter_tolerance = 0.05;
+constexpr double true_wheelbase_tolerance = 0.10;
+// UMBmark's sonar calibrator measured to ±2 mm; beyond this the noise swamps the return errors.
+constexpr double measure_sigma_max_mm = 100.0;
+
+/// Checks a real geometry value against the nominal one it must stay near.
+bool near_nominal(double true_mm, double nominal_mm, double tolerance) {
+  return true_mm >= nominal_mm * (1.0 - tolerance) && true_mm <= nominal_mm * (1.0 + tolerance);
+}
+
 }  // namespace
 
 bool parse_robot(const std::string& text, const std::string& source, RobotSpec& spec,
                  std::string& error) {
+  // The parser's callback sees every key as it is read: it finds duplicates (the JSON library
+  // would keep the last one silently) and names the key whose number cannot be read.
+  std::set<std::string> seen;
+  std::string duplicate;
+  std::string last_key;
+  const nlohmann::json::parser_callback_t watch =
+      [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+        if (event == nlohmann::json::parse_event_t::key && parsed.is_string()) {
+          last_key = parsed.get<std::string>();
+          if (depth == 1 && !seen.insert(last_key).second && duplicate.empty()) {
+            duplicate = last_key;
+          }
+        }
+        return true;
+      };
   nlohmann::json doc;
   try {
-    doc = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+    doc = nlohmann::json::parse(text, watch);
+  } catch (const nlohmann::json::out_of_range& e) {
+    return fail(error, source, last_key.empty() ? "robot" : last_key,
+                std::string("number out of range (") + e.what() + ")");
+  } catch (const nlohmann::json::exception& e) {
     error = source + ": not valid JSON (" + e.what() + ")";
     return false;
   }
@@ -72,50 +123,77 @@ bool parse_robot(const std::string& text, const std::string& source, RobotSpec& 
     error = source + ": the robot file must be one flat JSON object";
     return false;
   }
+  if (!duplicate.empty()) {
+    return fail(error, source, duplicate, "given more than once");
+  }
   RobotSpec out = default_robot();
   for (auto it = doc.begin(); it != doc.end(); ++it) {
     const std::string& key = it.key();
+    RobotSpec probe;
+    if (!set_key(key, 1.0, probe)) {
+      return fail(error, source, key, "unknown key");
+    }
     if (!it.value().is_number()) {
-      RobotSpec probe;
-      if (!set_key(key, 1.0, probe)) {
-        return fail(error, source, key, "unknown key");
-      }
       return fail(error, source, key, "must be a number");
     }
     const double value = it.value().get<double>();
     if (!std::isfinite(value)) {
       return fail(error, source, key, "must be finite");
     }
-    if (!set_key(key, value, out)) {
-      return fail(error, source, key, "unknown key");
+    if (key == "counts_per_rev" && !(value >= counts_per_rev_min && value <= counts_per_rev_max &&
+                                     std::floor(value) == value && std::fmod(value, 4.0) == 0.0)) {
+      return fail(error, source, key,
+                  "must be a whole multiple of 4 from 720 to 1000000 (x4 counts per wheel turn; "
+                  "coarser encoders stall the firmware's wheel loop at creep speed)");
     }
+    static_cast<void>(set_key(key, value, out));
   }
   // Geometry the firmware is told.
-  const drive::DriveConfig& n = out.nominal;
-  if (!(n.wheel_diameter_mm > 0.0f)) {
-    return fail(error, source, "wheel_diameter_mm", "must be > 0");
-  }
-  if (!(n.wheelbase_mm > n.wheel_diameter_mm)) {
-    return fail(error, source, "wheelbase_mm", "must be larger than the wheel diameter");
-  }
-  if (!(n.counts_per_rev >= 4.0f) || std::floor(n.counts_per_rev) != n.counts_per_rev ||
-      out.truth.counts_per_rev % 4u != 0u) {
-    return fail(error, source, "counts_per_rev", "must be a positive whole multiple of 4");
-  }
-  if (!drive::valid(n)) {
+  const double wheel_mm = static_cast<double>(out.nominal.wheel_diameter_mm);
+  const double wheelbase_mm = static_cast<double>(out.nominal.wheelbase_mm);
+  if (!(wheel_mm >= wheel_diameter_min_mm && wheel_mm <= wheel_diameter_max_mm)) {
     return fail(error, source, "wheel_diameter_mm",
-                "outside the firmware's range (5-1000 mm, wheelbase 10-5000 mm)");
+                "must be from 5 to 1000 mm (the firmware's range), not " + mm(wheel_mm));
   }
-  // The real robot.
+  if (!(wheelbase_mm > wheel_mm)) {
+    return fail(
+        error, source, "wheelbase_mm",
+        "must be larger than the wheel diameter (" + mm(wheel_mm) + "), not " + mm(wheelbase_mm));
+  }
+  if (!(wheelbase_mm >= wheelbase_min_mm && wheelbase_mm <= wheelbase_max_mm)) {
+    return fail(error, source, "wheelbase_mm",
+                "must be from 12 to 4000 mm (the firmware takes 10-5000 mm, and a calibrated "
+                "wheelbase must still fit), not " +
+                    mm(wheelbase_mm));
+  }
+  if (!drive::valid(out.nominal)) {
+    return fail(error, source, "robot", "the firmware refuses this geometry");
+  }
+  // The real robot, near what the firmware is told.
   const sim::RobotModel& t = out.truth;
-  if (!(t.left_diameter_m > 0.0)) {
-    return fail(error, source, "true_left_diameter_mm", "must be > 0");
+  const std::pair<const char*, double> wheels[] = {
+      {"true_left_diameter_mm", t.left_diameter_m * 1e3},
+      {"true_right_diameter_mm", t.right_diameter_m * 1e3}};
+  for (const auto& [key, true_mm] : wheels) {
+    if (!(true_mm > 0.0)) {
+      return fail(error, source, key, "must be > 0");
+    }
+    if (!near_nominal(true_mm, wheel_mm, true_diameter_tolerance)) {
+      return fail(error, source, key,
+                  mm(true_mm) + " is not within 5 % of wheel_diameter_mm (" + mm(wheel_mm) +
+                      "): the calibrations correct errors of a few percent (give the real "
+                      "wheels' diameters when the firmware is told another size)");
+    }
   }
-  if (!(t.right_diameter_m > 0.0)) {
-    return fail(error, source, "true_right_diameter_mm", "must be > 0");
-  }
-  if (!(t.wheelbase_m > std::fmax(t.left_diameter_m, t.right_diameter_m))) {
+  const double true_wheelbase_mm = t.wheelbase_m * 1e3;
+  if (!(true_wheelbase_mm > std::fmax(t.left_diameter_m, t.right_diameter_m) * 1e3)) {
     return fail(error, source, "true_wheelbase_mm", "must be larger than a wheel's diameter");
+  }
+  if (!near_nominal(true_wheelbase_mm, wheelbase_mm, true_wheelbase_tolerance)) {
+    return fail(error, source, "true_wheelbase_mm",
+                mm(true_wheelbase_mm) + " is not within 10 % of wheelbase_mm (" + mm(wheelbase_mm) +
+                    "): the calibrations correct errors of a few percent (give the real "
+                    "wheelbase when the firmware is told another one)");
   }
   if (!(t.slip_sigma >= 0.0 && t.slip_sigma < 0.5)) {
     return fail(error, source, "slip_sigma", "must be in [0, 0.5)");
@@ -127,8 +205,10 @@ bool parse_robot(const std::string& text, const std::string& source, RobotSpec& 
   if (!(t.bump_spacing_m > 0.0)) {
     return fail(error, source, "bump_spacing_mm", "must be > 0");
   }
-  if (!(t.measure_sigma_m >= 0.0)) {
-    return fail(error, source, "measure_sigma_mm", "must be >= 0");
+  if (!(t.measure_sigma_m >= 0.0 && t.measure_sigma_m * 1e3 <= measure_sigma_max_mm)) {
+    return fail(error, source, "measure_sigma_mm",
+                "must be from 0 to 100 mm (UMBmark's calibrator: 2 mm; more swamps the errors "
+                "being measured)");
   }
   if (sim::check(t) != sim::ModelError::none) {
     return fail(error, source, "robot", sim::to_string(sim::check(t)));

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <string>
+#include <utility>
 
 #include "odocal/host/sim_procedures.hpp"
 #include "odocal/host/sim_svg.hpp"
@@ -16,9 +18,25 @@ std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0, do
   return buffer;
 }
 
+/// The firmware's sticky fault bits in words.
+std::string fault_names(std::uint8_t faults) {
+  std::string names;
+  const std::pair<std::uint8_t, const char*> bits[] = {
+      {drive::fault_encoder_left, "left encoder"},
+      {drive::fault_encoder_right, "right encoder"},
+      {drive::fault_stall_left, "left wheel stalled"},
+      {drive::fault_stall_right, "right wheel stalled"}};
+  for (const auto& [bit, name] : bits) {
+    if ((faults & bit) != 0u) {
+      names += (names.empty() ? "" : ", ") + std::string(name);
+    }
+  }
+  return names;
+}
+
 /// One pass: `runs` cw then `runs` ccw squares with the factors in the firmware.
 bool run_pass(SimulatedRobot& robot, const UmbmarkOptions& options, std::size_t pass_index,
-              UmbmarkPass& pass, const ProgressFn& progress) {
+              UmbmarkPass& pass, std::string& error, const ProgressFn& progress) {
   const std::size_t total = 2 * options.runs;
   for (std::size_t i = 0; i < total; ++i) {
     const bool clockwise = i < options.runs;
@@ -32,10 +50,18 @@ bool run_pass(SimulatedRobot& robot, const UmbmarkOptions& options, std::size_t 
     if (options.record_paths) {
       tracer = [&trace](const sim::WorldPose& p) { trace.push_back(PathPoint{p.x_m, p.y_m}); };
     }
+    constexpr double timeout_s = 3600.0;
     const RunOutcome out =
         robot.run_path(drive::make_umbmark_square(clockwise, static_cast<float>(options.side_m)),
-                       3600.0, tracer, 200u);
+                       timeout_s, tracer, 200u);
     if (!out.completed) {
+      const drive::LoopStatus status = robot.loop().status();
+      error = "pass " + std::to_string(pass_index + 1) + ", " + (clockwise ? "cw" : "ccw") +
+              " run " + std::to_string(i % options.runs + 1) + ": the square did not complete (" +
+              (status.faults != drive::fault_none
+                   ? "firmware fault: " + fault_names(status.faults)
+                   : "not finished after " + format("%.0f", timeout_s) + " s of robot time") +
+              ")";
       return false;
     }
     // Return position error: absolute (measured) minus perceived (odometry), start frame.
@@ -74,12 +100,13 @@ UmbmarkReport run_umbmark(const RobotSpec& robot_spec, std::uint64_t seed,
     config.wheelbase_mm = static_cast<float>(factors.wheelbase_mm);
     if (!robot.configure(config)) {
       report.error = "the factors left the firmware's parameter ranges";
+      report.simulated_s = robot.simulated_s();
       return report;
     }
     UmbmarkPass pass;
     pass.factors = factors;
-    if (!run_pass(robot, options, pass_index, pass, progress)) {
-      report.error = "a square did not complete (fault or timeout)";
+    if (!run_pass(robot, options, pass_index, pass, report.error, progress)) {
+      report.simulated_s = robot.simulated_s();
       return report;
     }
     calib::UmbmarkInput input;
@@ -93,6 +120,7 @@ UmbmarkReport run_umbmark(const RobotSpec& robot_spec, std::uint64_t seed,
     const calib::UmbmarkStatus status = calib::solve_umbmark(input, pass.result);
     if (status != calib::UmbmarkStatus::ok) {
       report.error = std::string("UMBmark solve: ") + calib::to_string(status);
+      report.simulated_s = robot.simulated_s();
       return report;
     }
     report.passes.push_back(std::move(pass));

@@ -211,6 +211,7 @@ ValidateReport run_validate(const RobotSpec& robot_spec, std::uint64_t seed,
   for (ValidateFloor* floor : {&smooth, &bumps}) {
     if (!run_floor(robot, spec.nominal, options, seed, *floor, report.error, progress)) {
       report.error = floor->name + ": " + report.error;
+      report.simulated_s = robot.simulated_s();
       return report;
     }
     report.floors.push_back(std::move(*floor));

@@ -58,7 +58,7 @@ struct UmbmarkReport {
   double recovered_e_d = 1.0;     ///< c_R/c_L applied
   double recovered_e_b = 1.0;     ///< wheelbase applied / nominal
   double improvement_fold = 0.0;  ///< E_max,syst before / after
-  double simulated_s = 0.0;
+  double simulated_s = 0.0;       ///< robot time simulated, also when the procedure failed
   std::uint64_t seed = 0;
   UmbmarkOptions options{};
 };
@@ -118,7 +118,7 @@ struct ValidateReport {
   std::string error;
   std::vector<ValidateFloor> floors;
   double wheelbase_told_mm = 0.0;  ///< the actual wheelbase l̂ the paper's eq. 7 assumes known
-  double simulated_s = 0.0;
+  double simulated_s = 0.0;        ///< robot time simulated, also when the procedure failed
   std::uint64_t seed = 0;
   ValidateOptions options{};
 };
@@ -147,6 +147,7 @@ struct MonteCarloOptions {
 /// One robot's outcome.
 struct MonteCarloRobot {
   bool ok = false;
+  std::string error;  ///< why not ok (the UMBmark report's error)
   TrueErrors truth{};
   double recovered_e_d = 1.0;
   double recovered_e_b = 1.0;

@@ -30,8 +30,11 @@ struct RobotSpec {
 /// bump_height_mm, bump_spacing_mm, measure_sigma_mm.
 /// @param text the file's content; @param source its name, for messages.
 /// @param error on failure: "<source>: <key>: <why>" (or the parse position).
-/// @return false (and `spec` untouched) for malformed JSON, an unknown key, a non-number, a
-///         non-positive diameter, a wheelbase not larger than a wheel, and other impossible values.
+/// @return false (and `spec` untouched) for malformed JSON, an unknown or repeated key, a
+///         non-number or one a double cannot hold, and any value outside the ranges in which the
+///         simulated firmware can run the procedures (docs/simulation.md: e.g. counts_per_rev a
+///         multiple of 4 from 720, the true diameters within 5 % of wheel_diameter_mm); the error
+///         names the key at fault.
 [[nodiscard]] bool parse_robot(const std::string& text, const std::string& source, RobotSpec& spec,
                                std::string& error);
 

@@ -132,6 +132,27 @@ TEST(RobotFile, RefusesBadRobotsNamingTheKey) {
   EXPECT_FALSE(parse_robot("[1, 2]", "r.json", spec, error));
 }
 
+TEST(RobotFile, ANominalOnlyFileKeepsTheDefaultErrorsAroundTheNewGeometry) {
+  RobotSpec spec;
+  std::string error;
+  ASSERT_TRUE(
+      parse_robot(R"({"wheel_diameter_mm": 80, "wheelbase_mm": 200})", "r.json", spec, error))
+      << error;
+  const RobotSpec base = default_robot();
+  // Same E_d = D_R/D_L and E_b = b_true/b_nominal as the default robot, scaled to 80 mm / 200 mm.
+  EXPECT_NEAR(spec.truth.right_diameter_m / spec.truth.left_diameter_m,
+              base.truth.right_diameter_m / base.truth.left_diameter_m, 1e-12);
+  EXPECT_NEAR(spec.truth.wheelbase_m / 0.200, base.truth.wheelbase_m / 0.150, 1e-12);
+  EXPECT_NEAR(0.5 * (spec.truth.left_diameter_m + spec.truth.right_diameter_m),
+              0.080 * 0.5 * (base.truth.left_diameter_m + base.truth.right_diameter_m) / 0.060,
+              1e-12);
+  // A true key the file does give is taken as it is.
+  ASSERT_TRUE(parse_robot(R"({"wheel_diameter_mm": 80, "true_left_diameter_mm": 79})", "r.json",
+                          spec, error))
+      << error;
+  EXPECT_DOUBLE_EQ(spec.truth.left_diameter_m, 0.079);
+}
+
 TEST(RobotFile, RangeErrorsNameTheKeyThatIsWrong) {
   const BadRobot cases[] = {
       // Numbers a double cannot hold: refused, not thrown.
@@ -146,7 +167,8 @@ TEST(RobotFile, RangeErrorsNameTheKeyThatIsWrong) {
       {R"({"counts_per_rev": 8})", "counts_per_rev"},
       {R"({"measure_sigma_mm": 1e9})", "measure_sigma_mm"},
       {R"({"wheel_diameter_mm": 5, "wheelbase_mm": 10})", "wheelbase_mm"},
-      {R"({"wheel_diameter_mm": 5, "wheelbase_mm": 20})", "true_left_diameter_mm"},
+      {R"({"wheel_diameter_mm": 5, "wheelbase_mm": 20, "true_left_diameter_mm": 6})",
+       "true_left_diameter_mm"},
       {R"({"wheel_diameter_mm": 1000, "wheelbase_mm": 5000})", "wheelbase_mm"},
       {R"({"true_left_diameter_mm": 30, "true_right_diameter_mm": 90})", "true_left_diameter_mm"},
       {R"({"true_right_diameter_mm": 63.1})", "true_right_diameter_mm"},

@@ -148,6 +148,25 @@ bool parse_robot(const std::string& text, const std::string& source, RobotSpec& 
     }
     static_cast<void>(set_key(key, value, out));
   }
+  // A real robot not described in the file keeps the default robot's errors (E_d, E_b) around
+  // whatever nominal geometry the file gives: `{"wheel_diameter_mm": 80}` is an 80 mm robot
+  // with the default's 0.2 % wheel mismatch, not a 60 mm robot told it has 80 mm wheels.
+  {
+    const RobotSpec base = default_robot();
+    const double d_scale = static_cast<double>(out.nominal.wheel_diameter_mm) /
+                           static_cast<double>(base.nominal.wheel_diameter_mm);
+    const double b_scale = static_cast<double>(out.nominal.wheelbase_mm) /
+                           static_cast<double>(base.nominal.wheelbase_mm);
+    if (!doc.contains("true_left_diameter_mm")) {
+      out.truth.left_diameter_m = base.truth.left_diameter_m * d_scale;
+    }
+    if (!doc.contains("true_right_diameter_mm")) {
+      out.truth.right_diameter_m = base.truth.right_diameter_m * d_scale;
+    }
+    if (!doc.contains("true_wheelbase_mm")) {
+      out.truth.wheelbase_m = base.truth.wheelbase_m * b_scale;
+    }
+  }
   // Geometry the firmware is told.
   const double wheel_mm = static_cast<double>(out.nominal.wheel_diameter_mm);
   const double wheelbase_mm = static_cast<double>(out.nominal.wheelbase_mm);

@@ -50,6 +50,23 @@ TEST(SimUmbmark, CalibrationRecoversKnownErrorsAndImprovesTheRobot) {
   EXPECT_LT(report.passes.back().result.e_max_syst_mm, 60.0);
 }
 
+TEST(SimUmbmark, ACoarseEncoderStillFinishesItsSquaresInNominalTime) {
+  // 400 counts per turn: at the 2 % creep speed (4 mm/s) a wheel would see an edge only every
+  // 0.12 s and its speed loop would hunt against dry friction (the squares then took 3-6 times
+  // as long). The creep speed rises so each wheel gets an edge every 20 ms: the squares take
+  // about as long as with a fine encoder.
+  UmbmarkOptions options;
+  options.side_m = 1.0;
+  RobotSpec coarse = default_robot();
+  std::string error;
+  ASSERT_TRUE(parse_robot(R"({"counts_per_rev": 400})", "coarse.json", coarse, error)) << error;
+  const UmbmarkReport fine_report = run_umbmark(default_robot(), 1u, options);
+  const UmbmarkReport coarse_report = run_umbmark(coarse, 1u, options);
+  ASSERT_TRUE(fine_report.ok) << fine_report.error;
+  ASSERT_TRUE(coarse_report.ok) << coarse_report.error;
+  EXPECT_LT(coarse_report.simulated_s, 1.25 * fine_report.simulated_s);
+}
+
 UmbmarkReport short_umbmark(std::uint64_t seed) {
   UmbmarkOptions options;
   options.side_m = 1.0;
@@ -183,11 +200,11 @@ TEST(RobotFile, RangeErrorsNameTheKeyThatIsWrong) {
     EXPECT_EQ(error.rfind(std::string("r.json: ") + c.key + ": ", 0), 0u)
         << c.text << " -> " << error;
   }
-  // The edges of the ranges are accepted: 720 counts, 100 mm noise, real wheels within 5 % and
+  // The edges of the ranges are accepted: 100 counts, 100 mm noise, real wheels within 5 % and
   // wheelbase within 10 % of what the firmware is told, 12-4000 mm wheelbase.
   RobotSpec spec;
   std::string error;
-  EXPECT_TRUE(parse_robot(R"({"counts_per_rev": 720, "measure_sigma_mm": 100,
+  EXPECT_TRUE(parse_robot(R"({"counts_per_rev": 100, "measure_sigma_mm": 100,
                               "true_left_diameter_mm": 57, "true_right_diameter_mm": 63,
                               "true_wheelbase_mm": 165})",
                           "r.json", spec, error))

@@ -16,6 +16,21 @@ float sign_of(float value) {
   return value < 0.0f ? -1.0f : 1.0f;
 }
 
+// The least speed a segment runs at before its end: 2 % of cruise, but never so slow that a wheel
+// sees fewer than one encoder edge per `kCreepEdgePeriod_s` (the wheel loop would have no speed
+// feedback and hunt against dry friction with a coarse encoder); at most half the cruise speed.
+constexpr float kCreepEdgePeriod_s = 0.02f;
+
+float creep_speed(const DriveConfig& limits, bool by_distance, float cruise) {
+  const float wheel_radps = 2.0f * kPi / (limits.counts_per_rev * kCreepEdgePeriod_s);
+  const float diameter_m = limits.wheel_diameter_mm * 1e-3f;
+  // Line: v = ω_wheel·D/2. Turn in place: each wheel moves ω·b/2, so ω = ω_wheel·D/b.
+  const float edge_limited = by_distance ? wheel_radps * 0.5f * diameter_m
+                                         : wheel_radps * diameter_m / (limits.wheelbase_mm * 1e-3f);
+  const float creep = edge_limited > 0.02f * cruise ? edge_limited : 0.02f * cruise;
+  return creep < 0.5f * cruise ? creep : 0.5f * cruise;
+}
+
 }  // namespace
 
 const char* path_name(PathId id) {
@@ -152,9 +167,8 @@ Twist MotionExecutor::update(const Odometry& odometry, const DriveConfig& limits
   if (speed > cruise) {
     speed = cruise;
   }
-  const float creep = 0.02f * cruise;
-  if (speed < creep) {
-    speed = creep;
+  if (speed < creep_speed(limits, by_distance, cruise)) {
+    speed = creep_speed(limits, by_distance, cruise);
   }
   speed_ = speed;
 

@@ -73,9 +73,9 @@ constexpr double wheel_diameter_min_mm = 5.0;
 constexpr double wheel_diameter_max_mm = 1000.0;
 constexpr double wheelbase_min_mm = 12.0;
 constexpr double wheelbase_max_mm = 4000.0;
-// Coarser encoders leave the firmware's wheel-speed loop hunting at the creep speed that ends each
-// segment: below about 720 counts per turn the simulated squares stall or take hours.
-constexpr double counts_per_rev_min = 720.0;
+// Fewer than 100 counts per turn (under 2 mm of wheel travel per count on the default wheel) is
+// too coarse for return errors of a few millimetres to mean anything.
+constexpr double counts_per_rev_min = 100.0;
 constexpr double counts_per_rev_max = 1.0e6;  // the firmware's limit
 // The procedures correct errors of a few percent (UMBmark's formulas are small-angle ones, and
 // Maddahi's factors must stay in the firmware's 0.5-2): the real wheels within 5 % of what the
@@ -143,8 +143,7 @@ bool parse_robot(const std::string& text, const std::string& source, RobotSpec& 
     if (key == "counts_per_rev" && !(value >= counts_per_rev_min && value <= counts_per_rev_max &&
                                      std::floor(value) == value && std::fmod(value, 4.0) == 0.0)) {
       return fail(error, source, key,
-                  "must be a whole multiple of 4 from 720 to 1000000 (x4 counts per wheel turn; "
-                  "coarser encoders stall the firmware's wheel loop at creep speed)");
+                  "must be a whole multiple of 4 from 100 to 1000000 (x4 counts per wheel turn)");
     }
     static_cast<void>(set_key(key, value, out));
   }

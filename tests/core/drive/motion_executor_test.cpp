@@ -11,11 +11,18 @@ namespace {
 
 using test::TestRig;
 
-// How far a segment can overrun its odometry end: the profile ends at the creep speed
-// (2 % of cruise) and the first-order wheels (τ = 50 ms) coast about creep·τ after the end,
-// plus one tick of travel at creep speed.
-double overrun(double cruise) {
-  return 0.02 * cruise * (0.05 + 0.001) * 1.5;
+// The creep speed the profile ends at with the default robot (D 60 mm, b 150 mm, 1440 counts):
+// 2 % of cruise, or one encoder edge per 20 ms on each wheel if that is faster.
+double creep(double cruise, bool line) {
+  const double wheel_radps = 2.0 * M_PI / (1440.0 * 0.02);
+  const double edge_limited = line ? wheel_radps * 0.03 : wheel_radps * 0.06 / 0.15;
+  return std::fmax(0.02 * cruise, edge_limited);
+}
+
+// How far a segment can overrun its odometry end: the first-order wheels (τ = 50 ms) coast about
+// creep·τ after the end, plus one tick of travel at creep speed; half as much again for margin.
+double overrun(double cruise, bool line) {
+  return creep(cruise, line) * (0.05 + 0.001) * 1.5;
 }
 
 TEST(Paths, ReadyMadePathsHaveTheirShapes) {
@@ -58,7 +65,7 @@ TEST(MotionExecutor, LineEndsOnOdometryAtItsLength) {
   ASSERT_TRUE(rig.loop.run(make_line(1.0f)));
   const double t = rig.run_until_idle(20.0);
   EXPECT_LT(t, 1.0 / 0.2 + 2.0);
-  EXPECT_NEAR(rig.loop.pose().x_m, 1.0, overrun(0.2) + 1e-3);
+  EXPECT_NEAR(rig.loop.pose().x_m, 1.0, overrun(0.2, true) + 1e-3);
   EXPECT_GE(rig.loop.pose().x_m, 1.0f);
 }
 
@@ -74,8 +81,8 @@ TEST_P(SquareTest, UmbmarkSquareClosesOnItselfInOdometry) {
   // Each of the four turns may overrun its angle by `overrun(w_max)`; each leg its length by
   // `overrun(v_max)`. A heading error δ at a corner displaces the rest of the square by up to
   // δ · (distance still to drive), at most 3 m after the first corner of a 1 m square.
-  const double turn_err = overrun(1.5);
-  const double leg_err = overrun(0.2);
+  const double turn_err = overrun(1.5, false);
+  const double leg_err = overrun(0.2, true);
   EXPECT_LE(std::fabs(p.theta_rad), 4 * turn_err);
   EXPECT_LE(std::hypot(p.x_m, p.y_m), 4 * leg_err + turn_err * (3 + 2 + 1));
   // The ideal true robot did the same.
@@ -92,9 +99,9 @@ TEST(MotionExecutor, UnseenPathEndsWhereItsGeometrySays) {
   ASSERT_EQ(rig.loop.status().mode, Mode::idle);
   const Pose p = rig.loop.pose();
   // 7 turns and 8 runs, ~9 m of travel after the first turn: same overrun budget as the square.
-  EXPECT_NEAR(p.x_m, 0.0, 8 * overrun(0.2) + 7 * overrun(1.5) * 9.0);
-  EXPECT_NEAR(p.y_m, 1.6, 8 * overrun(0.2) + 7 * overrun(1.5) * 9.0);
-  EXPECT_NEAR(std::fabs(p.theta_rad), M_PI, 8 * overrun(1.5));
+  EXPECT_NEAR(p.x_m, 0.0, 8 * overrun(0.2, true) + 7 * overrun(1.5, false) * 9.0);
+  EXPECT_NEAR(p.y_m, 1.6, 8 * overrun(0.2, true) + 7 * overrun(1.5, false) * 9.0);
+  EXPECT_NEAR(std::fabs(p.theta_rad), M_PI, 8 * overrun(1.5, false));
 }
 
 TEST(MotionExecutor, ArcFollowsItsRadius) {

@@ -50,7 +50,9 @@ struct Path {
 /// Drives a path one segment at a time. Each segment runs a speed profile limited by the
 /// configured cruise speed and acceleration, decelerating on the distance (or angle) that remains
 /// *according to odometry*, and ends when odometry says it has covered the segment; the robot
-/// then settles at standstill for `settle_ms` before the next segment.
+/// then settles at standstill for `settle_ms` before the next segment. Near the end the profile
+/// keeps a creep speed (2 % of cruise, or more with a coarse encoder so that each wheel still sees
+/// an edge every 20 ms) so the end is always reached.
 class MotionExecutor {
  public:
   /// Loads a path and starts it from the current odometry.

@@ -33,7 +33,7 @@ struct RobotSpec {
 /// @return false (and `spec` untouched) for malformed JSON, an unknown or repeated key, a
 ///         non-number or one a double cannot hold, and any value outside the ranges in which the
 ///         simulated firmware can run the procedures (docs/simulation.md: e.g. counts_per_rev a
-///         multiple of 4 from 720, the true diameters within 5 % of wheel_diameter_mm); the error
+///         multiple of 4 from 100, the true diameters within 5 % of wheel_diameter_mm); the error
 ///         names the key at fault.
 [[nodiscard]] bool parse_robot(const std::string& text, const std::string& source, RobotSpec& spec,
                                std::string& error);

@@ -79,7 +79,7 @@ struct FitOptions {
   double heading_length_mm = 286.4789;
   /// Identifiability: the data must determine each parameter direction (in relative terms, from
   /// the scaled Jacobian's SVD) to this relative standard deviation or better...
-  double max_relative_sd = 0.005;
+  double max_relative_sd = 0.01;
   /// ... with a measurement noise of at least this much (mm), or the fit's residual RMS if larger.
   double noise_floor_mm = 2.0;
   /// Bootstrap units: runs. When there are fewer than this many runs, runs with ground truth

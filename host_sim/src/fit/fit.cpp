@@ -82,13 +82,15 @@ struct Determination {
   double relative_sd[3] = {0, 0, 0};
 };
 
-Determination determination(const Solved& s, const FitOptions& o) {
+/// @param use_residuals take the residual scatter as the noise when it exceeds the floor (at the
+///        fitted geometry; at the nominal one the residuals are the systematic error itself).
+Determination determination(const Solved& s, const FitOptions& o, bool use_residuals = true) {
   Determination d;
   const Eigen::Matrix3d scale = s.p.asDiagonal();
   const Eigen::Matrix3d a = scale * s.normal.jtj * scale;  // JᵀJ of ∂r/∂ln p
   const std::size_t m = s.normal.residuals;
   const double rms = m > 3 ? std::sqrt(s.normal.cost / static_cast<double>(m - 3)) : 0.0;
-  const double sigma = std::max(rms, o.noise_floor_mm);
+  const double sigma = use_residuals ? std::max(rms, o.noise_floor_mm) : o.noise_floor_mm;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(a);
   const Eigen::Vector3d values = eig.eigenvalues();  // ascending
   const double largest = std::max(values[2], 1e-300);
@@ -272,6 +274,15 @@ FitOutcome fit_geometry(const std::vector<TickLog>& runs, const FitNominal& nomi
     all[i] = i;
   }
   const Params start(nominal.wheel_diameter_mm, nominal.wheel_diameter_mm, nominal.wheelbase_mm);
+  // What the runs can determine, judged first at the nominal geometry: where a parameter is
+  // undetermined the fit may wander along it and hide which one it was.
+  Solved at_start;
+  at_start.p = start;
+  at_start.normal = fit_detail::normal_equations(units, all, start, k, o.heading_length_mm, true);
+  if (const Determination first = determination(at_start, o, false); !first.ok) {
+    out.error = first.error;
+    return out;
+  }
   const Solved main = solve(units, all, start, k, o.heading_length_mm);
   if (!main.ok) {
     out.error = FitError{"",

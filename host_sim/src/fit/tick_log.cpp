@@ -1,7 +1,9 @@
 // Tick logs (DESIGN "Tick log"): reading and checking.
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
+#include <ostream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -122,6 +124,20 @@ void check_tick_log(const TickLog& log) {
     fail_row(log, log.rows.back(), "x_mm",
              "no ground truth after the first row: nothing to fit (a tape-measure run holds the "
              "measured stop point in its last row)");
+  }
+}
+
+void write_tick_log(const TickLog& log, std::ostream& out) {
+  const auto number = [](double value) {
+    char text[40];
+    std::snprintf(text, sizeof text, "%.17g", value);
+    return std::string(text);
+  };
+  out << "t_s,count_l,count_r,x_mm,y_mm,theta_deg\n";
+  for (const TickRow& row : log.rows) {
+    out << number(row.t_s) << ',' << number(row.count_l) << ',' << number(row.count_r) << ','
+        << (row.has_xy ? number(row.x_mm) : "") << ',' << (row.has_xy ? number(row.y_mm) : "")
+        << ',' << (row.has_theta ? number(row.theta_deg) : "") << '\n';
   }
 }
 

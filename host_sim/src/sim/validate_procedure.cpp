@@ -67,14 +67,33 @@ bool run_cf(SimulatedRobot& robot, const drive::DriveConfig& base, const Validat
     }
     floor.cf_logs.push_back(std::move(log));
   }
+  // Turns in place, alternately clockwise and counter-clockwise: the wheelbase's best witness.
+  const std::size_t spins = 2 * o.cf_spins;
+  for (std::size_t i = 0; i < spins; ++i) {
+    report_progress(progress, floor.name, "CF turn in place", i, spins);
+    constexpr double two_pi = 6.283185307179586;
+    const double sign = i % 2 == 0 ? -1.0 : 1.0;
+    drive::Path spin;
+    static_cast<void>(
+        spin.push(drive::Segment{0.0f, static_cast<float>(sign * o.cf_spin_turns * two_pi)}));
+    TickLog log;
+    log.source = floor.name + " turn in place " + std::to_string(i + 1);
+    const RunOutcome out = run_path_logged(robot, spin, log);
+    if (!out.completed) {
+      error = "a CF turn in place did not complete";
+      return false;
+    }
+    floor.cf_logs.push_back(std::move(log));
+  }
   FitNominal nominal;
   nominal.wheel_diameter_mm = static_cast<double>(base.wheel_diameter_mm);
   nominal.wheelbase_mm = static_cast<double>(base.wheelbase_mm);
   nominal.counts_per_rev = static_cast<double>(base.counts_per_rev);
   FitOptions options;
   options.replicates = 0;  // the point estimate is what the robot is given
-  // The procedure determines every parameter by design (lines: the scale and E_d; squares: the
-  // wheelbase); only the bumps' noise can make it loose, and then the fit is still the best guess.
+  // The procedure determines every parameter by design (lines: the scale and E_d; squares and
+  // turns: the wheelbase); only the bumps' noise can make it loose, and then the fit is still the
+  // best guess.
   options.max_relative_sd = 0.05;
   const FitOutcome outcome = fit_geometry(floor.cf_logs, nominal, options);
   if (!outcome) {

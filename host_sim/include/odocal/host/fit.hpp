@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <iosfwd>
 #include <optional>
 #include <string>
 #include <vector>
@@ -52,6 +53,10 @@ struct TickLog {
 
 /// Checks a log built in memory by the same rules as read_tick_log; throws InputError.
 void check_tick_log(const TickLog& log);
+
+/// Writes `log` as CSV with the ground-truth columns (empty cells where a row has none), numbers
+/// in full precision: what read_tick_log reads back.
+void write_tick_log(const TickLog& log, std::ostream& out);
 
 /// What the firmware is told (the geometry "before" the fit).
 struct FitNominal {

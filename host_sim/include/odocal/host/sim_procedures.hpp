@@ -104,11 +104,15 @@ struct ValidateOptions {
   double bump_height_m = 0.010;        ///< used when the robot file gives no bumps (Maddahi)
   double bump_spacing_m = 0.200;
   bool record_paths = false;
-  /// CF, the recommended calibration (docs/calibration.md): the straight trials above and
-  /// `cf_squares` cw + `cf_squares` ccw squares of `cf_side_m`, each measured only where it
-  /// stopped (x, y, heading, with the robot's measurement noise), fitted by `odocal fit`.
+  /// CF, the recommended calibration (docs/calibration.md section 4): the straight trials above,
+  /// `cf_squares` cw + `cf_squares` ccw squares of `cf_side_m`, and `cf_spins` cw + `cf_spins`
+  /// ccw turns in place of `cf_spin_turns` turns, all with the nominal geometry and each
+  /// measured only where it stopped (x, y, heading, with the robot's measurement noise), fitted
+  /// by `odocal fit`.
   std::size_t cf_squares = 2;
-  double cf_side_m = 2.0;
+  double cf_side_m = 1.0;
+  std::size_t cf_spins = 4;
+  double cf_spin_turns = 5.0;
 };
 
 /// One scenario (NC, CL, CB, OR or CF) on the unseen path.

@@ -3,6 +3,7 @@
 // message naming file, line and field for each kind of bad input.
 #include <sys/wait.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -544,3 +545,173 @@ TEST(CliBootstrap, UnknownAtRestHasNullRatiosOnly) {
 }
 
 }  // namespace
+
+// ------------------------------------------------------------------ issue 14: strict host input
+
+void expect_refused(const Result& r, const std::string& where, const std::string& words) {
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_NE(r.err.find(where), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(words), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("json.exception"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("basic_filebuf"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("bad_alloc"), std::string::npos) << r.err;
+}
+
+// A hand-edited key given twice used to go through with the last value (exit 0).
+TEST(CliJson, DuplicateKeysAreRefusedInEveryObject) {
+  const Result top = odocal(
+      "ros2 --from " +
+      temp_file("dup_top.json", "{\"c_l\": 1.0,\n \"c_r\": 1.0,\n \"e_b\": 1.0,\n \"c_l\": 1.5}"));
+  expect_refused(top, "dup_top.json:4: field 'c_l'", "more than once");
+  const Result nested =
+      odocal("ros2 --from " + temp_file("dup_nested.json",
+                                        "{\"c_l\": 1, \"c_r\": 1, \"e_b\": 1,\n \"provenance\": "
+                                        "{\"runs\": 5,\n \"runs\": 6}}"));
+  expect_refused(nested, "dup_nested.json:3: field 'runs'", "more than once");
+  // The same key in two different objects is not a duplicate.
+  const Result separate =
+      odocal("ros2 --from " +
+             temp_file("dup_separate.json",
+                       "{\"c_l\": 1, \"c_r\": 1, \"e_b\": 1, \"x\": [{\"a\": 1}, {\"a\": 2}]}"));
+  EXPECT_EQ(separate.status, 0) << separate.err;
+}
+
+TEST(CliJson, OverflowNulAndDirectoryAreNamedInPlainWords) {
+  expect_refused(
+      odocal("ros2 --from " + temp_file("huge.json", "{\"c_l\": 1,\n \"c_r\": 1e400, \"e_b\": 1}")),
+      "huge.json:2: field 'c_r'", "out of range");
+  expect_refused(
+      odocal("ros2 --from " + temp_file("nul.json", std::string("{\"c_l\": 1,\n \"c_r\": 1") +
+                                                        '\0' + ", \"e_b\": 1}")),
+      "nul.json:2", "NUL byte");
+  expect_refused(odocal("ros2 --from " + ::testing::TempDir()), ::testing::TempDir(),
+                 "is a directory");
+}
+
+TEST(CliCsv, DirectoryNulAndOverflowAreNamed) {
+  const std::string ccw = " --ccw " + data("umbmark_ccw.csv");
+  expect_refused(odocal(umbmark_args + " --cw " + ::testing::TempDir() + ccw), ::testing::TempDir(),
+                 "is a directory");
+  // The message goes on past the NUL byte (it used to end where the byte was printed).
+  const Result nul =
+      odocal(umbmark_args + " --cw " +
+             temp_file("nul.csv", std::string("x_mm,y_mm\n1,2\n3,") + '\0' + "4\n") + ccw);
+  expect_refused(nul, "nul.csv:3: field 'y_mm'", "contains a NUL byte");
+  EXPECT_EQ(nul.err.find('\0'), std::string::npos);
+  const Result huge =
+      odocal(umbmark_args + " --cw " + temp_file("huge.csv", "x_mm,y_mm\n1e400,2\n3,4\n") + ccw);
+  expect_refused(huge, "huge.csv:2: field 'x_mm'", "out of range");
+  EXPECT_EQ(huge.err.find("not a number"), std::string::npos) << huge.err;
+}
+
+// Old Mac exports end lines with a bare CR, as the robot's console accepts: same figures as LF.
+TEST(CliCsv, CarriageReturnLineEndsAreLines) {
+  std::string cr;
+  for (const char c : read_text(data("umbmark_cw.csv"))) {
+    cr += c == '\n' ? '\r' : c;
+  }
+  const json plain = parse_json(odocal(umbmark_args + " --cw " + data("umbmark_cw.csv") +
+                                       " --ccw " + data("umbmark_ccw.csv")));
+  const json mac = parse_json(odocal(umbmark_args + " --cw " + temp_file("cr_cw.csv", cr) +
+                                     " --ccw " + data("umbmark_ccw.csv")));
+  EXPECT_EQ(mac["e_d"], plain["e_d"]);
+  EXPECT_EQ(mac["e_b"], plain["e_b"]);
+}
+
+// 1e-310 is a (subnormal) number: it is taken, and only a range check may refuse it.
+TEST(CliCsv, SubnormalIsANumber) {
+  const Result tiny = odocal(umbmark_args + " --cw " +
+                             temp_file("tiny.csv", "x_mm,y_mm\n1e-310,2\n3,4\n5,1\n2,2\n4,3\n") +
+                             " --ccw " + data("umbmark_ccw.csv"));
+  EXPECT_EQ(tiny.status, 0) << tiny.err;
+  EXPECT_EQ(tiny.err.find("not a number"), std::string::npos) << tiny.err;
+}
+
+TEST(CliLateral, TooManyTrialsSaysTheLimit) {
+  std::string trials = "x_mm,y_mm\n";
+  for (int i = 0; i < 1025; ++i) {
+    trials += std::to_string(990 + i % 7) + "," + std::to_string(i % 5) + "\n";
+  }
+  const Result r = odocal(
+      "lateral --length-mm 1000 --wheelbase-mm 150 --dl-mm 60 --dr-mm 60 "
+      "--trials " +
+      temp_file("lateral_1025.csv", trials));
+  expect_refused(r, "lateral_1025.csv:1026: field 'x_mm'", "too many trials");
+  EXPECT_NE(r.err.find("1024"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("too few"), std::string::npos) << r.err;
+}
+
+// B predictions per unknown are kept for the percentiles: 2000 unknowns at B = 10^6 would need
+// 32 GB. The work is bounded (10^7 predictions) and the message says what fits.
+TEST(CliBootstrap, HugeWorkIsRefusedBeforeAllocating) {
+  std::string unknowns = "xdot,ydot,thetadot\n";
+  for (int i = 0; i < 2000; ++i) {
+    unknowns += "0.3,0.01,0.01\n";
+  }
+  const Result r = odocal("bootstrap --b 1000000 --training " + data("bootstrap_training.csv") +
+                          " --unknowns " + temp_file("unknowns_2000.csv", unknowns));
+  expect_refused(r, "unknowns_2000.csv:12: field 'xdot'", "at most 10 unknowns with this --b");
+}
+
+// ------------------------------------------------------------------ odocal-sim input
+
+Result odocal_sim(const std::string& args, const std::string& input_file,
+                  const std::string& shell_prefix = "") {
+  const char* bin_env = std::getenv("ODOCAL_BIN_DIR");
+  const std::string bin =
+      (bin_env != nullptr ? bin_env : ODOCAL_CLI_BIN_DIR) + std::string("/odocal-sim");
+  const std::string out_file = ::testing::TempDir() + "odocal_sim_stdout.txt";
+  const std::string err_file = ::testing::TempDir() + "odocal_sim_stderr.txt";
+  Result r;
+  const int raw = std::system((shell_prefix + bin + " --speed 0 " + args + " <" + input_file +
+                               " >" + out_file + " 2>" + err_file)
+                                  .c_str());
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  r.out = read_text(out_file);
+  r.err = read_text(err_file);
+  return r;
+}
+
+TEST(CliSim, StoreInAMissingDirectoryIsRefusedAtStart) {
+  const Result r = odocal_sim("--store " + ::testing::TempDir() + "no_such_dir/store.bin",
+                              temp_file("sim_version.txt", "version\n"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(r.out.empty()) << r.out;  // refused before the console answered anything
+  EXPECT_NE(r.err.find("no_such_dir"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
+}
+
+// A 4 MB line without a line end took 30 s (each read rescanned the whole buffer) and held all
+// of it in memory. It is refused whole, as on a terminal, and the next line is answered.
+TEST(CliSim, OverLongScriptedLinesAreRefusedInLinearTime) {
+  const std::string input =
+      temp_file("sim_long_line.txt", std::string(4u << 20, 'a') + "\nversion\n");
+  const auto start = std::chrono::steady_clock::now();
+  const Result r = odocal_sim("", input);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out.rfind("err line_too_long ", 0), 0u) << r.out.substr(0, 200);
+  EXPECT_NE(r.out.find("\nok name=odocal version="), std::string::npos) << r.out.substr(0, 200);
+  // Linear: a few hundred ns per byte; the quadratic reader needed ~30 s.
+  EXPECT_LT(seconds, 5.0);
+}
+
+// Endless input without a line end (/dev/zero) runs in constant memory: 64 MB of NUL bytes under
+// a 32 MB address-space limit (the program needs under 16 MB; the old reader kept all of it).
+TEST(CliSim, InputWithoutLineEndsUsesConstantMemory) {
+  const std::string input = ::testing::TempDir() + "sim_zeros.txt";
+  {
+    std::ofstream out(input, std::ios::binary);
+    const std::string zeros(1u << 20, '\0');
+    for (int i = 0; i < 64; ++i) {
+      out << zeros;
+    }
+    out << "\nversion\n";
+  }
+  const Result r = odocal_sim("", input, "ulimit -v 32768; exec ");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out.rfind("err non_ascii ", 0), 0u) << r.out.substr(0, 200);
+  EXPECT_NE(r.out.find("\nok name=odocal version="), std::string::npos) << r.out.substr(0, 200);
+}

@@ -57,9 +57,14 @@ class CheckingStream final : public odocal::hal::ByteStream {
       if (c == '\n') {
         check_line();
         line_length_ = 0u;
+      } else if (c == '\b' && !protocol_checks) {
+        // A terminal moves the cursor back: backspace echoes "\b \b", so a user who types and
+        // erases for ever keeps one short visible line (bounded below), not an endless one.
+        if (line_length_ > 0u)
+          --line_length_;
       } else {
         if (line_length_ >= sizeof line_)
-          __builtin_trap();  // a line longer than any reply
+          __builtin_trap();  // longer than a reply after at most one line of typed echo
         line_[line_length_++] = c;
       }
     }
@@ -90,7 +95,9 @@ class CheckingStream final : public odocal::hal::ByteStream {
   const std::uint8_t* data_;
   std::size_t size_;
   std::size_t pos_ = 0u;
-  char line_[odocal::console::Console::max_reply + 2u] = {};
+  // A reply, or (with echo) a typed line of at most max_line bytes, "^C" and a stream line
+  // printed before the typed line ended.
+  char line_[odocal::console::Console::max_reply + odocal::console::LineEditor::max_line + 4u] = {};
   std::size_t line_length_ = 0u;
 };
 

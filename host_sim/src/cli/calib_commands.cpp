@@ -403,6 +403,11 @@ void run_lateral(const LateralOptions& o) {
   if (table.rows.size() < 2) {
     too_few(table, 2, "trials");
   }
+  if (table.rows.size() > calib::lateral_max_trials) {
+    throw InputError(o.file, table.rows[calib::lateral_max_trials].line, "x_mm",
+                     "too many trials: " + std::to_string(table.rows.size()) + ", at most " +
+                         std::to_string(calib::lateral_max_trials));
+  }
   std::vector<calib::StopPoint> trials;
   for (std::size_t r = 0; r < table.rows.size(); ++r) {
     const double x = table.number(r, 0);
@@ -466,6 +471,10 @@ struct BootstrapOptions {
 constexpr double bootstrap_max_speed_mps = 1e3;
 constexpr double bootstrap_max_yaw_radps = 1e3;
 constexpr double bootstrap_max_wheel_radps = 1e5;
+// Unknowns one run takes, and predictions (unknowns x B) it computes: 1e7 predictions keep the
+// scratch at 160 MB and the run at seconds.
+constexpr std::size_t bootstrap_max_unknowns = 100000;
+constexpr double bootstrap_max_predictions = 1e7;
 
 /// Reads the three body-velocity columns (0..2) of a bootstrap CSV.
 calib::UnknownRow read_body_velocity(const CsvTable& table, std::size_t r) {
@@ -517,6 +526,22 @@ void run_bootstrap(const BootstrapOptions& o) {
   const CsvTable training_table =
       read_csv(o.training_file, {"xdot", "ydot", "thetadot", "omega_l", "omega_r"});
   const CsvTable unknowns_table = read_csv(o.unknowns_file, {"xdot", "ydot", "thetadot"});
+  // Each unknown takes B predictions (2 doubles each, kept for the percentiles): bound the
+  // memory and the work before any of it is spent, rather than fail in the allocator.
+  if (unknowns_table.rows.size() > bootstrap_max_unknowns) {
+    throw InputError(o.unknowns_file, unknowns_table.rows[bootstrap_max_unknowns].line, "xdot",
+                     "too many unknowns: " + std::to_string(unknowns_table.rows.size()) +
+                         ", at most " + std::to_string(bootstrap_max_unknowns));
+  }
+  if (static_cast<double>(unknowns_table.rows.size()) * o.replicates > bootstrap_max_predictions) {
+    const std::size_t fit = static_cast<std::size_t>(bootstrap_max_predictions / o.replicates);
+    throw InputError(o.unknowns_file,
+                     unknowns_table.rows[fit < unknowns_table.rows.size() ? fit : 0].line, "xdot",
+                     std::to_string(unknowns_table.rows.size()) +
+                         " unknowns x B = " + std::to_string(o.replicates) + " is more than " +
+                         bound(bootstrap_max_predictions) + " predictions: at most " +
+                         std::to_string(fit) + " unknowns with this --b (split the file)");
+  }
   std::vector<calib::TrainingRow> training;
   for (std::size_t r = 0; r < training_table.rows.size(); ++r) {
     const calib::UnknownRow x = read_body_velocity(training_table, r);
@@ -698,23 +723,11 @@ void run_ros2(const Ros2Options& o) {
   double c_l = 0.0, c_r = 0.0, e_b = 0.0;
   std::string source;
   if (!o.from_file.empty()) {
-    std::ifstream in(o.from_file);
-    if (!in) {
-      throw InputError(o.from_file, 0, "", "cannot open file");
-    }
+    const std::string text = read_text_file(o.from_file);
     json doc;
-    try {
-      doc = json::parse(in);
-    } catch (const json::parse_error& e) {
-      // nlohmann reports the byte offset; turn it into a line number.
-      std::ifstream again(o.from_file);
-      std::size_t line = 1, offset = 0;
-      char c = 0;
-      while (offset + 1 < e.byte && again.get(c)) {
-        ++offset;
-        line += c == '\n' ? 1 : 0;
-      }
-      throw InputError(o.from_file, line, "", std::string("not valid JSON: ") + e.what());
+    JsonProblem problem;
+    if (!parse_json_strict(text, doc, problem)) {
+      throw InputError(o.from_file, problem.line, problem.key, problem.message);
     }
     if (!doc.is_object()) {
       throw InputError(o.from_file, 1, "", "expected a JSON object");

@@ -1,7 +1,11 @@
 #include "odocal/host/calib_json.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <ctime>
+#include <map>
+#include <set>
 #include <stdexcept>
 
 namespace odocal::host {
@@ -158,6 +162,98 @@ nlohmann::json bootstrap_to_json(const std::vector<calib::BootstrapEstimate>& es
       {"residual_rms", fit.residual_rms},
       {"effective_level", fit.effective_level},
   };
+}
+
+namespace {
+
+/// 1-based line of the `nth` (1-based) place where `key` is written as an object key; 0 when it
+/// is not found as written (e.g. the file spells it with escapes).
+std::size_t key_line(const std::string& text, const std::string& key, std::size_t nth) {
+  const std::string quoted = '"' + key + '"';
+  std::size_t found = 0;
+  for (std::size_t pos = text.find(quoted); pos != std::string::npos;
+       pos = text.find(quoted, pos + 1)) {
+    std::size_t after = pos + quoted.size();
+    while (after < text.size() && std::isspace(static_cast<unsigned char>(text[after])) != 0) {
+      ++after;
+    }
+    const bool is_key =
+        after < text.size() && text[after] == ':' && (pos == 0 || text[pos - 1] != '\\');
+    if (is_key && ++found == nth) {
+      return 1u + static_cast<std::size_t>(std::count(
+                      text.begin(), text.begin() + static_cast<std::ptrdiff_t>(pos), '\n'));
+    }
+  }
+  return 0u;
+}
+
+}  // namespace
+
+bool parse_json_strict(const std::string& text, nlohmann::json& doc, JsonProblem& problem) {
+  // The parser's callback sees every key as it is read, in document order: one set of keys per
+  // open object finds a key given twice in the same object, and the last key read names the value
+  // whose number overflows.
+  std::vector<std::set<std::string>> open_objects;
+  std::map<std::string, std::size_t> occurrences;
+  std::string duplicate;
+  std::size_t duplicate_nth = 0;
+  std::string last_key;
+  const nlohmann::json::parser_callback_t watch = [&](int, nlohmann::json::parse_event_t event,
+                                                      nlohmann::json& parsed) {
+    if (event == nlohmann::json::parse_event_t::object_start) {
+      open_objects.emplace_back();
+    } else if (event == nlohmann::json::parse_event_t::object_end && !open_objects.empty()) {
+      open_objects.pop_back();
+    } else if (event == nlohmann::json::parse_event_t::key && parsed.is_string()) {
+      last_key = parsed.get<std::string>();
+      const std::size_t nth = ++occurrences[last_key];
+      if (!open_objects.empty() && !open_objects.back().insert(last_key).second &&
+          duplicate.empty()) {
+        duplicate = last_key;
+        duplicate_nth = nth;
+      }
+    }
+    return true;
+  };
+  const std::size_t nul = text.find('\0');
+  if (nul != std::string::npos) {
+    // The parser would stop there and report an early end of input.
+    problem.line = 1u + static_cast<std::size_t>(std::count(
+                            text.begin(), text.begin() + static_cast<std::ptrdiff_t>(nul), '\n'));
+    problem.message = "contains a NUL byte (a binary file, or a text file in UTF-16?)";
+    return false;
+  }
+  nlohmann::json parsed;
+  try {
+    parsed = nlohmann::json::parse(text, watch);
+  } catch (const nlohmann::json::out_of_range&) {
+    problem.key = last_key;
+    problem.line = last_key.empty() ? 0u : key_line(text, last_key, occurrences[last_key]);
+    problem.message = "number out of range (beyond +-1.8e308)";
+    return false;
+  } catch (const nlohmann::json::parse_error& e) {
+    // e.byte is the 1-based offset of the fault: count the lines before it.
+    const std::size_t end = std::min<std::size_t>(e.byte > 0 ? e.byte - 1u : 0u, text.size());
+    problem.line = 1u + static_cast<std::size_t>(std::count(
+                            text.begin(), text.begin() + static_cast<std::ptrdiff_t>(end), '\n'));
+    // Drop the library's "[json.exception.parse_error.101] " tag.
+    std::string what = e.what();
+    const std::size_t tag = what.find("] ");
+    problem.message =
+        "not valid JSON: " + (tag == std::string::npos ? what : what.substr(tag + 2u));
+    return false;
+  } catch (const nlohmann::json::exception& e) {
+    problem.message = std::string("not valid JSON: ") + e.what();
+    return false;
+  }
+  if (!duplicate.empty()) {
+    problem.key = duplicate;
+    problem.line = key_line(text, duplicate, duplicate_nth);
+    problem.message = "given more than once (only one value per key is taken)";
+    return false;
+  }
+  doc = std::move(parsed);
+  return true;
 }
 
 nlohmann::json with_provenance(nlohmann::json object, const Provenance& provenance) {

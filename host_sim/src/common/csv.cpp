@@ -1,9 +1,12 @@
 #include "odocal/host/csv.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string_view>
@@ -23,7 +26,20 @@ std::string describe(const std::string& file, std::size_t line, const std::strin
     out << "field '" << field << "': ";
   }
   out << message;
-  return out.str();
+  // A control byte from the input (a NUL would end the message when printed, a CR would move the
+  // cursor back over it) is shown as \xNN.
+  std::string shown;
+  for (const char c : out.str()) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20u || byte == 0x7Fu) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\x%02X", static_cast<unsigned>(byte));
+      shown += escaped;
+    } else {
+      shown += c;
+    }
+  }
+  return shown;
 }
 
 std::string trim(const std::string& text) {
@@ -65,24 +81,50 @@ InputError::InputError(std::string file, std::size_t line, std::string field,
       line_(line),
       field_(std::move(field)) {}
 
-bool parse_finite(const std::string& text, double& value) {
+NumberText read_number(const std::string& text, double& value) {
   if (text.empty() || std::isspace(static_cast<unsigned char>(text.front())) != 0) {
-    return false;
+    return NumberText::not_a_number;
   }
   // Only plain decimal notation: strtod alone would also take "nan", "inf" and hex floats.
   for (const char c : text) {
     if (std::string_view("0123456789+-.eE").find(c) == std::string_view::npos) {
-      return false;
+      return NumberText::not_a_number;
     }
   }
   errno = 0;
   char* end = nullptr;
   const double parsed = std::strtod(text.c_str(), &end);
-  if (end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(parsed)) {
-    return false;
+  if (end != text.c_str() + text.size()) {
+    return NumberText::not_a_number;
   }
+  if (!std::isfinite(parsed)) {
+    return NumberText::out_of_range;  // beyond the largest double (strtod gives +-HUGE_VAL)
+  }
+  // ERANGE with a finite result is an underflow: 1e-310 is a subnormal double, 1e-400 rounds to
+  // zero. Both are numbers (and far below any measurement's resolution): taken as they round.
   value = parsed;
-  return true;
+  return NumberText::ok;
+}
+
+bool parse_finite(const std::string& text, double& value) {
+  return read_number(text, value) == NumberText::ok;
+}
+
+std::string read_text_file(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw InputError(path, 0, "", "is a directory, not a file");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw InputError(path, 0, "", "cannot open file");
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) {
+    throw InputError(path, 0, "", "cannot read file");
+  }
+  return text.str();
 }
 
 const std::string& CsvTable::text(std::size_t row, std::size_t column) const {
@@ -92,7 +134,11 @@ const std::string& CsvTable::text(std::size_t row, std::size_t column) const {
 double CsvTable::number(std::size_t row, std::size_t column) const {
   const std::string& field = text(row, column);
   double value = 0.0;
-  if (!parse_finite(field, value)) {
+  const NumberText kind = read_number(field, value);
+  if (kind == NumberText::out_of_range) {
+    fail(row, column, "number out of range (beyond +-1.8e308): '" + field + "'");
+  }
+  if (kind != NumberText::ok) {
     const std::string lower = [&] {
       std::string s;
       for (const char c : field) {
@@ -115,18 +161,30 @@ void CsvTable::fail(std::size_t row, std::size_t column, const std::string& mess
 }
 
 CsvTable read_csv(const std::string& path, const std::vector<std::string>& columns) {
-  std::ifstream in(path);
-  if (!in) {
-    throw InputError(path, 0, "", "cannot open file");
-  }
+  const std::string text = read_text_file(path);
   CsvTable table;
   table.file = path;
   table.columns = columns;
   std::string line;
   std::size_t number = 0;
   bool have_header = false;
-  while (std::getline(in, line)) {
+  std::size_t start = 0;
+  while (start < text.size()) {
+    // A line ends with LF, CRLF or a lone CR (old Mac exports), as on the robot's console.
+    const std::size_t end = text.find_first_of("\r\n", start);
+    line = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    start = end == std::string::npos                                              ? text.size()
+            : text[end] == '\r' && end + 1 < text.size() && text[end + 1] == '\n' ? end + 2
+                                                                                  : end + 1;
     ++number;
+    const std::size_t nul = line.find('\0');
+    if (nul != std::string::npos) {
+      // Name the column the byte is in: commas before it count the fields.
+      const auto commas = static_cast<std::size_t>(
+          std::count(line.begin(), line.begin() + static_cast<std::ptrdiff_t>(nul), ','));
+      throw InputError(path, number, commas < columns.size() ? columns[commas] : columns.back(),
+                       "contains a NUL byte (a binary file, or a text file in UTF-16?)");
+    }
     // A UTF-8 byte order mark (spreadsheet exports) is not part of the first header name.
     constexpr std::string_view bom = "\xEF\xBB\xBF";
     if (number == 1 && line.compare(0, bom.size(), bom) == 0) {

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <thread>
@@ -80,45 +81,59 @@ void measure_command(void* context, const odocal::console::Token*, std::size_t c
       .pair("theta_deg", pose.theta_rad * 180.0 / 3.14159265358979323846, 3);
 }
 
-/// Reads whole lines from a non-blocking stream (waiting with poll), one at a time.
+/// Reads scripted input from a non-blocking stream (waiting with poll) in pieces: each piece is
+/// the rest of a line up to and including its end (CR, LF or CRLF), or, while no line end has
+/// come, the bytes read so far. Pieces go to the console as they come, and its line editor takes
+/// them exactly as from a terminal: a line longer than it keeps is refused whole, however long.
+/// Every byte is looked at once and the memory is one fixed buffer, so a long line or endless
+/// input without a line end (/dev/zero) costs linear time and constant memory.
 class LineReader {
  public:
   LineReader(odocal::posix::FdByteStream& stream) : stream_(stream) {}
-  /// Next line including its terminator; false at end of input (a last unterminated line is
-  /// returned with a LF added).
-  bool next(std::string& line) {
+  /// Next piece; `line_end` says whether it ends a line. False at end of input (a last
+  /// unterminated line is ended with a LF).
+  bool next(std::string& piece, bool& line_end) {
     for (;;) {
-      const std::size_t end = buffer_.find_first_of("\r\n");
-      if (end != std::string::npos) {
-        std::size_t stop = end + 1;
-        if (buffer_[end] == '\r' && stop < buffer_.size() && buffer_[stop] == '\n') {
+      if (begin_ < end_) {
+        std::size_t stop = begin_;
+        while (stop < end_ && chunk_[stop] != '\r' && chunk_[stop] != '\n') {
           ++stop;
         }
-        line = buffer_.substr(0, stop);
-        buffer_.erase(0, stop);
+        line_end = stop < end_;
+        if (line_end) {
+          // A CRLF split over two reads gives a lone LF next: the console takes it as the end of
+          // the same line.
+          ++stop;
+        }
+        piece.assign(reinterpret_cast<const char*>(chunk_ + begin_), stop - begin_);
+        begin_ = stop;
+        in_line_ = !line_end;
         return true;
       }
       if (stream_.end_of_input() || stop_requested.load()) {
-        if (buffer_.empty()) {
+        if (!in_line_) {
           return false;
         }
-        line = buffer_ + "\n";
-        buffer_.clear();
+        piece = "\n";
+        line_end = true;
+        in_line_ = false;
         return true;
       }
-      std::uint8_t chunk[512];
-      const std::size_t n = stream_.read(chunk, sizeof chunk);
-      if (n == 0u && !stream_.end_of_input()) {
+      begin_ = 0u;
+      end_ = stream_.read(chunk_, sizeof chunk_);
+      if (end_ == 0u && !stream_.end_of_input()) {
         pollfd wait{stream_.input_fd(), POLLIN, 0};
         static_cast<void>(::poll(&wait, 1, 20));
       }
-      buffer_.append(reinterpret_cast<const char*>(chunk), n);
     }
   }
 
  private:
   odocal::posix::FdByteStream& stream_;
-  std::string buffer_;
+  std::uint8_t chunk_[512] = {};
+  std::size_t begin_ = 0u;
+  std::size_t end_ = 0u;
+  bool in_line_ = false;  ///< bytes of an unterminated line were handed out
 };
 
 /// Paces simulated time against the wall clock (speed X), or not at all (speed 0).
@@ -196,6 +211,26 @@ int main(int argc, char** argv) {
   std::unique_ptr<sim::StaticRamBlockStore<4096u, 2u, 4u>> ram_store;
   hal::BlockStore* flash = nullptr;
   if (!store_file.empty()) {
+    // The store file appears at the first `save`: a directory it cannot be created in is refused
+    // now, not after a session's work.
+    std::error_code ec;
+    const std::filesystem::path parent = std::filesystem::path(store_file).parent_path();
+    const std::string directory = parent.empty() ? std::string(".") : parent.string();
+    if (std::filesystem::is_directory(store_file, ec)) {
+      std::fprintf(stderr, "odocal-sim: %s: is a directory, not a store file\n",
+                   store_file.c_str());
+      return 2;
+    }
+    if (!std::filesystem::is_directory(directory, ec)) {
+      std::fprintf(stderr, "odocal-sim: %s: directory %s does not exist\n", store_file.c_str(),
+                   directory.c_str());
+      return 2;
+    }
+    if (::access(directory.c_str(), W_OK | X_OK) != 0) {
+      std::fprintf(stderr, "odocal-sim: %s: cannot create files in %s\n", store_file.c_str(),
+                   directory.c_str());
+      return 2;
+    }
     file_store = std::make_unique<posix::FileBlockStore>(store_file);
     if (!file_store->open(error)) {
       std::fprintf(stderr, "odocal-sim: %s: %s\n", store_file.c_str(), error.c_str());
@@ -283,16 +318,21 @@ int main(int argc, char** argv) {
     if (script) {
       // Feed the next line only when the previous one is answered and its motion is over.
       if (!input_done && console.idle() && !busy(robot.loop().status())) {
-        if (script->next(line)) {
+        // A whole line goes in before the robot ticks again, however many pieces it comes in.
+        bool line_end = false;
+        bool fed = false;
+        while (!line_end && script->next(line, line_end)) {
+          fed = true;
           for (char c : line) {
             while (!console.receive_from_isr(static_cast<std::uint8_t>(c))) {
               console.poll(robot.plant().clock().now_us());
             }
           }
-          pacer.rebase(robot.simulated_s());
-        } else {
-          input_done = true;
         }
+        if (fed) {
+          pacer.rebase(robot.simulated_s());
+        }
+        input_done = !line_end;
       }
       if (input_done && console.idle() && !busy(robot.loop().status())) {
         break;

@@ -9,6 +9,9 @@
 #include <sstream>
 #include <utility>
 
+#include "odocal/host/calib_json.hpp"
+#include "odocal/host/csv.hpp"
+
 namespace odocal::host {
 
 RobotSpec default_robot() {
@@ -115,37 +118,18 @@ bool near_nominal(double true_mm, double nominal_mm, double tolerance) {
 
 bool parse_robot(const std::string& text, const std::string& source, RobotSpec& spec,
                  std::string& error) {
-  // The parser's callback sees every key as it is read: it finds duplicates (the JSON library
-  // would keep the last one silently) and names the key whose number cannot be read.
-  std::set<std::string> seen;
-  std::string duplicate;
-  std::string last_key;
-  const nlohmann::json::parser_callback_t watch =
-      [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
-        if (event == nlohmann::json::parse_event_t::key && parsed.is_string()) {
-          last_key = parsed.get<std::string>();
-          if (depth == 1 && !seen.insert(last_key).second && duplicate.empty()) {
-            duplicate = last_key;
-          }
-        }
-        return true;
-      };
   nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(text, watch);
-  } catch (const nlohmann::json::out_of_range& e) {
-    return fail(error, source, last_key.empty() ? "robot" : last_key,
-                std::string("number out of range (") + e.what() + ")");
-  } catch (const nlohmann::json::exception& e) {
-    error = source + ": not valid JSON (" + e.what() + ")";
-    return false;
+  JsonProblem problem;
+  if (!parse_json_strict(text, doc, problem)) {
+    if (problem.key.empty()) {
+      error = source + ": " + problem.message;
+      return false;
+    }
+    return fail(error, source, problem.key, problem.message);
   }
   if (!doc.is_object()) {
     error = source + ": the robot file must be one flat JSON object";
     return false;
-  }
-  if (!duplicate.empty()) {
-    return fail(error, source, duplicate, "given more than once");
   }
   RobotSpec out = default_robot();
   for (auto it = doc.begin(); it != doc.end(); ++it) {
@@ -273,14 +257,14 @@ bool parse_robot(const std::string& text, const std::string& source, RobotSpec& 
 }
 
 bool load_robot_file(const std::string& path, RobotSpec& spec, std::string& error) {
-  std::ifstream in(path);
-  if (!in) {
-    error = path + ": cannot read";
+  std::string text;
+  try {
+    text = read_text_file(path);  // a directory or an unreadable file is refused by name
+  } catch (const InputError& e) {
+    error = e.what();
     return false;
   }
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return parse_robot(buffer.str(), path, spec, error);
+  return parse_robot(text, path, spec, error);
 }
 
 TrueErrors true_errors(const RobotSpec& spec) {

@@ -78,6 +78,20 @@ struct AccuracyTrial {
 [[nodiscard]] nlohmann::json bootstrap_to_json(
     const std::vector<calib::BootstrapEstimate>& estimates, const calib::BootstrapFit& fit);
 
+/// Why JSON text was refused.
+struct JsonProblem {
+  std::size_t line = 0;  ///< 1-based line of the fault, 0 when it cannot be told
+  std::string key;       ///< the key at fault, empty when the fault is not in one value
+  std::string message;   ///< what is wrong, in the project's words
+};
+
+/// Parses JSON text strictly, for every JSON file a host program reads: refuses a key given twice
+/// in one object (nlohmann would keep the last one silently), and names the key whose number is
+/// beyond a double instead of passing on the library's exception text. False (and `problem`
+/// filled) when the text is refused; `doc` is set only on success.
+[[nodiscard]] bool parse_json_strict(const std::string& text, nlohmann::json& doc,
+                                     JsonProblem& problem);
+
 /// Copies `object` and adds `provenance`.
 [[nodiscard]] nlohmann::json with_provenance(nlohmann::json object, const Provenance& provenance);
 

@@ -33,7 +33,7 @@ struct CsvRow {
 };
 
 /// A read CSV file. Blank lines and lines starting with '#' are skipped; a UTF-8 byte order mark
-/// at the start of the file and CRLF line ends are accepted.
+/// at the start of the file and LF, CRLF or CR line ends are accepted; a NUL byte is refused.
 struct CsvTable {
   std::string file;
   std::vector<std::string> columns;
@@ -56,7 +56,21 @@ struct CsvTable {
 [[nodiscard]] std::vector<std::vector<double>> read_numeric_csv(
     const std::string& path, const std::vector<std::string>& columns);
 
+/// What a number field holds.
+enum class NumberText {
+  ok,            ///< a finite double (an underflow such as 1e-310 rounds to subnormal or 0)
+  not_a_number,  ///< empty, junk, NaN, Inf, hex
+  out_of_range,  ///< decimal, but beyond the largest double (1e400)
+};
+
+/// Parses a whole string in plain decimal notation; `value` is set only on `ok`.
+[[nodiscard]] NumberText read_number(const std::string& text, double& value);
+
 /// Parses a whole string as a finite double; false on empty, junk, NaN, Inf or out of range.
 [[nodiscard]] bool parse_finite(const std::string& text, double& value);
+
+/// The whole contents of `path`. Throws InputError when it is a directory, cannot be opened or
+/// cannot be read.
+[[nodiscard]] std::string read_text_file(const std::string& path);
 
 }  // namespace odocal::host

@@ -102,6 +102,13 @@ int run(const SessionFlags& f, const CLI::App& cmd) {
   std::unique_ptr<MeasurementSource> file_source;
   if (!f.measurements.empty()) {
     file_source = file_measurements(f.measurements);
+    const std::size_t needed = planned_runs(options);
+    if (file_source->available(0) < needed) {
+      throw InputError(f.measurements, 0, "",
+                       "too few rows: --procedure " + f.procedure + " needs " +
+                           std::to_string(needed) + " measurements, the file has " +
+                           std::to_string(file_source->available(0)) + " (nothing was run)");
+    }
   }
   std::unique_ptr<SimProcess> sim;
   std::unique_ptr<FdChannel> port;
@@ -123,7 +130,7 @@ int run(const SessionFlags& f, const CLI::App& cmd) {
   } else if (sim) {
     source = robot_measurements(robot);
   } else {
-    source = prompt_measurements(std::cin, std::cerr);
+    source = prompt_measurements(std::cin, std::cerr, !terminal);
   }
   prepare_out_dir(options.out_dir, true);
   const SessionReport report = run_session(robot, *source, options);

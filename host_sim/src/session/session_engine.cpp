@@ -41,6 +41,20 @@ std::string default_out_dir(Procedure procedure) {
   return std::string("odocal-session-") + to_string(procedure) + "-" + stamp;
 }
 
+std::size_t planned_runs(const SessionOptions& options) {
+  switch (options.procedure) {
+    case Procedure::umbmark:
+      return 2 * options.runs.value_or(5);
+    case Procedure::lateral:
+      return options.runs.value_or(10) + session::lateral_arcs;
+    case Procedure::fit:
+      return options.runs.value_or(6);
+    case Procedure::verify:
+      return 2 * options.runs.value_or(5);
+  }
+  return 0;
+}
+
 void prepare_out_dir(const std::string& dir, bool create) {
   if (dir.empty()) {
     throw InputError("--out", 0, "", "empty directory name");
@@ -238,7 +252,6 @@ nlohmann::json runs_json(const std::vector<RunRecord>& runs) {
     out.push_back(
         {{"trial", r.trial},
          {"path", r.path},
-         {"label", r.label},
          {"duration_ms", r.duration_ms},
          {"count_l", r.count_l},
          {"count_r", r.count_r},
@@ -364,8 +377,6 @@ SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
   context.write_file("measurements.csv", session::measurements_csv(context.runs));
   context.write_file("runs.svg", session::runs_svg(context.runs, std::string("odocal session ") +
                                                                      to_string(options.procedure)));
-  report.json["files"] = context.files;
-  report.json["files"].push_back("session.json");
   context.write_file("session.json", report.json.dump(2) + "\n");
   std::ostringstream text;
   text << outcome.text << "Factors in force: c_l=" << context.format(f.c_l, 6)

@@ -68,6 +68,9 @@ class Context {
   std::string format(double value, int decimals = 3);
 };
 
+/// Gentle arcs the lateral procedure drives besides its straight trials.
+inline constexpr std::size_t lateral_arcs = 4;
+
 // The procedures (one file each).
 Outcome run_umbmark(Context& context);
 Outcome run_lateral(Context& context);

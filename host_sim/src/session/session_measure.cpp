@@ -120,7 +120,8 @@ class FileMeasure final : public MeasurementSource {
 
 class PromptMeasure final : public MeasurementSource {
  public:
-  PromptMeasure(std::istream& in, std::ostream& prompt) : in_(in), prompt_(prompt) {}
+  PromptMeasure(std::istream& in, std::ostream& prompt, bool echo)
+      : in_(in), prompt_(prompt), echo_(echo) {}
   SessionPose take(const RunRecord& run, std::size_t index, std::size_t planned) override {
     prompt_ << "\nRun " << index + 1 << "/" << planned << " (" << run.label << ", trial "
             << run.trial << ") has stopped. The robot's odometry says x=" << fixed(run.odom.x_mm)
@@ -134,6 +135,9 @@ class PromptMeasure final : public MeasurementSource {
         throw InputError("terminal", 0, "",
                          "no measurement for run " + std::to_string(index + 1) +
                              " (end of input); nothing was saved");
+      }
+      if (echo_) {
+        prompt_ << line << "\n";  // input from a file or pipe: show what was read
       }
       SessionPose pose;
       std::string why;
@@ -152,6 +156,7 @@ class PromptMeasure final : public MeasurementSource {
  private:
   std::istream& in_;
   std::ostream& prompt_;
+  bool echo_;
 };
 
 }  // namespace
@@ -203,8 +208,9 @@ std::unique_ptr<MeasurementSource> file_measurements(const std::string& path) {
   return std::make_unique<FileMeasure>(path);
 }
 
-std::unique_ptr<MeasurementSource> prompt_measurements(std::istream& in, std::ostream& prompt) {
-  return std::make_unique<PromptMeasure>(in, prompt);
+std::unique_ptr<MeasurementSource> prompt_measurements(std::istream& in, std::ostream& prompt,
+                                                       bool echo) {
+  return std::make_unique<PromptMeasure>(in, prompt, echo);
 }
 
 }  // namespace odocal::host

@@ -65,9 +65,11 @@ class MeasurementSource {
 /// naming file, line and field).
 [[nodiscard]] std::unique_ptr<MeasurementSource> file_measurements(const std::string& path);
 
-/// Asks a person: prompts on `prompt`, reads lines from `in`, re-asks on bad input.
+/// Asks a person: prompts on `prompt`, reads lines from `in`, re-asks on bad input. With `echo`
+/// (input not from a terminal) each line read is shown after its prompt.
 [[nodiscard]] std::unique_ptr<MeasurementSource> prompt_measurements(std::istream& in,
-                                                                     std::ostream& prompt);
+                                                                     std::ostream& prompt,
+                                                                     bool echo);
 
 /// Parses "x y [theta]" (spaces and/or commas); on failure `why` says what was wrong.
 [[nodiscard]] bool parse_measurement_line(const std::string& text, SessionPose& pose,
@@ -93,6 +95,9 @@ struct SessionReport {
   nlohmann::json json;
   std::string text;
 };
+
+/// Measured runs the procedure needs at least (UMBmark: its first pass), from its options.
+[[nodiscard]] std::size_t planned_runs(const SessionOptions& options);
 
 /// Runs the whole session on a connected robot. Throws LinkError / InputError /
 /// std::runtime_error with a message for the user; files written so far stay in out_dir.

@@ -116,19 +116,25 @@ void ControlLoop::check_faults(const EncoderSnapshot& left, const EncoderSnapsho
   if (right.illegal - illegal_base_right_ > config_.max_illegal) {
     faults_ |= fault_encoder_right;
   }
-  // A wheel is stalled when it gets a large duty and yields no edge for stall_ms.
-  const auto stall_time = [this, dt_us](std::uint32_t& stalled_us, float duty, std::int32_t moved) {
-    if (std::fabs(duty) > config_.stall_duty && moved == 0) {
+  // A wheel is stalled when it gets a large duty and does not get anywhere for stall_ms: its
+  // position stays within one count of where the window began. Net motion, not edges: a dead
+  // encoder channel still yields edges from the other one, whose counts only go back and forth.
+  const auto stall_time = [this, dt_us](std::uint32_t& stalled_us, std::int64_t& window_start,
+                                        float duty, std::int64_t position) {
+    const std::int64_t moved = position - window_start;
+    if (std::fabs(duty) > config_.stall_duty && moved <= 1 && moved >= -1) {
       stalled_us += dt_us;
     } else {
       stalled_us = 0u;
+      window_start = position;
     }
     return static_cast<float>(stalled_us) * 1e-3f > config_.stall_ms;
   };
-  if (stall_time(left_stall_us_, left_duty_, left_speed_.delta_counts())) {
+  if (stall_time(left_stall_us_, left_stall_start_, left_duty_, left_speed_.position_counts())) {
     faults_ |= fault_stall_left;
   }
-  if (stall_time(right_stall_us_, right_duty_, right_speed_.delta_counts())) {
+  if (stall_time(right_stall_us_, right_stall_start_, right_duty_,
+                 right_speed_.position_counts())) {
     faults_ |= fault_stall_right;
   }
 }

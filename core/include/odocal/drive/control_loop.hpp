@@ -23,7 +23,7 @@ enum FaultBits : std::uint8_t {
   fault_none = 0x00,
   fault_encoder_left = 0x01,  ///< illegal transitions above `max_illegal`
   fault_encoder_right = 0x02,
-  fault_stall_left = 0x04,  ///< duty above `stall_duty` with no edge for `stall_ms`
+  fault_stall_left = 0x04,  ///< duty above `stall_duty` with no net motion for `stall_ms`
   fault_stall_right = 0x08,
 };
 
@@ -160,6 +160,8 @@ class ControlLoop {
   std::uint32_t illegal_base_right_ = 0u;
   std::uint32_t left_stall_us_ = 0u;  ///< time with a large duty and no edge
   std::uint32_t right_stall_us_ = 0u;
+  std::int64_t left_stall_start_ = 0;  ///< position where the current stall window began
+  std::int64_t right_stall_start_ = 0;
   float left_duty_ = 0.0f;
   float right_duty_ = 0.0f;
   bool started_ = false;

@@ -382,3 +382,90 @@ TEST(Session, ABusyPortIsRefused) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Session, LateralRecoversTheWheelRatioAndTheDistanceScale) {
+  // A robot whose wheels differ but whose wheelbase is right (what UMBmark leaves to Maddahi):
+  // straight ahead the smaller left wheel must turn D_R/D_L faster, F_lat = D_R/D_L, and the
+  // distance scale is the right wheel's, F_lon = D/D_R (eq. 7 with nominal D for both wheels).
+  const std::string robot =
+      write("lateral_robot.json",
+            R"({"wheel_diameter_mm": 60, "wheelbase_mm": 150, "counts_per_rev": 1440,
+          "true_left_diameter_mm": 59.85, "true_right_diameter_mm": 60.15,
+          "true_wheelbase_mm": 150, "slip_sigma": 0, "bump_height_mm": 0,
+          "measure_sigma_mm": 2})");
+  const std::string out = temp("lateral_out");
+  std::system(("rm -rf " + out).c_str());
+  const json doc = parse(session("--sim " + robot + " --procedure lateral --json --out " + out));
+  ASSERT_TRUE(doc.is_object());
+  const json& r = doc["result"];
+  EXPECT_FALSE(r["degenerate"].get<bool>());
+  EXPECT_EQ(r["applied_from"], "bootstrap");
+  EXPECT_EQ(doc["runs"].size(), 14u);  // 10 straight trials + 4 arcs
+  EXPECT_EQ(doc["runs"][0]["path"], "line");
+  EXPECT_EQ(doc["runs"][13]["path"], "drive");
+  // Tolerances from the 2 mm tape measure over 1 m trials: a chord angle of 2e-3 rad per trial,
+  // F_lat − 1 ≈ 2lφ/L, so σ ≈ 2·150·2e-3/1000/√10 = 1.9e-4; ẋ to 2e-3 per trial, F_lon to
+  // 2e-3/√14 = 5e-4. 5σ bounds.
+  EXPECT_NEAR(r["bootstrap"]["f_lat"].get<double>(), true_right_mm / true_left_mm, 1e-3);
+  EXPECT_NEAR(r["eq45"]["f_lat_in_force"].get<double>(), true_right_mm / true_left_mm, 1e-3);
+  EXPECT_NEAR(r["bootstrap"]["f_lon"].get<double>(), 60.0 / true_right_mm, 2.7e-3);
+  const json& ci = r["bootstrap"]["ci_f_lat"];
+  EXPECT_LT(ci[0].get<double>(), r["bootstrap"]["f_lat"].get<double>());
+  EXPECT_GT(ci[1].get<double>(), r["bootstrap"]["f_lat"].get<double>());
+  EXPECT_NEAR(doc["factors"]["f_lat"].get<double>(), r["bootstrap"]["f_lat"].get<double>(), 1e-6);
+  for (const char* file : {"lateral.csv", "training.csv", "unknowns.csv"}) {
+    EXPECT_TRUE(exists(out + "/" + file)) << file;
+  }
+  // The files are what `odocal lateral` reads.
+  const Result again = shell(bin("odocal") + " lateral --trials " + out +
+                             "/lateral.csv --length-mm 1000 --wheelbase-mm 150 --dl-mm 60 "
+                             "--dr-mm 60 --json");
+  ASSERT_EQ(again.status, 0) << again.err;
+  EXPECT_NEAR(json::parse(again.out)["f_lat"].get<double>(), true_right_mm / true_left_mm, 1e-3);
+}
+
+TEST(Session, VerifyAfterUmbmarkShowsTheImprovementAndKeepsTheFactors) {
+  // The unseen path turns left only: its legs must curve right (left wheel the larger) for the
+  // leg curvature to add to the short turns rather than cancel them, as on the other robot.
+  const std::string robot =
+      write("verify_robot.json",
+            R"({"wheel_diameter_mm": 60, "wheelbase_mm": 150, "counts_per_rev": 1440,
+          "true_left_diameter_mm": 60.15, "true_right_diameter_mm": 59.85,
+          "true_wheelbase_mm": 153, "slip_sigma": 0, "bump_height_mm": 0,
+          "measure_sigma_mm": 2})");
+  const std::string store = temp("verify.store");
+  std::remove(store.c_str());
+  for (const char* dir : {"verify_umbmark", "verify_out"}) {
+    std::system(("rm -rf " + temp(dir)).c_str());
+  }
+  const json calibrated = parse(session("--sim " + robot + " --store " + store +
+                                        " --procedure umbmark --side-m 2 --yes --json --out " +
+                                        temp("verify_umbmark")));
+  const json doc =
+      parse(session("--sim " + robot + " --store " + store +
+                    " --procedure verify --runs 3 --json --out " + temp("verify_out")));
+  ASSERT_TRUE(doc.is_object());
+  const json& s = doc["result"]["scenarios"];
+  ASSERT_EQ(s.size(), 2u);
+  EXPECT_EQ(s[0]["name"], "before");
+  EXPECT_EQ(s[1]["name"], "after");
+  EXPECT_EQ(doc["runs"][0]["path"], "unseen");
+  // A 2 % wheelbase and 0.5 % diameter error put the unseen path's end hundreds of mm off
+  // (each of its ~1.5 turns is 2 % short: ~50 mm per metre); calibrated, what is left is the
+  // tape measure and quantisation (mm). Half is a generous bound.
+  EXPECT_GT(s[0]["rms_mm"].get<double>(), 50.0);
+  EXPECT_LT(s[1]["rms_mm"].get<double>(), 0.5 * s[0]["rms_mm"].get<double>());
+  EXPECT_GT(s[1]["improvement_pct"].get<double>(), 50.0);
+  EXPECT_FALSE(doc["applied"].get<bool>());
+  EXPECT_EQ(doc["factors"], calibrated["factors"]);  // put back exactly
+  EXPECT_TRUE(exists(temp("verify_out") + "/accuracy.csv"));
+  const Result accuracy =
+      shell(bin("odocal") + " accuracy " + temp("verify_out") + "/accuracy.csv --json");
+  ASSERT_EQ(accuracy.status, 0) << accuracy.err;
+  EXPECT_NEAR(json::parse(accuracy.out)["scenarios"][1]["rms_mm"].get<double>(),
+              s[1]["rms_mm"].get<double>(), 1e-2);
+}
+
+}  // namespace

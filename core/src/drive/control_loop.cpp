@@ -14,6 +14,16 @@ WheelGains gains_of(const DriveConfig& config) {
   return gains;
 }
 
+// A path's length argument, for the trial record (line length, square side; 0 for the others).
+float path_length_m(const Path& path) {
+  const bool sized =
+      path.id == PathId::line || path.id == PathId::umbmark_cw || path.id == PathId::umbmark_ccw;
+  return sized && path.count > 0u ? path.segments[0].distance_m : 0.0f;
+}
+
+// How long both wheels must be still after a trial's motion before it closes, ms.
+constexpr float kMinStill_ms = 50.0f;
+
 // The longest tick period the loop integrates over; a longer gap (debugger halt, first tick)
 // is treated as this long so the integrators do not jump.
 constexpr std::uint32_t kMaxTickGap_us = 100000u;
@@ -55,6 +65,7 @@ void ControlLoop::take_command(const Inbox& inbox, const EncoderSnapshot& left,
                                const EncoderSnapshot& right) {
   if (inbox.reset_pose) {
     odometry_.reset();
+    ++pose_resets_;
   }
   switch (inbox.command) {
     case Command::stop:
@@ -66,6 +77,7 @@ void ControlLoop::take_command(const Inbox& inbox, const EncoderSnapshot& left,
       right_stall_us_ = 0u;
       illegal_base_left_ = left.illegal;  // from this tick's snapshot, not a fresh racy read
       illegal_base_right_ = right.illegal;
+      trial_.abandon();
       break;
     case Command::drive:
       if (mode_ != Mode::fault) {
@@ -74,6 +86,12 @@ void ControlLoop::take_command(const Inbox& inbox, const EncoderSnapshot& left,
         drive_twist_ = inbox.twist;
         drive_ms_ = inbox.duration_ms;
         drive_age_us_ = 0u;
+        if (drive_ms_ > 0u) {
+          trial_.begin(PathId::drive, 0.0f, left_speed_.position_counts(),
+                       right_speed_.position_counts());
+        } else {
+          trial_.abandon();  // an open-ended drive is no trial
+        }
       }
       break;
     case Command::run:
@@ -81,6 +99,8 @@ void ControlLoop::take_command(const Inbox& inbox, const EncoderSnapshot& left,
         motion_.start(inbox.path, odometry_);
         mode_ = motion_.busy() ? Mode::path : Mode::idle;
         drive_twist_ = Twist{};
+        trial_.begin(inbox.path.id, path_length_m(inbox.path), left_speed_.position_counts(),
+                     right_speed_.position_counts());
       }
       break;
     case Command::none:
@@ -96,19 +116,25 @@ void ControlLoop::check_faults(const EncoderSnapshot& left, const EncoderSnapsho
   if (right.illegal - illegal_base_right_ > config_.max_illegal) {
     faults_ |= fault_encoder_right;
   }
-  // A wheel is stalled when it gets a large duty and yields no edge for stall_ms.
-  const auto stall_time = [this, dt_us](std::uint32_t& stalled_us, float duty, std::int32_t moved) {
-    if (std::fabs(duty) > config_.stall_duty && moved == 0) {
+  // A wheel is stalled when it gets a large duty and does not get anywhere for stall_ms: its
+  // position stays within one count of where the window began. Net motion, not edges: a dead
+  // encoder channel still yields edges from the other one, whose counts only go back and forth.
+  const auto stall_time = [this, dt_us](std::uint32_t& stalled_us, std::int64_t& window_start,
+                                        float duty, std::int64_t position) {
+    const std::int64_t moved = position - window_start;
+    if (std::fabs(duty) > config_.stall_duty && moved <= 1 && moved >= -1) {
       stalled_us += dt_us;
     } else {
       stalled_us = 0u;
+      window_start = position;
     }
     return static_cast<float>(stalled_us) * 1e-3f > config_.stall_ms;
   };
-  if (stall_time(left_stall_us_, left_duty_, left_speed_.delta_counts())) {
+  if (stall_time(left_stall_us_, left_stall_start_, left_duty_, left_speed_.position_counts())) {
     faults_ |= fault_stall_left;
   }
-  if (stall_time(right_stall_us_, right_duty_, right_speed_.delta_counts())) {
+  if (stall_time(right_stall_us_, right_stall_start_, right_duty_,
+                 right_speed_.position_counts())) {
     faults_ |= fault_stall_right;
   }
 }
@@ -184,6 +210,7 @@ void ControlLoop::tick(std::uint32_t now_us) {
   }
   std::uint32_t dt_us = now_us - last_tick_us_;
   last_tick_us_ = now_us;
+  clock_us_ += dt_us;
   if (dt_us > kMaxTickGap_us) {
     dt_us = kMaxTickGap_us;
   }
@@ -208,12 +235,14 @@ void ControlLoop::tick(std::uint32_t now_us) {
   if (faults_ != fault_none) {
     mode_ = Mode::fault;
     motion_.cancel();
+    trial_.abandon();
   }
 
   // 4. Motion -> body twist. 5. Inverse kinematics (Maddahi eq. 7) with speed limiting that
   // keeps the curvature. 6. Wheel PI. 7. Outputs.
   float left_duty = 0.0f;
   float right_duty = 0.0f;
+  bool clipped = false;
   if (mode_ == Mode::fault) {
     left_controller_.reset();
     right_controller_.reset();
@@ -221,7 +250,8 @@ void ControlLoop::tick(std::uint32_t now_us) {
     const Twist twist = twist_for_mode(dt_s, dt_us);
     WheelRates rates = kinematics_.inverse(twist);
     const float peak = std::fmax(std::fabs(rates.left_radps), std::fabs(rates.right_radps));
-    if (peak > config_.max_wheel_radps) {
+    clipped = peak > config_.max_wheel_radps;
+    if (clipped) {
       const float scale = config_.max_wheel_radps / peak;
       rates.left_radps *= scale;
       rates.right_radps *= scale;
@@ -238,7 +268,13 @@ void ControlLoop::tick(std::uint32_t now_us) {
   }
   drive_motors(left_duty, right_duty);
 
-  // 8. Publish for the main loop.
+  // 8. Trial bookkeeping: a trial closes once the robot is at rest after its motion.
+  const bool trial_closed =
+      trial_.update(mode_ == Mode::path || mode_ == Mode::drive, left_speed_.position_counts(),
+                    right_speed_.position_counts(), odometry_.pose(), dt_us,
+                    std::fmax(config_.settle_ms, kMinStill_ms));
+
+  // 9. Publish for the main loop.
   hal::CriticalGuard guard(critical_);
   published_.odometry = odometry_;
   LoopStatus& status = published_.status;
@@ -253,16 +289,25 @@ void ControlLoop::tick(std::uint32_t now_us) {
   status.right_radps = right_speed_.speed_radps();
   status.left_duty = left_duty;
   status.right_duty = right_duty;
+  status.trial_open = trial_.open();
+  status.pose_resets = pose_resets_;
+  status.clipped = clipped;
+  if (trial_closed) {
+    published_.trial = trial_.last();
+  }
+  published_.counts =
+      WheelCounts{clock_us_, left_speed_.position_counts(), right_speed_.position_counts()};
 }
 
-bool ControlLoop::configure(const DriveConfig& config) {
-  if (!valid(config)) {
-    return false;
+ConfigCheck ControlLoop::configure(const DriveConfig& config) {
+  const ConfigCheck result = check(config);
+  if (!result) {
+    return result;
   }
   hal::CriticalGuard guard(critical_);
   inbox_.config = config;
   inbox_.config_pending = true;
-  return true;
+  return result;
 }
 
 DriveConfig ControlLoop::config() const {
@@ -320,6 +365,16 @@ void ControlLoop::reset_pose() {
 LoopStatus ControlLoop::status() const {
   hal::CriticalGuard guard(critical_);
   return published_.status;
+}
+
+TrialRecord ControlLoop::last_trial() const {
+  hal::CriticalGuard guard(critical_);
+  return published_.trial;
+}
+
+WheelCounts ControlLoop::wheel_counts() const {
+  hal::CriticalGuard guard(critical_);
+  return published_.counts;
 }
 
 void ControlLoop::note_tick_duration_us(float duration_us) {

@@ -3,22 +3,40 @@
 #include <cmath>
 
 namespace odocal::drive {
-namespace {
-bool in(float value, float lo, float hi) {
-  return std::isfinite(value) && value >= lo && value <= hi;
-}
-}  // namespace
 
-bool valid(const DriveConfig& c) {
-  return in(c.wheel_diameter_mm, 5.0f, 1000.0f) && in(c.wheelbase_mm, 10.0f, 5000.0f) &&
-         in(c.counts_per_rev, 4.0f, 1.0e6f) && in(c.c_l, 0.5f, 2.0f) && in(c.c_r, 0.5f, 2.0f) &&
-         in(c.f_lat, 0.5f, 2.0f) && in(c.f_lon, 0.5f, 2.0f) && in(c.control_hz, 50.0f, 20000.0f) &&
-         in(c.kp, 0.0f, 100.0f) && in(c.ki, 0.0f, 10000.0f) && in(c.kff, 0.0f, 10.0f) &&
-         in(c.max_wheel_radps, 0.1f, 1000.0f) && in(c.cmd_timeout_ms, 10.0f, 60000.0f) &&
-         in(c.v_max_mps, 0.001f, 10.0f) && in(c.w_max_radps, 0.01f, 50.0f) &&
-         in(c.accel_mps2, 0.01f, 50.0f) && in(c.alpha_radps2, 0.01f, 500.0f) &&
-         in(c.settle_ms, 0.0f, 10000.0f) && in(c.stall_ms, 10.0f, 60000.0f) &&
-         in(c.stall_duty, 0.0f, 1.0f) && c.wheelbase_mm > c.wheel_diameter_mm * 0.25f;
+bool field_accepts(std::size_t index, float value) {
+  if (index >= config_field_count || !std::isfinite(value)) {
+    return false;
+  }
+  const ConfigField& field = config_fields[index];
+  if (value < field.min || value > field.max) {
+    return false;
+  }
+  return !field.integer() || std::floor(value) == value;
+}
+
+ConfigCheck check(const DriveConfig& config) {
+  for (std::size_t i = 0; i < config_field_count; ++i) {
+    if (!field_accepts(i, config_fields[i].get(config))) {
+      return ConfigCheck{ConfigError::out_of_range, i};
+    }
+  }
+  if (!(config.wheelbase_mm > config.wheel_diameter_mm * 0.25f)) {
+    return ConfigCheck{ConfigError::wheelbase_short, 0u};
+  }
+  return ConfigCheck{};
+}
+
+const char* to_string(const ConfigCheck& result) {
+  switch (result.error) {
+    case ConfigError::none:
+      return "accepted";
+    case ConfigError::out_of_range:
+      return "a value is outside its range";
+    case ConfigError::wheelbase_short:
+      return "wheelbase_mm must exceed wheel_diameter_mm/4";
+  }
+  return "refused";
 }
 
 }  // namespace odocal::drive

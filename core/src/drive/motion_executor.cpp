@@ -43,6 +43,8 @@ const char* path_name(PathId id) {
       return "line";
     case PathId::unseen:
       return "unseen";
+    case PathId::drive:
+      return "drive";
     case PathId::none:
       break;
   }

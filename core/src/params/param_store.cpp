@@ -76,7 +76,7 @@ bool all_erased(const std::uint8_t* data, std::size_t size) {
 }
 
 bool decode_provenance(const std::uint8_t* p, Provenance& out) {
-  if (p[0] > static_cast<std::uint8_t>(FactorMethod::migrated)) {
+  if (p[0] > static_cast<std::uint8_t>(last_factor_method)) {
     return false;
   }
   out.method = static_cast<FactorMethod>(p[0]);

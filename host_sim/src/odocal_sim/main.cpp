@@ -65,6 +65,22 @@ bool robot_defaults(const odocal::host::RobotSpec& spec, odocal::params::ParamSe
   return true;
 }
 
+/// `measure`, the simulated tape measure (DESIGN "Trials, logs and the simulated tape measure"):
+/// the true pose of the robot in the odometry frame, plus the robot file's measurement noise.
+void measure_command(void* context, const odocal::console::Token*, std::size_t count,
+                     odocal::console::Reply& reply) {
+  if (count != 1u) {
+    reply.text("err wrong_arity usage: measure");
+    return;
+  }
+  auto& robot = *static_cast<odocal::host::SimulatedRobot*>(context);
+  const odocal::sim::WorldPose pose = robot.measure_in_odometry_frame();
+  reply.text("ok")
+      .pair("x_mm", pose.x_m * 1000.0, 3)
+      .pair("y_mm", pose.y_m * 1000.0, 3)
+      .pair("theta_deg", pose.theta_rad * 180.0 / 3.14159265358979323846, 3);
+}
+
 /// Reads scripted input from a non-blocking stream (waiting with poll) in pieces: each piece is
 /// the rest of a line up to and including its end (CR, LF or CRLF), or, while no line end has
 /// come, the bytes read so far. Pieces go to the console as they come, and its line editor takes
@@ -146,8 +162,10 @@ class Pacer {
   double base_s_ = 0.0;
 };
 
+// Scripted input waits for the motion and for its trial to close (so `# done` comes first).
 bool busy(const odocal::drive::LoopStatus& status) {
-  return status.mode == odocal::drive::Mode::path || status.mode == odocal::drive::Mode::drive;
+  return status.mode == odocal::drive::Mode::path || status.mode == odocal::drive::Mode::drive ||
+         status.trial_open;
 }
 
 }  // namespace
@@ -265,6 +283,10 @@ int main(int argc, char** argv) {
   console_options.crlf = terminal;
   console_options.banner = terminal;
   console_options.defaults = &defaults;
+  console_options.extra.name = "measure";
+  console_options.extra.usage = "measure: simulated tape measure, true pose x_mm y_mm theta_deg";
+  console_options.extra.handler = measure_command;
+  console_options.extra.context = &robot;
   console::Console console(*console_stream, robot.loop(), store, console_options);
 
   struct sigaction action {};
@@ -324,6 +346,7 @@ int main(int argc, char** argv) {
       robot.follow_control_rate();  // `set control_hz` took effect: tick at the new rate
     }
     robot.tick_once();
+    robot.follow_odometry_frame();
     pacer.wait_for(robot.simulated_s());
     if (terminal && speed == 0.0 && console.idle() && !busy(robot.loop().status())) {
       // Nothing to simulate: wait for input instead of spinning.

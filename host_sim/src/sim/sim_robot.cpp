@@ -57,6 +57,27 @@ bool set_key(const std::string& key, double value, RobotSpec& spec) {
   return true;
 }
 
+// "left_dead" -> the left wheel's channel A dead; "none" -> no fault.
+bool parse_encoder_fault(const std::string& text, RobotSpec& spec) {
+  const struct {
+    const char* name;
+    int wheel;
+    sim::ChannelFault fault;
+  } kinds[] = {{"none", -1, sim::ChannelFault::none},
+               {"left_dead", 0, sim::ChannelFault::dead},
+               {"right_dead", 1, sim::ChannelFault::dead},
+               {"left_noisy", 0, sim::ChannelFault::noisy},
+               {"right_noisy", 1, sim::ChannelFault::noisy}};
+  for (const auto& kind : kinds) {
+    if (text == kind.name) {
+      spec.encoder_fault.wheel = kind.wheel;
+      spec.encoder_fault.fault = kind.fault;
+      return true;
+    }
+  }
+  return false;
+}
+
 bool fail(std::string& error, const std::string& source, const std::string& key,
           const std::string& why) {
   error = source + ": " + key + ": " + why;
@@ -113,6 +134,22 @@ bool parse_robot(const std::string& text, const std::string& source, RobotSpec& 
   RobotSpec out = default_robot();
   for (auto it = doc.begin(); it != doc.end(); ++it) {
     const std::string& key = it.key();
+    if (key == "encoder_fault") {
+      if (!it.value().is_string() || !parse_encoder_fault(it.value().get<std::string>(), out)) {
+        return fail(error, source, key,
+                    "must be one of \"none\", \"left_dead\", \"right_dead\", \"left_noisy\", "
+                    "\"right_noisy\"");
+      }
+      continue;
+    }
+    if (key == "encoder_fault_after_s") {
+      if (!it.value().is_number() || !(it.value().get<double>() >= 0.0) ||
+          !(it.value().get<double>() <= 1.0e6)) {
+        return fail(error, source, key, "must be a number of seconds from 0 to 1000000");
+      }
+      out.encoder_fault.after_s = it.value().get<double>();
+      continue;
+    }
     RobotSpec probe;
     if (!set_key(key, 1.0, probe)) {
       return fail(error, source, key, "unknown key");
@@ -252,6 +289,8 @@ SimulatedRobot::SimulatedRobot(const RobotSpec& spec, std::uint64_t seed)
                     loop_.right_decoder()) {
   left_wiring_.attach();
   right_wiring_.attach();
+  fault_pending_ =
+      spec.encoder_fault.wheel >= 0 && spec.encoder_fault.fault != sim::ChannelFault::none;
   const double hz = static_cast<double>(spec.nominal.control_hz);
   period_ns_ = static_cast<std::uint64_t>(std::llround(1e9 / hz));
   next_tick_ns_ = 0u;
@@ -280,6 +319,11 @@ void SimulatedRobot::follow_control_rate() {
 
 void SimulatedRobot::tick_once() {
   plant_.advance_to_ns(next_tick_ns_);
+  if (fault_pending_ && simulated_s() >= spec_.encoder_fault.after_s) {
+    fault_pending_ = false;
+    (spec_.encoder_fault.wheel == 0 ? left_wiring_ : right_wiring_)
+        .set_fault(spec_.encoder_fault.fault);
+  }
   if (measure_tick_time_) {
     const auto start = std::chrono::steady_clock::now();
     loop_.tick(plant_.clock().now_us());
@@ -289,6 +333,28 @@ void SimulatedRobot::tick_once() {
     loop_.tick(plant_.clock().now_us());
   }
   next_tick_ns_ += period_ns_;
+}
+
+void SimulatedRobot::follow_odometry_frame() {
+  const std::uint32_t resets = loop_.status().pose_resets;
+  if (resets != pose_resets_) {
+    pose_resets_ = resets;
+    frame_ = plant_.pose();
+  }
+}
+
+sim::WorldPose SimulatedRobot::measure_in_odometry_frame() {
+  const sim::WorldPose world = plant_.measure();
+  const double dx = world.x_m - frame_.x_m;
+  const double dy = world.y_m - frame_.y_m;
+  const double c = std::cos(frame_.theta_rad);
+  const double s = std::sin(frame_.theta_rad);
+  sim::WorldPose local;
+  local.x_m = c * dx + s * dy;
+  local.y_m = -s * dx + c * dy;
+  local.theta_rad =
+      std::remainder(world.theta_rad - frame_.theta_rad, 2.0 * 3.14159265358979323846);
+  return local;
 }
 
 void SimulatedRobot::run_until_ns(std::uint64_t t_ns) {

@@ -1,54 +1,46 @@
 #pragma once
 /// @file
-/// The robot's serial console: line editing, parsing, and dispatch into the drive loop, the
-/// parameter table and store, and the on-robot UMBmark. Protocol: docs/console.md.
+/// The robot's serial console: byte I/O, line editing, and a command table that dispatches each
+/// line to its handler (docs/console.md). The parameters in force live in `Settings`; the
+/// on-robot calibrations in calib::UmbmarkSession and calib::LateralSession; trials in
+/// drive::TrialLog. The handlers are grouped by area in console/commands_*.cpp.
 
 #include <array>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
 
-#include "odocal/calib/umbmark.hpp"
+#include "odocal/calib/lateral_session.hpp"
+#include "odocal/calib/umbmark_session.hpp"
 #include "odocal/console/line_editor.hpp"
 #include "odocal/console/output_queue.hpp"
+#include "odocal/console/reply.hpp"
+#include "odocal/console/settings.hpp"
 #include "odocal/console/spsc_ring.hpp"
 #include "odocal/console/text.hpp"
 #include "odocal/drive/control_loop.hpp"
+#include "odocal/drive/trial.hpp"
 #include "odocal/hal/byte_stream.hpp"
 #include "odocal/params/param_store.hpp"
 #include "odocal/params/param_table.hpp"
 
 namespace odocal::console {
 
-/// Error codes of `err <code> <message>` (docs/console.md). Each has one meaning.
-enum class ErrorCode : std::uint8_t {
-  line_too_long,      ///< more than 127 bytes before the line end
-  non_ascii,          ///< a byte >= 0x80 or a control byte in the line
-  unknown_command,    ///< first word is no command
-  unknown_parameter,  ///< get/set of a name not in the table
-  wrong_arity,        ///< too few or too many words for the command
-  bad_argument,       ///< a keyword argument not among the allowed ones
-  bad_number,         ///< not a strict finite decimal number (or not whole where required)
-  out_of_range,       ///< a number outside the closed range of its parameter or argument
-  busy,               ///< refused while a path runs / while the robot moves (docs)
-  fault,              ///< the drive refuses motion until `stop` acknowledges its faults
-  rejected,           ///< the drive refused the combination of values (cross-field rule)
-  store_error,        ///< the block store failed
-  store_empty,        ///< `load` found no saved parameters
-  store_version,      ///< `load` found a record newer than this firmware
-  umbmark_full,       ///< no room for another UMBmark run in that direction
-  umbmark_failed,     ///< the UMBmark solver refused the runs (message says why)
-  not_solved,         ///< `umbmark apply` without a successful `umbmark solve`
-};
-
-/// The code as printed ("line_too_long", ...).
-[[nodiscard]] const char* error_code_name(ErrorCode code);
-
 /// Echo of typed characters.
 enum class EchoMode : std::uint8_t {
   off,        ///< scripted input (pipes, test harnesses)
   on,         ///< an interactive terminal
   automatic,  ///< off until the input looks like a terminal (backspace, or Enter sent as bare CR)
+};
+
+/// A command a target adds to the console (e.g. the simulator's `measure`). Its handler gets the
+/// words of the line (words[0] is the name) and writes one reply line into `reply` (starting with
+/// "ok" or "err <code>"); it runs in the main loop. Printable ASCII only.
+struct TargetCommand {
+  const char* name = nullptr;   ///< one word; nullptr = none
+  const char* usage = nullptr;  ///< for `help`: "measure: true pose (simulator only)"
+  void (*handler)(void* context, const Token* words, std::size_t count, Reply& reply) = nullptr;
+  void* context = nullptr;
 };
 
 /// What the target chooses.
@@ -65,6 +57,8 @@ struct ConsoleOptions {
   /// and restored by `defaults` (e.g. the simulator's robot file). nullptr, out of range or
   /// refused by the loop: the built-in defaults. Must outlive the console.
   const params::ParamSet* defaults = nullptr;
+  /// Optional: one command of the target's own.
+  TargetCommand extra{};
 };
 
 /// Counters reported by `status`.
@@ -75,7 +69,7 @@ struct ConsoleCounters {
   std::uint32_t rx_dropped = 0u;      ///< received bytes dropped because the RX ring was full
 };
 
-/// The console. Owns the parameter table in RAM (what `get` shows and the loop runs with).
+/// The console.
 ///
 /// Wiring: construct it with the console byte stream, the control loop and the parameter store;
 /// call `start()` once (loads the saved parameters into the loop); then call `poll(now_us)` from
@@ -84,13 +78,12 @@ struct ConsoleCounters {
 /// a UART RX interrupt calling `receive_from_isr()` (its stream's `read` then returns 0).
 /// `poll` never blocks: output waits in a queue and stream lines are dropped (counted) when it is
 /// full; input waits in the RX ring while a reply cannot be queued.
-/// Memory: about 2.5 KiB, all inside the object. No heap, no exceptions.
+/// Memory: a few KiB, all inside the object. No heap, no exceptions.
 class Console {
  public:
-  static constexpr std::size_t rx_capacity = 256u;  ///< RX ring (255 usable bytes)
-  static constexpr std::size_t max_reply =
-      560u;  ///< longest reply line, bytes (status + target pairs)
-  static constexpr std::size_t umbmark_capacity = 16u;  ///< runs kept per direction
+  static constexpr std::size_t rx_capacity = 256u;              ///< RX ring (255 usable bytes)
+  static constexpr std::size_t max_reply = console::max_reply;  ///< longest reply line, bytes
+  static constexpr std::size_t umbmark_capacity = calib::UmbmarkSession::capacity;
 
   Console(hal::ByteStream& stream, drive::ControlLoop& loop, params::ParamStore& store,
           const ConsoleOptions& options = ConsoleOptions{});
@@ -104,9 +97,9 @@ class Console {
   /// thread). @return false when the RX ring is full (byte dropped and counted).
   bool receive_from_isr(std::uint8_t byte);
 
-  /// Main-loop work: reads the stream, handles at most one complete line (writing its reply),
-  /// emits a due stream line, and writes queued output to the stream. Never blocks.
-  /// @param now_us monotonic microseconds (wraps modulo 2^32).
+  /// Main-loop work: reads the stream, announces a finished trial (`# done`), handles at most one
+  /// complete line (writing its reply), emits due stream lines, and writes queued output to the
+  /// stream. Never blocks. @param now_us monotonic microseconds (wraps modulo 2^32).
   void poll(std::uint32_t now_us);
 
   /// True when no received byte waits, no multi-line reply is in progress and the output queue is
@@ -114,57 +107,86 @@ class Console {
   [[nodiscard]] bool idle() const;
 
   /// The parameter values in force.
-  [[nodiscard]] const params::ParamSet& params() const { return params_; }
+  [[nodiscard]] const params::ParamSet& params() const { return settings_.values(); }
   /// True when the parameters differ from what was last saved or loaded.
-  [[nodiscard]] bool unsaved() const { return unsaved_; }
+  [[nodiscard]] bool unsaved() const { return settings_.unsaved(); }
   [[nodiscard]] ConsoleCounters counters() const;
   /// True while typed characters are echoed (option, `echo on`, or automatic detection).
   [[nodiscard]] bool echo_enabled() const { return echo_; }
 
  private:
-  class Reply;
-  enum class Listing : std::uint8_t { none, help, params };
+  /// When a command is refused because the robot moves.
+  enum class Guard : std::uint8_t { none, moving };
+  /// One row of the command table: what `help` lists and how a line is dispatched.
+  struct Command {
+    const char* name;
+    const char* usage;        ///< arguments, for the wrong_arity reply
+    const char* const* help;  ///< `help` lines ("name args: what"), nullptr-terminated
+    std::uint8_t min_words;
+    std::uint8_t max_words;
+    Guard guard;
+    void (Console::*handler)(const Token* words, std::size_t count);
+  };
+  static const Command command_table_[];
+  static const std::size_t command_count_;
+
+  enum class Listing : std::uint8_t { none, help, params, trials };
   enum class Pending : std::uint8_t { none, run, drive, stop };
 
+  // console.cpp: I/O, dispatch, listings, streams.
   void take_input();
+  void detect_terminal(std::uint8_t line_end);
   void handle_event(LineEvent event);
   void execute(const Token* words, std::size_t count);
   void continue_listing();
-  [[nodiscard]] params::ParamSet default_set() const;
-  void emit_stream(std::uint32_t now_us);
-
+  void note_trials();
+  void emit_streams(std::uint32_t now_us);
   void send(Reply& reply);
+  void send_async(Reply& line);
   void send_error(ErrorCode code, const char* message);
+  void send_usage(const Command& command);
   void send_newline();
-
-  void cmd_version(std::size_t count);
-  void cmd_status(std::size_t count);
-  void cmd_get(const Token* words, std::size_t count);
-  void cmd_set(const Token* words, std::size_t count);
-  void cmd_save(std::size_t count);
-  void cmd_load(std::size_t count);
-  void cmd_defaults(std::size_t count);
-  void cmd_provenance(std::size_t count);
-  void cmd_odom(const Token* words, std::size_t count);
-  void cmd_drive(const Token* words, std::size_t count);
-  void cmd_stop(std::size_t count);
-  void cmd_run(const Token* words, std::size_t count);
-  void cmd_umbmark(const Token* words, std::size_t count);
-  void cmd_stream(const Token* words, std::size_t count);
-  void cmd_echo(const Token* words, std::size_t count);
-
   /// Parses `token` into [lo, hi]; sends the error and returns false otherwise.
   bool number_arg(const Token& token, double lo, double hi, double& value);
-  /// Applies `candidate` to the loop; sends `rejected` and returns false when the loop refuses.
-  bool apply(const params::ParamSet& candidate);
+  /// Sends the reason a configuration was refused; @return check.ok().
+  bool config_accepted(const drive::ConfigCheck& check);
   [[nodiscard]] bool path_running(const drive::LoopStatus& status) const;
   [[nodiscard]] bool moving(const drive::LoopStatus& status) const;
   void note_pending(Pending pending);
+  void start_listing(Listing listing);
+
+  // commands_system.cpp
+  void cmd_help(const Token* words, std::size_t count);
+  void cmd_version(const Token* words, std::size_t count);
+  void cmd_status(const Token* words, std::size_t count);
+  void cmd_echo(const Token* words, std::size_t count);
+  void cmd_extra(const Token* words, std::size_t count);
+  // commands_params.cpp
+  void cmd_params(const Token* words, std::size_t count);
+  void cmd_get(const Token* words, std::size_t count);
+  void cmd_set(const Token* words, std::size_t count);
+  void cmd_save(const Token* words, std::size_t count);
+  void cmd_load(const Token* words, std::size_t count);
+  void cmd_defaults(const Token* words, std::size_t count);
+  void cmd_provenance(const Token* words, std::size_t count);
+  // commands_motion.cpp
+  void cmd_odom(const Token* words, std::size_t count);
+  void cmd_drive(const Token* words, std::size_t count);
+  void cmd_stop(const Token* words, std::size_t count);
+  void cmd_run(const Token* words, std::size_t count);
+  void cmd_stream(const Token* words, std::size_t count);
+  void cmd_trial(const Token* words, std::size_t count);
+  void cmd_trials(const Token* words, std::size_t count);
+  /// ` path=.. duration_ms=.. count_l=.. count_r=.. x_mm=.. y_mm=.. theta_deg=..`
+  static void trial_pairs(Reply& reply, const drive::TrialRecord& trial);
+  // commands_calib.cpp
+  void cmd_umbmark(const Token* words, std::size_t count);
+  void cmd_lateral(const Token* words, std::size_t count);
 
   hal::ByteStream& stream_;
   drive::ControlLoop& loop_;
-  params::ParamStore& store_;
   ConsoleOptions options_;
+  Settings settings_;
 
   SpscRing<rx_capacity> rx_;
   LineEditor editor_;
@@ -173,23 +195,21 @@ class Console {
   Listing listing_ = Listing::none;
   std::size_t listing_index_ = 0u;
 
-  params::ParamSet params_{};
-  bool unsaved_ = false;
-
   Pending pending_ = Pending::none;
   std::uint32_t pending_ticks_ = 0u;
 
-  std::array<calib::ReturnError, umbmark_capacity> cw_{};
-  std::array<calib::ReturnError, umbmark_capacity> ccw_{};
-  std::size_t cw_count_ = 0u;
-  std::size_t ccw_count_ = 0u;
-  double umbmark_side_mm_ = 4000.0;
-  calib::UmbmarkResult umbmark_result_{};
-  bool umbmark_solved_ = false;
+  calib::UmbmarkSession umbmark_;
+  calib::LateralSession lateral_;
+  drive::TrialLog trials_;
+  std::uint32_t trial_seen_ = 0u;    ///< number of the last trial announced
+  std::uint32_t lateral_used_ = 0u;  ///< number of the last trial `lateral add` took
 
-  bool streaming_ = false;
-  std::uint32_t stream_period_us_ = 0u;
-  std::uint32_t stream_next_us_ = 0u;
+  bool stream_odom_ = false;
+  bool stream_ticks_ = false;
+  std::uint32_t odom_period_us_ = 0u;
+  std::uint32_t odom_next_us_ = 0u;
+  std::uint32_t ticks_period_us_ = 0u;
+  std::uint32_t ticks_next_us_ = 0u;
   std::uint64_t clock_us_ = 0u;  ///< unwrapped time since start, µs
   std::uint32_t last_now_us_ = 0u;
   bool clock_started_ = false;

@@ -45,6 +45,10 @@ class LineEditor {
   [[nodiscard]] const char* line() const { return buffer_.data(); }
   [[nodiscard]] std::size_t length() const { return completed_length_; }
 
+  /// The line being typed (not yet ended), for redrawing it after an asynchronous line.
+  [[nodiscard]] const char* pending() const { return buffer_.data(); }
+  [[nodiscard]] std::size_t pending_length() const { return too_long_ ? 0u : length_; }
+
   /// True once the input looked like a person at a terminal: a backspace/DEL, or a line ended by
   /// a bare CR (what picocom, screen and minicom send for Enter). Used by EchoMode::automatic.
   [[nodiscard]] bool saw_terminal() const { return saw_terminal_; }

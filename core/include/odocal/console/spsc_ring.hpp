@@ -46,6 +46,17 @@ class SpscRing {
     return true;
   }
 
+  /// Copies the oldest byte into `byte` without removing it. Consumer context only.
+  /// @return false when empty.
+  bool peek(std::uint8_t& byte) const {
+    const std::size_t tail = tail_.load(std::memory_order_relaxed);
+    if (tail == head_.load(std::memory_order_acquire)) {
+      return false;
+    }
+    byte = bytes_[tail];
+    return true;
+  }
+
   /// Bytes waiting. Exact in the consumer context; a lower bound elsewhere.
   [[nodiscard]] std::size_t size() const {
     const std::size_t head = head_.load(std::memory_order_acquire);

@@ -9,6 +9,7 @@
 #include "odocal/drive/motion_executor.hpp"
 #include "odocal/drive/odometry.hpp"
 #include "odocal/drive/quadrature_decoder.hpp"
+#include "odocal/drive/trial.hpp"
 #include "odocal/drive/velocity_estimator.hpp"
 #include "odocal/drive/wheel_controller.hpp"
 #include "odocal/hal/critical_section.hpp"
@@ -22,7 +23,7 @@ enum FaultBits : std::uint8_t {
   fault_none = 0x00,
   fault_encoder_left = 0x01,  ///< illegal transitions above `max_illegal`
   fault_encoder_right = 0x02,
-  fault_stall_left = 0x04,  ///< duty above `stall_duty` with no edge for `stall_ms`
+  fault_stall_left = 0x04,  ///< duty above `stall_duty` with no net motion for `stall_ms`
   fault_stall_right = 0x08,
 };
 
@@ -47,6 +48,16 @@ struct LoopStatus {
   float right_duty = 0.0f;
   float tick_us_avg = 0.0f;  ///< from `note_tick_duration_us`, exponential average
   float tick_us_max = 0.0f;
+  bool trial_open = false;         ///< a trial runs or settles (its record is not out yet)
+  bool clipped = false;            ///< the last tick scaled the wheel set-points to max_wheel_radps
+  std::uint32_t pose_resets = 0u;  ///< odometry resets taken effect since start-up
+};
+
+/// The wheels' cumulative encoder counts since start-up at one tick (wide: never wrap).
+struct WheelCounts {
+  std::uint64_t t_us = 0u;  ///< time of that tick since the first tick, µs
+  std::int64_t left = 0;
+  std::int64_t right = 0;
 };
 
 /// One H-bridge channel: PWM magnitude and a direction line (high = forward).
@@ -72,8 +83,9 @@ class ControlLoop {
 
   // --- main-loop API (each call is atomic with respect to the tick) ---
 
-  /// Replaces the configuration; refused (false, nothing changed) when `valid()` fails.
-  [[nodiscard]] bool configure(const DriveConfig& config);
+  /// Replaces the configuration from the next tick on; refused (nothing changed) when `check()`
+  /// refuses it, and the result says why.
+  ConfigCheck configure(const DriveConfig& config);
   [[nodiscard]] DriveConfig config() const;
   /// Drives at a body twist. With `duration_ms` > 0 it stops after that long; with 0 it stops
   /// when not renewed within `cmd_timeout_ms`. Cancels a running path. Refused in a fault.
@@ -87,6 +99,11 @@ class ControlLoop {
   /// Sets the odometry pose to zero.
   void reset_pose();
   [[nodiscard]] LoopStatus status() const;
+  /// The last finished trial (number 0 before the first). A trial begins with a path or a timed
+  /// drive and closes once the robot is at rest after it (TrialRecorder).
+  [[nodiscard]] TrialRecord last_trial() const;
+  /// Cumulative counts at the last tick, for logging runs.
+  [[nodiscard]] WheelCounts wheel_counts() const;
   /// Records how long the last tick took, µs (the target measures it).
   void note_tick_duration_us(float duration_us);
 
@@ -106,6 +123,8 @@ class ControlLoop {
   struct Published {
     Odometry odometry{};
     LoopStatus status{};
+    TrialRecord trial{};
+    WheelCounts counts{};
   };
 
   void apply_config(const DriveConfig& config);
@@ -127,17 +146,22 @@ class ControlLoop {
   WheelController right_controller_;
   Odometry odometry_;
   MotionExecutor motion_;
+  TrialRecorder trial_;
   Mode mode_ = Mode::idle;
   std::uint8_t faults_ = fault_none;
   Twist drive_twist_{};
   std::uint32_t drive_ms_ = 0u;
   std::uint32_t drive_age_us_ = 0u;
   std::uint32_t last_tick_us_ = 0u;
+  std::uint64_t clock_us_ = 0u;  ///< since the first tick, unwrapped
   std::uint32_t ticks_ = 0u;
+  std::uint32_t pose_resets_ = 0u;
   std::uint32_t illegal_base_left_ = 0u;
   std::uint32_t illegal_base_right_ = 0u;
   std::uint32_t left_stall_us_ = 0u;  ///< time with a large duty and no edge
   std::uint32_t right_stall_us_ = 0u;
+  std::int64_t left_stall_start_ = 0;  ///< position where the current stall window began
+  std::int64_t right_stall_start_ = 0;
   float left_duty_ = 0.0f;
   float right_duty_ = 0.0f;
   bool started_ = false;

@@ -21,9 +21,10 @@ struct Segment {
 };
 
 /// Which ready-made path is loaded (reported by `status`).
-enum class PathId : std::uint8_t { none, umbmark_cw, umbmark_ccw, line, unseen };
+enum class PathId : std::uint8_t { none, umbmark_cw, umbmark_ccw, line, unseen, drive };
 
-/// Name of a path as the console spells it ("umbmark-cw", ...; "none").
+/// Name of a path as the console spells it ("umbmark-cw", ...; "none"; "drive" names a timed
+/// `drive` in trial records).
 [[nodiscard]] const char* path_name(PathId id);
 
 /// A fixed-capacity list of segments.

@@ -68,7 +68,10 @@ enum class FactorMethod : std::uint8_t {
   umbmark = 2,        ///< `umbmark solve` + `umbmark apply` on the robot
   umbmark_exact = 3,  ///< the same, exact square geometry (no small-angle approximation)
   migrated = 4,       ///< loaded from an older record format that kept no provenance
+  maddahi = 5,        ///< `lateral solve` + `lateral apply` on the robot (Maddahi eq. 4-5)
 };
+/// The highest method a stored record may hold (append new methods before changing it).
+inline constexpr FactorMethod last_factor_method = FactorMethod::maddahi;
 
 /// Console spelling of a method ("umbmark", ...).
 [[nodiscard]] const char* method_name(FactorMethod method);

@@ -14,10 +14,18 @@
 
 namespace odocal::host {
 
+/// An encoder that fails (robot file `encoder_fault`, `encoder_fault_after_s`).
+struct EncoderFaultSpec {
+  int wheel = -1;  ///< 0 left, 1 right, -1 none
+  sim::ChannelFault fault = sim::ChannelFault::none;
+  double after_s = 0.0;  ///< simulated time at which it starts
+};
+
 /// A robot as `--robot FILE` describes it: what the firmware is told, and what the robot is.
 struct RobotSpec {
   drive::DriveConfig nominal{};  ///< wheel_diameter_mm, wheelbase_mm, counts_per_rev (told)
   sim::RobotModel truth{};       ///< the real robot and its floor
+  EncoderFaultSpec encoder_fault{};
 };
 
 /// The default simulated robot: nominal D 60 mm, b 150 mm, 1440 counts/rev; true D_L 59.91 mm,
@@ -27,7 +35,9 @@ struct RobotSpec {
 /// Reads a flat JSON robot object (DESIGN "Host program odocal", `--robot FILE`): every key is
 /// optional and falls back to `default_robot()`. Keys: wheel_diameter_mm, wheelbase_mm,
 /// counts_per_rev, true_left_diameter_mm, true_right_diameter_mm, true_wheelbase_mm, slip_sigma,
-/// bump_height_mm, bump_spacing_mm, measure_sigma_mm.
+/// bump_height_mm, bump_spacing_mm, measure_sigma_mm, and `encoder_fault` (a string: "none",
+/// "left_dead", "right_dead", "left_noisy", "right_noisy": channel A of that wheel's encoder stuck,
+/// or glitching at every 5th B edge) with `encoder_fault_after_s` (when it starts, s).
 /// @param text the file's content; @param source its name, for messages.
 /// @param error on failure: "<source>: <key>: <why>" (or the parse position).
 /// @return false (and `spec` untouched) for malformed JSON, an unknown or repeated key, a
@@ -98,6 +108,13 @@ class SimulatedRobot {
   void measure_tick_time(bool on) { measure_tick_time_ = on; }
   /// Re-reads the firmware's control_hz (after a console `set`) and ticks at that rate.
   void follow_control_rate();
+  /// Call after each tick when the console may reset odometry: remembers the true pose at each
+  /// reset, so that `measure_in_odometry_frame` can answer in the odometry frame.
+  void follow_odometry_frame();
+  /// The simulated tape measure: the true pose plus the robot's measurement noise, in the frame
+  /// odometry had at its last reset (the world frame before any).
+  [[nodiscard]] sim::WorldPose measure_in_odometry_frame();
+
   /// Simulated time, s.
   [[nodiscard]] double simulated_s() const { return static_cast<double>(plant_.now_ns()) * 1e-9; }
 
@@ -115,6 +132,9 @@ class SimulatedRobot {
   std::uint64_t period_ns_ = 1000000u;
   bool measure_tick_time_ = false;
   std::uint64_t next_tick_ns_ = 0u;
+  bool fault_pending_ = false;
+  std::uint32_t pose_resets_ = 0u;
+  sim::WorldPose frame_{};  ///< true pose at the last odometry reset
 };
 
 }  // namespace odocal::host

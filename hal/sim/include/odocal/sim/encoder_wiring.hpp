@@ -4,11 +4,20 @@
 /// board file wires its EXTI lines: on every edge, sample both levels and the clock, and call
 /// drive::QuadratureDecoder::on_edge. Used by the host simulator and the QEMU image.
 
+#include <cstdint>
+
 #include "odocal/drive/quadrature_decoder.hpp"
 #include "odocal/hal/digital_input.hpp"
 #include "odocal/hal/monotonic_clock.hpp"
 
 namespace odocal::sim {
+
+/// A fault of an encoder's channel A, for exercising the firmware's fault path.
+enum class ChannelFault : std::uint8_t {
+  none,
+  dead,   ///< channel A stuck at its level: no A edges reach the decoder
+  noisy,  ///< every 5th B edge arrives with a glitch on A (both channels change at once)
+};
 
 /// One wheel's edge path: lines A and B -> decoder. Must outlive the registration.
 class EncoderWiring {
@@ -23,9 +32,18 @@ class EncoderWiring {
   /// Presets the decoder to the current levels and registers the edge handler on both lines.
   /// Start-up only (not ISR-safe).
   void attach() {
-    decoder_.reset(a_.read(), b_.read());
+    a_seen_ = a_.read();
+    b_seen_ = b_.read();
+    decoder_.reset(a_seen_, b_seen_);
     a_.on_edge(&EncoderWiring::on_edge, this);
     b_.on_edge(&EncoderWiring::on_edge, this);
+  }
+
+  /// From now on, channel A behaves as `fault` says. Not ISR-safe (call between edges).
+  void set_fault(ChannelFault fault) {
+    fault_ = fault;
+    stuck_a_ = a_.read();
+    edges_ = 0u;
   }
 
   /// Unregisters the handler from both lines.
@@ -38,13 +56,32 @@ class EncoderWiring {
   /// Edge context: latch the levels and the time into the decoder, nothing else.
   static void on_edge(void* context) {
     auto* self = static_cast<EncoderWiring*>(context);
-    self->decoder_.on_edge(self->a_.read(), self->b_.read(), self->clock_.now_us());
+    bool a = self->a_.read();
+    const bool b = self->b_.read();
+    if (self->fault_ == ChannelFault::dead) {
+      if (a != self->a_seen_) {  // an A edge: the dead channel shows none
+        self->a_seen_ = a;
+        return;
+      }
+      a = self->stuck_a_;
+    } else if (self->fault_ == ChannelFault::noisy && b != self->b_seen_ &&
+               ++self->edges_ % 5u == 0u) {
+      a = !a;  // a glitch on A at a B edge: the decoder sees both change at once
+    }
+    self->a_seen_ = self->a_.read();
+    self->b_seen_ = b;
+    self->decoder_.on_edge(a, b, self->clock_.now_us());
   }
 
   hal::DigitalInput& a_;
   hal::DigitalInput& b_;
   hal::MonotonicClock& clock_;
   drive::QuadratureDecoder& decoder_;
+  ChannelFault fault_ = ChannelFault::none;
+  bool stuck_a_ = false;
+  bool a_seen_ = false;
+  bool b_seen_ = false;
+  std::uint32_t edges_ = 0u;
 };
 
 }  // namespace odocal::sim

@@ -1,0 +1,85 @@
+#pragma once
+/// @file
+/// One console output line under construction, in fixed storage, and the error codes of
+/// `err <code> <message>` replies (docs/console.md).
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+
+#include "odocal/console/text.hpp"
+
+namespace odocal::console {
+
+/// Error codes of `err <code> <message>` (docs/console.md). Each has one meaning.
+enum class ErrorCode : std::uint8_t {
+  line_too_long,      ///< more than 127 bytes before the line end
+  non_ascii,          ///< a byte >= 0x80 or a control byte in the line
+  unknown_command,    ///< first word is no command
+  unknown_parameter,  ///< get/set of a name not in the table
+  wrong_arity,        ///< too few or too many words for the command
+  bad_argument,       ///< a keyword argument not among the allowed ones
+  bad_number,         ///< not a strict finite decimal number (or not whole where required)
+  out_of_range,       ///< a number outside the closed range of its parameter or argument
+  busy,               ///< refused while a path runs / while the robot moves (docs)
+  fault,              ///< the drive refuses motion until `stop` acknowledges its faults
+  rejected,           ///< the drive refused the combination of values (cross-field rule)
+  store_error,        ///< the block store failed
+  store_empty,        ///< `load` found no saved parameters
+  store_version,      ///< `load` found a record newer than this firmware
+  umbmark_full,       ///< no room for another UMBmark run in that direction
+  umbmark_failed,     ///< the UMBmark solver refused the runs (message says why)
+  not_solved,         ///< `umbmark apply` / `lateral apply` without a successful solve
+  no_trial,           ///< no such trial is kept (or the last one does not fit the command)
+  lateral_full,       ///< no room for another lateral trial
+  lateral_failed,     ///< the lateral solver refused the trials (message says why)
+};
+
+/// The code as printed ("line_too_long", ...).
+[[nodiscard]] const char* error_code_name(ErrorCode code);
+
+/// Longest output line, bytes (status with a target's own pairs).
+inline constexpr std::size_t max_reply = 560u;
+
+/// One output line: text and ` key=value` pairs appended in order; whatever does not fit in
+/// `max_reply` bytes is cut off. No heap.
+class Reply {
+ public:
+  Reply& text(const char* s) { return bytes(s, std::strlen(s)); }
+  Reply& bytes(const char* s, std::size_t n);
+  /// " k=" (the value follows).
+  Reply& key(const char* k) { return text(" ").text(k).text("="); }
+  Reply& number(double value, int decimals);
+  Reply& number(float value, int decimals) { return number(static_cast<double>(value), decimals); }
+  Reply& pair(const char* k, double value, int decimals) { return key(k).number(value, decimals); }
+  Reply& pair(const char* k, float value, int decimals) {
+    return pair(k, static_cast<double>(value), decimals);
+  }
+  Reply& pair_u(const char* k, std::uint64_t value);
+  Reply& pair_i(const char* k, std::int64_t value);
+  Reply& pair_s(const char* k, const char* value) { return key(k).text(value); }
+  /// Lets `fill(out, capacity)` write into the free space; keeps the printable ASCII prefix.
+  template <typename Fill>
+  Reply& append_with(Fill fill) {
+    char* out = buffer_.data() + length_;
+    std::size_t n = fill(out, max_reply - length_);
+    if (n > max_reply - length_) {
+      n = max_reply - length_;
+    }
+    std::size_t printable = 0u;
+    while (printable < n && out[printable] >= 0x20 && out[printable] < 0x7f) {
+      ++printable;
+    }
+    length_ += printable;
+    return *this;
+  }
+  [[nodiscard]] const char* data() const { return buffer_.data(); }
+  [[nodiscard]] std::size_t size() const { return length_; }
+
+ private:
+  std::array<char, max_reply> buffer_{};
+  std::size_t length_ = 0u;
+};
+
+}  // namespace odocal::console

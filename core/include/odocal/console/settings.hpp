@@ -1,0 +1,68 @@
+#pragma once
+/// @file
+/// The parameters in force: the one owner of the parameter set the robot runs with, whether it
+/// differs from what was saved, and the ways to change it (set, load, save, defaults, factors from
+/// a calibration). Every change goes through the control loop's check first, so a refused change
+/// leaves the set, the loop and the store as they were. Main-loop only; no heap.
+
+#include "odocal/drive/control_loop.hpp"
+#include "odocal/params/param_store.hpp"
+#include "odocal/params/param_table.hpp"
+
+namespace odocal::console {
+
+class Settings {
+ public:
+  /// @param target_defaults this robot build's own defaults (e.g. the simulator's robot file), or
+  /// nullptr for the built-in ones; ignored when out of range or refused by the drive. Must
+  /// outlive the settings.
+  Settings(drive::ControlLoop& loop, params::ParamStore& store,
+           const params::ParamSet* target_defaults);
+
+  /// What `start` did.
+  struct Start {
+    params::StoreResult store = params::StoreResult::empty;  ///< what the store said
+    bool used = false;         ///< the saved set is in force (else the defaults)
+    params::StoreInfo info{};  ///< where the saved set came from (when used)
+  };
+  /// Loads the saved set, or the defaults when there is none or the drive refuses it, and
+  /// configures the loop with it. Nothing is unsaved afterwards.
+  Start start();
+
+  /// The values in force.
+  [[nodiscard]] const params::ParamSet& values() const { return values_; }
+  [[nodiscard]] float get(params::ParamId id) const { return values_.get(id); }
+  /// True when the values differ from what was last saved or loaded.
+  [[nodiscard]] bool unsaved() const { return unsaved_; }
+  /// The defaults `defaults` restores: the target's own when usable, else the built-in ones.
+  [[nodiscard]] const params::ParamSet& defaults() const { return defaults_; }
+
+  /// Puts `candidate` in force (unsaved) when the drive accepts it.
+  drive::ConfigCheck apply(const params::ParamSet& candidate);
+  /// One parameter, typed by hand: a calibration factor's provenance becomes `manual`.
+  /// `value` must be in range (params::in_range).
+  drive::ConfigCheck set(params::ParamId id, float value);
+  /// Restores `defaults()` (unsaved).
+  drive::ConfigCheck restore_defaults() { return apply(defaults_); }
+
+  /// Saves the values in force. @return the store's answer; on `ok` nothing is unsaved.
+  params::StoreResult save(params::StoreInfo& info);
+
+  /// What `load` did: the store's answer and, when it had a set, whether the drive took it.
+  struct Load {
+    params::StoreResult store = params::StoreResult::empty;
+    drive::ConfigCheck check{};
+    params::StoreInfo info{};
+  };
+  /// Reloads the saved set; on success it is in force and nothing is unsaved.
+  Load load();
+
+ private:
+  drive::ControlLoop& loop_;
+  params::ParamStore& store_;
+  params::ParamSet defaults_;
+  params::ParamSet values_;
+  bool unsaved_ = false;
+};
+
+}  // namespace odocal::console

@@ -1,0 +1,229 @@
+// Console commands that move the robot or watch it move: odom, drive, stop, run, stream, trial,
+// trials.
+
+#include <cmath>
+
+#include "odocal/console/console.hpp"
+#include "odocal/drive/diff_drive_kinematics.hpp"
+#include "odocal/drive/motion_executor.hpp"
+
+namespace odocal::console {
+namespace {
+
+constexpr int kPoseDecimals = 3;
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+
+Reply& pose_pairs(Reply& reply, const drive::Pose& pose) {
+  return reply.pair("x_mm", static_cast<double>(pose.x_m) * 1000.0, kPoseDecimals)
+      .pair("y_mm", static_cast<double>(pose.y_m) * 1000.0, kPoseDecimals)
+      .pair("theta_deg", static_cast<double>(pose.theta_rad) * kRadToDeg, kPoseDecimals);
+}
+
+}  // namespace
+
+void Console::cmd_odom(const Token* words, std::size_t count) {
+  if (count == 2u) {
+    if (!words[1].is("reset")) {
+      send_error(ErrorCode::bad_argument, "usage: odom [reset]");
+      return;
+    }
+    if (path_running(loop_.status())) {
+      // The path's segments end on odometry: zeroing it mid-path would stretch the segment.
+      send_error(ErrorCode::busy, "a path is running; stop first");
+      return;
+    }
+    loop_.reset_pose();
+  }
+  Reply reply;
+  reply.text("ok");
+  pose_pairs(reply, loop_.pose());
+  send(reply);
+}
+
+void Console::cmd_drive(const Token* words, std::size_t count) {
+  double v = 0.0;
+  double w = 0.0;
+  if (!number_arg(words[1], -5.0, 5.0, v) || !number_arg(words[2], -50.0, 50.0, w)) {
+    return;
+  }
+  std::uint32_t ms = 0u;
+  if (count == 4u) {
+    double parsed = 0.0;
+    if (!number_arg(words[3], 0.0, 600000.0, parsed)) {
+      return;
+    }
+    if (std::floor(parsed) != parsed) {
+      send_error(ErrorCode::bad_number, "ms must be a whole number");
+      return;
+    }
+    ms = static_cast<std::uint32_t>(parsed);
+  }
+  drive::Twist twist;
+  twist.v_mps = static_cast<float>(v);
+  twist.w_radps = static_cast<float>(w);
+  if (!loop_.drive(twist, ms)) {
+    send_error(ErrorCode::fault, "drive faulted; stop acknowledges");
+    return;
+  }
+  note_pending(Pending::drive);
+  Reply reply;
+  reply.text("ok")
+      .pair("v_mps", v, kPoseDecimals)
+      .pair("w_radps", w, kPoseDecimals)
+      .pair_u("ms", ms);
+  // The loop scales both wheel set-points down to max_wheel_radps, keeping the curvature: say so,
+  // with the twist that will really be driven.
+  const drive::DriveConfig config = params::to_drive_config(settings_.values());
+  const drive::DiffDriveKinematics kinematics(config);
+  const drive::WheelRates rates = kinematics.inverse(twist);
+  const float peak = std::fmax(std::fabs(rates.left_radps), std::fabs(rates.right_radps));
+  if (peak > config.max_wheel_radps) {
+    const double scale = static_cast<double>(config.max_wheel_radps / peak);
+    reply.pair_u("clipped", 1u)
+        .pair("v_clipped_mps", v * scale, kPoseDecimals)
+        .pair("w_clipped_radps", w * scale, kPoseDecimals);
+  }
+  send(reply);
+}
+
+void Console::cmd_stop(const Token*, std::size_t) {
+  loop_.stop();
+  note_pending(Pending::stop);
+  Reply reply;
+  reply.text("ok").pair_s("mode", "idle");
+  send(reply);
+}
+
+void Console::cmd_run(const Token* words, std::size_t count) {
+  const Token& name = words[1];
+  const bool square = name.is("umbmark-cw") || name.is("umbmark-ccw");
+  const bool line = name.is("line");
+  const bool unseen = name.is("unseen");
+  if (!square && !line && !unseen) {
+    send_error(ErrorCode::bad_argument, "unknown path (umbmark-cw umbmark-ccw line unseen)");
+    return;
+  }
+  if (count != (unseen ? 2u : 3u)) {
+    send_error(ErrorCode::wrong_arity, unseen ? "usage: run unseen" : "usage: run <path> <m>");
+    return;
+  }
+  double length_m = 0.0;
+  if (!unseen && !number_arg(words[2], 0.01, 20.0, length_m)) {
+    return;
+  }
+  if (path_running(loop_.status())) {
+    send_error(ErrorCode::busy, "a path is running; stop first");
+    return;
+  }
+  drive::Path path;
+  if (square) {
+    path = drive::make_umbmark_square(name.is("umbmark-cw"), static_cast<float>(length_m));
+  } else if (line) {
+    path = drive::make_line(static_cast<float>(length_m));
+  } else {
+    path = drive::make_unseen_path();
+  }
+  if (!loop_.run(path)) {
+    send_error(ErrorCode::fault, "drive faulted; stop acknowledges");
+    return;
+  }
+  note_pending(Pending::run);
+  if (square) {
+    umbmark_.note_driven_side_mm(length_m * 1000.0);
+  }
+  Reply reply;
+  reply.text("ok").pair_s("path", drive::path_name(path.id)).pair_u("segments", path.count);
+  if (!unseen) {
+    reply.pair("length_m", length_m, kPoseDecimals);
+  }
+  send(reply);
+}
+
+void Console::cmd_stream(const Token* words, std::size_t count) {
+  const bool odom = words[1].is("odom");
+  const bool ticks = words[1].is("ticks");
+  if (!odom && !ticks && !words[1].is("off")) {
+    send_error(ErrorCode::bad_argument, "usage: stream odom <hz> | stream ticks <hz> | stream off");
+    return;
+  }
+  if (count != (odom || ticks ? 3u : 2u)) {
+    send_error(ErrorCode::wrong_arity, "usage: stream odom <hz> | stream ticks <hz> | stream off");
+    return;
+  }
+  Reply reply;
+  if (!odom && !ticks) {
+    stream_odom_ = false;
+    stream_ticks_ = false;
+    reply.text("ok").pair_s("stream", "off");
+    send(reply);
+    return;
+  }
+  // Tick logs want the control rate's detail; odometry is for watching.
+  double hz = 0.0;
+  if (!number_arg(words[2], 0.1, ticks ? 1000.0 : 100.0, hz)) {
+    return;
+  }
+  const auto period_us = static_cast<std::uint32_t>(1.0e6 / hz + 0.5);
+  if (odom) {
+    stream_odom_ = true;
+    odom_period_us_ = period_us;
+    odom_next_us_ = last_now_us_ + period_us;
+  } else {
+    stream_ticks_ = true;
+    ticks_period_us_ = period_us;
+    ticks_next_us_ = last_now_us_ + period_us;
+  }
+  reply.text("ok").pair_s("stream", odom ? "odom" : "ticks").pair("hz", hz, kPoseDecimals);
+  send(reply);
+}
+
+void Console::cmd_trial(const Token* words, std::size_t count) {
+  const drive::TrialRecord* trial = nullptr;
+  if (count == 2u) {
+    std::uint32_t number = 0u;
+    if (!parse_unsigned(words[1], number)) {
+      send_error(ErrorCode::bad_number, "trial number is a whole number");
+      return;
+    }
+    trial = trials_.find(number);
+    if (trial == nullptr) {
+      send_error(ErrorCode::no_trial, "no such trial kept (see trials)");
+      return;
+    }
+  } else {
+    trial = trials_.latest();
+    if (trial == nullptr) {
+      send_error(ErrorCode::no_trial, "no trial yet (run a path or a timed drive)");
+      return;
+    }
+  }
+  Reply reply;
+  reply.text("ok").pair_u("trial", trial->number);
+  trial_pairs(reply, *trial);
+  send(reply);
+}
+
+void Console::trial_pairs(Reply& reply, const drive::TrialRecord& trial) {
+  reply.pair_s("path", drive::path_name(trial.path))
+      .pair_u("duration_ms", trial.duration_ms)
+      .pair_i("count_l", trial.count_l)
+      .pair_i("count_r", trial.count_r);
+  pose_pairs(reply, trial.end);
+}
+
+void Console::cmd_trials(const Token* words, std::size_t count) {
+  if (count == 2u) {
+    if (!words[1].is("clear")) {
+      send_error(ErrorCode::bad_argument, "usage: trials [clear]");
+      return;
+    }
+    trials_.clear();
+    Reply reply;
+    reply.text("ok").pair_u("trials", 0u);
+    send(reply);
+    return;
+  }
+  start_listing(Listing::trials);
+}
+
+}  // namespace odocal::console

@@ -1,0 +1,146 @@
+// Console commands on the parameters: params, get, set, save, load, defaults, provenance.
+
+#include <cmath>
+
+#include "odocal/console/console.hpp"
+
+namespace odocal::console {
+namespace {
+
+constexpr int kParamDecimals = 6;
+
+// A range bound as `params` prints it (6 decimals): what a user reads and types. The table holds
+// the nearest float (0.001f is a little above 0.001), so the check is made on the printed value
+// and the stored float is kept inside the table's range.
+double documented(float bound) {
+  return std::round(static_cast<double>(bound) * 1e6) / 1e6;
+}
+
+}  // namespace
+
+void Console::cmd_params(const Token*, std::size_t) {
+  start_listing(Listing::params);
+}
+
+void Console::cmd_get(const Token* words, std::size_t) {
+  params::ParamId id{};
+  if (!params::find_param(words[1].text, words[1].length, id)) {
+    send_error(ErrorCode::unknown_parameter, "no such parameter (see params)");
+    return;
+  }
+  Reply reply;
+  reply.text("ok").pair(params::param_info(id).name, settings_.get(id), kParamDecimals);
+  send(reply);
+}
+
+void Console::cmd_set(const Token* words, std::size_t) {
+  params::ParamId id{};
+  if (!params::find_param(words[1].text, words[1].length, id)) {
+    send_error(ErrorCode::unknown_parameter, "no such parameter (see params)");
+    return;
+  }
+  const params::ParamInfo& info = params::param_info(id);
+  double parsed = 0.0;
+  if (!parse_number(words[2], parsed)) {
+    send_error(ErrorCode::bad_number, "not a finite decimal number");
+    return;
+  }
+  if (!(parsed >= documented(info.min) && parsed <= documented(info.max))) {
+    Reply reply;
+    reply.text("err ").text(error_code_name(ErrorCode::out_of_range)).text(" allowed");
+    reply.pair("min", documented(info.min), kParamDecimals)
+        .pair("max", documented(info.max), kParamDecimals);
+    ++errors_;
+    send(reply);
+    return;
+  }
+  if (info.integer && std::floor(parsed) != parsed) {
+    send_error(ErrorCode::bad_number, "a whole number is required");
+    return;
+  }
+  auto stored = static_cast<float>(parsed);
+  stored = stored < info.min ? info.min : (stored > info.max ? info.max : stored);
+  if (path_running(loop_.status())) {
+    send_error(ErrorCode::busy, "a path is running; stop first");
+    return;
+  }
+  if (!config_accepted(settings_.set(id, stored))) {
+    return;
+  }
+  Reply reply;
+  reply.text("ok").pair(info.name, stored, kParamDecimals);
+  send(reply);
+}
+
+void Console::cmd_save(const Token*, std::size_t) {
+  params::StoreInfo info;
+  const params::StoreResult result = settings_.save(info);
+  if (result != params::StoreResult::ok) {
+    send_error(ErrorCode::store_error, params::to_string(result));
+    return;
+  }
+  Reply reply;
+  reply.text("ok")
+      .pair_u("sequence", info.record.sequence)
+      .pair_u("sector", info.sector)
+      .pair_u("slot", info.slot);
+  send(reply);
+}
+
+void Console::cmd_load(const Token*, std::size_t) {
+  const Settings::Load load = settings_.load();
+  if (load.store == params::StoreResult::empty) {
+    send_error(ErrorCode::store_empty, params::to_string(load.store));
+    return;
+  }
+  if (load.store == params::StoreResult::newer_version) {
+    Reply reply;
+    reply.text("err ").text(error_code_name(ErrorCode::store_version));
+    reply.text(" record format ");
+    char digits[8];
+    reply.bytes(digits, format_unsigned(load.info.record.version, digits, sizeof digits));
+    reply.text(" is newer than this firmware's ");
+    reply.bytes(digits, format_unsigned(params::record_format_version, digits, sizeof digits));
+    ++errors_;
+    send(reply);
+    return;
+  }
+  if (load.store != params::StoreResult::ok) {
+    send_error(ErrorCode::store_error, params::to_string(load.store));
+    return;
+  }
+  if (!config_accepted(load.check)) {
+    return;
+  }
+  Reply reply;
+  reply.text("ok")
+      .pair_u("sequence", load.info.record.sequence)
+      .pair_u("version", load.info.record.version)
+      .pair_u("migrated", load.info.record.migrated ? 1u : 0u);
+  send(reply);
+}
+
+void Console::cmd_defaults(const Token*, std::size_t) {
+  if (!config_accepted(settings_.restore_defaults())) {
+    return;
+  }
+  Reply reply;
+  reply.text("ok").pair_u("params", params::param_count).pair_u("unsaved", 1u);
+  send(reply);
+}
+
+void Console::cmd_provenance(const Token*, std::size_t) {
+  const params::ParamSet& values = settings_.values();
+  Reply reply;
+  reply.text("ok")
+      .pair_s("wheel_method", params::method_name(values.wheel.method))
+      .pair_u("wheel_runs", values.wheel.runs)
+      .pair_u("wheel_date", values.wheel.date_unix_s)
+      .pair("wheel_e_max_syst_mm", values.wheel.quality_mm, 3)
+      .pair_s("lateral_method", params::method_name(values.lateral.method))
+      .pair_u("lateral_runs", values.lateral.runs)
+      .pair_u("lateral_date", values.lateral.date_unix_s);
+  send(reply);
+}
+
+}  // namespace odocal::console

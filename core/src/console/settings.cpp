@@ -1,0 +1,90 @@
+#include "odocal/console/settings.hpp"
+
+namespace odocal::console {
+namespace {
+
+bool usable(const params::ParamSet& set) {
+  return params::all_in_range(set) && drive::valid(params::to_drive_config(set));
+}
+
+bool is_wheel_factor(params::ParamId id) {
+  return id == params::ParamId::c_l || id == params::ParamId::c_r ||
+         id == params::ParamId::wheelbase_mm;
+}
+
+bool is_lateral_factor(params::ParamId id) {
+  return id == params::ParamId::f_lat || id == params::ParamId::f_lon;
+}
+
+}  // namespace
+
+Settings::Settings(drive::ControlLoop& loop, params::ParamStore& store,
+                   const params::ParamSet* target_defaults)
+    : loop_(loop),
+      store_(store),
+      defaults_(target_defaults != nullptr && usable(*target_defaults) ? *target_defaults
+                                                                       : params::default_params()),
+      values_(defaults_) {}
+
+Settings::Start Settings::start() {
+  Start start;
+  params::ParamSet loaded;
+  start.store = store_.load(loaded, start.info);
+  if (start.store == params::StoreResult::ok &&
+      loop_.configure(params::to_drive_config(loaded)).ok()) {
+    values_ = loaded;
+    start.used = true;
+  } else {
+    values_ = defaults_;
+    (void)loop_.configure(params::to_drive_config(values_));
+  }
+  unsaved_ = false;
+  return start;
+}
+
+drive::ConfigCheck Settings::apply(const params::ParamSet& candidate) {
+  const drive::ConfigCheck check = loop_.configure(params::to_drive_config(candidate));
+  if (check.ok()) {
+    values_ = candidate;
+    unsaved_ = true;
+  }
+  return check;
+}
+
+drive::ConfigCheck Settings::set(params::ParamId id, float value) {
+  params::ParamSet candidate = values_;
+  candidate.set(id, value);
+  if (is_wheel_factor(id)) {
+    candidate.wheel = params::Provenance{};
+    candidate.wheel.method = params::FactorMethod::manual;
+  } else if (is_lateral_factor(id)) {
+    candidate.lateral = params::Provenance{};
+    candidate.lateral.method = params::FactorMethod::manual;
+  }
+  return apply(candidate);
+}
+
+params::StoreResult Settings::save(params::StoreInfo& info) {
+  const params::StoreResult result = store_.save(values_, info);
+  if (result == params::StoreResult::ok) {
+    unsaved_ = false;
+  }
+  return result;
+}
+
+Settings::Load Settings::load() {
+  Load load;
+  params::ParamSet loaded;
+  load.store = store_.load(loaded, load.info);
+  if (load.store != params::StoreResult::ok) {
+    return load;
+  }
+  load.check = loop_.configure(params::to_drive_config(loaded));
+  if (load.check.ok()) {
+    values_ = loaded;
+    unsaved_ = false;
+  }
+  return load;
+}
+
+}  // namespace odocal::console

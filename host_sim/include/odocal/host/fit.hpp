@@ -116,11 +116,13 @@ struct FitResult {
   double c_r = 1.0;  ///< D_R / D
   double e_d = 1.0;  ///< D_R / D_L
   double e_b = 1.0;  ///< b fitted / b nominal
-  /// Percentile bootstrap intervals over runs (absent when B = 0).
+  /// Percentile bootstrap intervals over runs, widened by `widen` about the estimate (absent when
+  /// B = 0).
   std::optional<FitInterval> ci_left_mm, ci_right_mm, ci_wheelbase_mm, ci_c_l, ci_c_r;
   std::size_t bootstrap_units = 0;  ///< runs (or pieces of runs) resampled
   std::uint32_t replicates = 0;     ///< B
   std::uint32_t redrawn = 0;        ///< resamples drawn again because they determined nothing
+  double widen = 1.0;  ///< each interval end's distance from the estimate × sqrt(n/(n − 3))
   double level = 0.95;
   std::uint64_t seed = 0;
   double heading_length_mm = 0.0;

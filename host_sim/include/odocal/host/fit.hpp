@@ -47,8 +47,8 @@ struct TickLog {
 /// "not measured at this row"; x_mm and y_mm are given together or not at all.
 /// Throws InputError ("FILE:LINE: field 'NAME': why") for: no file, missing or unknown header
 /// columns, wrong field count, a field that is not a plain finite number, absurd magnitudes,
-/// time not strictly increasing, fewer than 2 rows, no ground truth after the first row, a first
-/// row with x/y but no heading (the start pose needs all three).
+/// time going backwards (equal times are accepted), fewer than 2 rows, no ground truth after the
+/// first row, a first row with x/y but no heading (the start pose needs all three).
 [[nodiscard]] TickLog read_tick_log(const std::string& path);
 
 /// Checks a log built in memory by the same rules as read_tick_log; throws InputError.

@@ -469,3 +469,43 @@ TEST(Session, VerifyAfterUmbmarkShowsTheImprovementAndKeepsTheFactors) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Session, FitFromLoggedRunsRecoversTheTrueGeometry) {
+  const std::string robot = write("robot.json", robot_json);
+  const std::string out = temp("fit_out");
+  std::system(("rm -rf " + out).c_str());
+  const json doc = parse(session("--sim " + robot + " --procedure fit --json --out " + out));
+  ASSERT_TRUE(doc.is_object());
+  const json& r = doc["result"];
+  ASSERT_EQ(doc["runs"].size(), 6u);
+  EXPECT_EQ(doc["runs"][1]["path"], "drive");
+  // The truth lies inside the fit's own 95 % intervals...
+  const std::pair<const char*, double> truth[] = {{"wheel_diameter_left_mm", true_left_mm},
+                                                  {"wheel_diameter_right_mm", true_right_mm},
+                                                  {"wheelbase_mm", true_wheelbase_mm}};
+  for (const auto& [key, value] : truth) {
+    EXPECT_LE(r["ci"][key][0].get<double>(), value) << key;
+    EXPECT_GE(r["ci"][key][1].get<double>(), value) << key;
+    // ...and close in absolute terms: 2 mm end points over ~1.5 m of travel are ~0.13 % of the
+    // scale (0.08 mm of diameter) per run; 6 runs, 5σ: 0.2 mm; the wheelbase from ~140° arcs of
+    // 0.3 m radius: 2 mm over a 0.7 m arc is 0.3 % (0.45 mm) per arc, 4 arcs, 5σ: 1.1 mm.
+    EXPECT_NEAR(r[key].get<double>(), value, std::string(key) == "wheelbase_mm" ? 1.1 : 0.2) << key;
+  }
+  EXPECT_NEAR(doc["factors"]["c_l"].get<double>(), r["c_l"].get<double>(), 1e-6);
+  EXPECT_NEAR(doc["factors"]["wheelbase_mm"].get<double>(), r["wheelbase_mm"].get<double>(), 1e-3);
+  // The tick logs are what `odocal fit` reads, and it agrees.
+  std::string logs;
+  for (int i = 1; i <= 6; ++i) {
+    logs += " " + out + "/fit_run_0" + std::to_string(i) + ".csv";
+  }
+  const Result again = shell(bin("odocal") + " fit --log" + logs +
+                             " --wheel-diameter-mm 60 --wheelbase-mm 150 --counts-per-rev 1440 "
+                             "--json");
+  ASSERT_EQ(again.status, 0) << again.err;
+  EXPECT_NEAR(json::parse(again.out)["wheelbase_mm"].get<double>(), r["wheelbase_mm"].get<double>(),
+              1e-6);
+}
+
+}  // namespace

@@ -509,3 +509,36 @@ TEST(Session, FitFromLoggedRunsRecoversTheTrueGeometry) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Session, AtATerminalItAsksBeforeSavingAndSavesOnYes) {
+  // The person's terminal is a pty too: odocal's stdin is its slave, the test types on the master.
+  const std::string robot = write("robot.json", robot_json);
+  const std::string store = temp("confirm.store");
+  std::remove(store.c_str());
+  SimOnPty sim(robot, store);
+  ASSERT_FALSE(sim.path().empty());
+  const int master = ::posix_openpt(O_RDWR | O_NOCTTY);
+  ASSERT_GE(master, 0);
+  ASSERT_EQ(::grantpt(master), 0);
+  ASSERT_EQ(::unlockpt(master), 0);
+  const std::string slave = ::ptsname(master);
+  const std::string typed = "-40 -45\n41 44\n-5 8\n6 -9\nmaybe\ny\n";
+  ASSERT_EQ(::write(master, typed.data(), typed.size()), static_cast<ssize_t>(typed.size()));
+  const std::string out = temp("confirm_out");
+  std::system(("rm -rf " + out).c_str());
+  const Result r = session("--port " + sim.path() +
+                               " --procedure umbmark --side-m 1 --runs 2 "
+                               "--json --out " +
+                               out,
+                           slave);
+  ::close(master);
+  const json doc = parse(r);
+  EXPECT_NE(r.err.find("Save these factors on the robot? [y/n]"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("Please answer y or n (got 'maybe')"), std::string::npos) << r.err;
+  EXPECT_TRUE(doc["saved"].get<bool>());
+  EXPECT_NEAR(stored(robot, store, "c_l"), doc["factors"]["c_l"].get<double>(), 1e-6);
+}
+
+}  // namespace

@@ -542,3 +542,32 @@ TEST(Session, AtATerminalItAsksBeforeSavingAndSavesOnYes) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Session, LateralSaysSoWhenItsDesignIsDegenerate) {
+  // Every stop point typed as the start itself: the trials' body velocities are all zero, so
+  // eq. 10 has nothing to fit and eq. 4-5 has no chord; nothing may be applied.
+  const std::string robot = write("robot.json", robot_json);
+  SimOnPty sim(robot, temp("degenerate.store"));
+  ASSERT_FALSE(sim.path().empty());
+  std::string csv = "x_mm,y_mm,theta_deg\n";
+  for (int i = 0; i < 6; ++i) {
+    csv += "0,0,0\n";
+  }
+  const std::string out = temp("degenerate_out");
+  std::system(("rm -rf " + out).c_str());
+  const Result r = session("--port " + sim.path() +
+                           " --procedure lateral --runs 2 --json "
+                           "--out " +
+                           out + " --measurements " + write("zeros.csv", csv));
+  const json doc = parse(r);
+  ASSERT_TRUE(doc.is_object());
+  EXPECT_TRUE(doc["result"]["degenerate"].get<bool>());
+  EXPECT_NE(r.err.find("design is degenerate"), std::string::npos) << r.err;
+  EXPECT_FALSE(doc["applied"].get<bool>());
+  EXPECT_EQ(doc["factors"]["f_lat"].get<double>(), 1.0);
+  EXPECT_EQ(doc["factors"]["f_lon"].get<double>(), 1.0);
+}
+
+}  // namespace

@@ -184,8 +184,10 @@ void register_session_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--procedure", flags->procedure, "umbmark, lateral, fit or verify")
       ->required()
       ->check(CLI::IsMember({"umbmark", "lateral", "fit", "verify"}));
-  cmd->add_option("--side-m", flags->side_m,
-                  "UMBmark square side (default 4) or lateral line length (default 1), metres")
+  cmd->add_option(
+         "--side-m", flags->side_m,
+         "UMBmark square side (default 4), lateral line length (1) or fit line length (1.5), "
+         "metres")
       ->check(real_in(0.1, 20.0, "m"));
   cmd->add_option("--runs", flags->runs,
                   "runs per direction (umbmark, default 5), straight trials (lateral, 10), runs "

@@ -323,9 +323,20 @@ SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
                           const SessionOptions& options) {
   std::ostream& log = options.log != nullptr ? *options.log : std::cerr;
   session::Context context(robot, measurements, options, log);
-  // Start from a quiet, idle console: no echo, no streams, no motion from before.
+  // Start from a quiet, idle console: no echo, no streams, no motion from before. A board that
+  // resets when its port opens (USB serial) may miss the first line: ask up to three times.
   robot.drain(200);
-  static_cast<void>(robot.command("echo off"));
+  for (int attempt = 1;; ++attempt) {
+    try {
+      static_cast<void>(robot.command("echo off", 2000));
+      break;
+    } catch (const LinkError&) {
+      if (attempt == 3) {
+        throw;
+      }
+      robot.drain(500);
+    }
+  }
   robot.expect_ok("stop");
   robot.expect_ok("stream off");
   robot.drain(100);

@@ -38,7 +38,14 @@ std::string default_out_dir(Procedure procedure) {
   gmtime_r(&now, &utc);
   char stamp[32];
   std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &utc);
-  return std::string("odocal-session-") + to_string(procedure) + "-" + stamp;
+  const std::string base = std::string("odocal-session-") + to_string(procedure) + "-" + stamp;
+  // Two sessions in the same second get -2, -3, ...: a default never collides with a session.
+  std::string name = base;
+  struct stat info {};
+  for (int n = 2; ::stat(name.c_str(), &info) == 0; ++n) {
+    name = base + "-" + std::to_string(n);
+  }
+  return name;
 }
 
 std::size_t planned_runs(const SessionOptions& options) {

@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
@@ -259,7 +260,7 @@ nlohmann::json runs_json(const std::vector<RunRecord>& runs) {
     out.push_back(
         {{"trial", r.trial},
          {"path", r.path},
-         {"duration_ms", r.duration_ms},
+         {"duration_ms", static_cast<std::int64_t>(std::llround(r.duration_ms))},
          {"count_l", r.count_l},
          {"count_r", r.count_r},
          {"odom",

@@ -278,9 +278,70 @@ void Console::cmd_lateral(const Token* words, std::size_t count) {
         .pair_u("runs", values.lateral.runs)
         .pair_u("unsaved", 1u);
     send(reply);
+  } else if (sub.is("set")) {
+    if (count != 4u && count != 5u) {
+      send_error(ErrorCode::wrong_arity, "usage: lateral set <f_lat> <f_lon> [unix_s]");
+      return;
+    }
+    constexpr params::ParamId ids[] = {params::ParamId::f_lat, params::ParamId::f_lon};
+    apply_host_factors(words, count, 2u, ids, 2u, params::FactorMethod::bootstrap);
   } else {
-    send_error(ErrorCode::bad_argument, "usage: lateral clear|add|solve|apply");
+    send_error(ErrorCode::bad_argument, "usage: lateral clear|add|solve|apply|set");
   }
+}
+
+void Console::cmd_fit(const Token* words, std::size_t count) {
+  if (!words[1].is("apply")) {
+    send_error(ErrorCode::bad_argument, "usage: fit apply <c_l> <c_r> <wheelbase_mm> [unix_s]");
+    return;
+  }
+  constexpr params::ParamId ids[] = {params::ParamId::c_l, params::ParamId::c_r,
+                                     params::ParamId::wheelbase_mm};
+  apply_host_factors(words, count, 2u, ids, 3u, params::FactorMethod::fit);
+}
+
+void Console::apply_host_factors(const Token* words, std::size_t count, std::size_t first,
+                                 const params::ParamId* ids, std::size_t id_count,
+                                 params::FactorMethod method) {
+  // Every value is checked against its parameter's range before anything changes.
+  params::ParamSet candidate = settings_.values();
+  for (std::size_t i = 0; i < id_count; ++i) {
+    const params::ParamInfo& info = params::param_info(ids[i]);
+    double value = 0.0;
+    if (!number_arg(words[first + i], static_cast<double>(info.min), static_cast<double>(info.max),
+                    value)) {
+      return;
+    }
+    candidate.set(ids[i], static_cast<float>(value));
+  }
+  std::uint32_t date = 0u;
+  if (count > first + id_count && !parse_unsigned(words[first + id_count], date)) {
+    send_error(ErrorCode::bad_number, "unix_s is a whole number of seconds");
+    return;
+  }
+  if (!params::all_in_range(candidate)) {
+    send_error(ErrorCode::out_of_range, "the factors fall outside their ranges; not applied");
+    return;
+  }
+  if (moving(loop_.status())) {
+    send_error(ErrorCode::busy, "the robot is moving; stop first");
+    return;
+  }
+  const bool wheel = method == params::FactorMethod::fit;
+  params::Provenance& provenance = wheel ? candidate.wheel : candidate.lateral;
+  provenance = params::Provenance{};
+  provenance.method = method;
+  provenance.date_unix_s = date;
+  if (!config_accepted(settings_.apply(candidate))) {
+    return;
+  }
+  Reply reply;
+  reply.text("ok");
+  for (std::size_t i = 0; i < id_count; ++i) {
+    reply.pair(params::param_info(ids[i]).name, settings_.get(ids[i]), kFactorDecimals);
+  }
+  reply.pair_s("method", params::method_name(method)).pair_u("unsaved", 1u);
+  send(reply);
 }
 
 }  // namespace odocal::console

@@ -49,7 +49,11 @@ constexpr const char* kLateralHelp[] = {
     "lateral clear: forget the entered line trials and the solution",
     "lateral add <x_mm> <y_mm>: where the latest line trial stopped, start frame",
     "lateral solve: F_lat and F_lon from the entered trials (Maddahi eq. 4-5)",
-    "lateral apply [unix_s]: apply the solved factors (not saved until save)", nullptr};
+    "lateral apply [unix_s]: apply the solved factors (not saved until save)",
+    "lateral set <f_lat> <f_lon> [unix_s]: put a host's bootstrap factors in force",
+    nullptr};
+constexpr const char* kFitHelp[] = {
+    "fit apply <c_l> <c_r> <wheelbase_mm> [unix_s]: put an odocal fit result in force", nullptr};
 constexpr const char* kStreamHelp[] = {"stream odom <hz>: print # odom lines at hz",
                                        "stream ticks <hz>: print # ticks lines (cumulative counts)",
                                        "stream off: stop streaming", nullptr};
@@ -79,8 +83,10 @@ const Console::Command Console::command_table_[] = {
     {"trials", "[clear]", kTrialsHelp, 1, 2, Guard::none, &Console::cmd_trials},
     {"umbmark", "clear|add|side|solve|apply ...", kUmbmarkHelp, 2, 5, Guard::none,
      &Console::cmd_umbmark},
-    {"lateral", "clear|add|solve|apply ...", kLateralHelp, 2, 4, Guard::none,
+    {"lateral", "clear|add|solve|apply|set ...", kLateralHelp, 2, 5, Guard::none,
      &Console::cmd_lateral},
+    {"fit", "apply <c_l> <c_r> <wheelbase_mm> [unix_s]", kFitHelp, 5, 6, Guard::none,
+     &Console::cmd_fit},
     {"stream", "odom <hz> | ticks <hz> | off", kStreamHelp, 2, 3, Guard::none,
      &Console::cmd_stream},
     {"echo", "on|off", kEchoHelp, 2, 2, Guard::none, &Console::cmd_echo},

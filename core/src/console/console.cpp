@@ -11,7 +11,6 @@ constexpr std::size_t kMaxWords = 6u;
 constexpr int kPoseDecimals = 3;
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
-
 }  // namespace
 
 Console::Console(hal::ByteStream& stream, drive::ControlLoop& loop, params::ParamStore& store,

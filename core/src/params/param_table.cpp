@@ -66,6 +66,10 @@ const char* method_name(FactorMethod method) {
       return "migrated";
     case FactorMethod::maddahi:
       return "maddahi";
+    case FactorMethod::fit:
+      return "fit";
+    case FactorMethod::bootstrap:
+      return "maddahi-bootstrap";
     case FactorMethod::defaults:
       break;
   }

@@ -92,9 +92,11 @@ Outcome run_fit(Context& c) {
   outcome.result = fit_result_json(result);
   outcome.text = fit_result_text(result);
   c.log << outcome.text;
-  c.set("c_l", result.c_l);
-  c.set("c_r", result.c_r);
-  c.set("wheelbase_mm", result.geometry.wheelbase_mm);
+  // `fit apply` puts the three in force at once with provenance `fit` (docs/console.md).
+  char line[128];
+  std::snprintf(line, sizeof line, "fit apply %.6f %.6f %.4f", result.c_l, result.c_r,
+                result.geometry.wheelbase_mm);
+  static_cast<void>(c.robot.expect_ok(line));
   outcome.applied = true;
   return outcome;
 }

@@ -232,8 +232,15 @@ Outcome run_lateral(Context& c) {
     text << "Nothing applied: no factor in the firmware's range 0.5 .. 2.\n";
     outcome.result["applied_from"] = nullptr;
   } else {
-    c.set("f_lat", chosen->f_lat);
-    c.set("f_lon", chosen->f_lon);
+    if (from == "bootstrap") {
+      // `lateral set` keeps the provenance honest: maddahi-bootstrap (docs/console.md).
+      char line[96];
+      std::snprintf(line, sizeof line, "lateral set %.6f %.6f", chosen->f_lat, chosen->f_lon);
+      static_cast<void>(c.robot.expect_ok(line));
+    } else {
+      c.set("f_lat", chosen->f_lat);  // eq. 4-5 computed on the host: provenance `manual`
+      c.set("f_lon", chosen->f_lon);
+    }
     outcome.applied = true;
     outcome.result["applied_from"] = from;
     outcome.result["f_lat"] = chosen->f_lat;

@@ -155,3 +155,34 @@ TEST(ConsoleTerminal, TrialCommandsWithoutTrialsAnswerNoTrial) {
 
 }  // namespace
 }  // namespace odocal
+
+namespace odocal {
+namespace {
+
+TEST(ConsoleHostFactors, FitApplyAndLateralSetKeepTheirProvenance) {
+  auto rig = std::make_unique<test::Rig>();
+  rig->console.start(rig->now_us);
+  EXPECT_EQ(rig->reply("fit apply 0.998 1.002 151.5 1700000000"),
+            "ok c_l=0.998000 c_r=1.002000 wheelbase_mm=151.500000 method=fit unsaved=1");
+  EXPECT_EQ(rig->reply("lateral set 1.01 0.99"),
+            "ok f_lat=1.010000 f_lon=0.990000 method=maddahi-bootstrap unsaved=1");
+  const std::string provenance = rig->reply("provenance");
+  EXPECT_EQ(test::value_of(provenance, "wheel_method"), "fit");
+  EXPECT_EQ(test::value_of(provenance, "wheel_date"), "1700000000");
+  EXPECT_EQ(test::value_of(provenance, "lateral_method"), "maddahi-bootstrap");
+  // A refused line changes nothing: one value out of range, a bad date, a short line.
+  for (const char* bad : {"fit apply 0.9 2.5 150", "fit apply 1 1 150 soon", "fit apply 1 1",
+                          "fit do 1 1 150", "lateral set 1 0.1", "lateral set 1"}) {
+    const params::ParamSet before = rig->console.params();
+    EXPECT_EQ(rig->reply(bad).rfind("err ", 0), 0u) << bad;
+    EXPECT_TRUE(params::same(before, rig->console.params())) << bad;
+  }
+  // Saved and reloaded, the methods stay (they are stored with the values).
+  EXPECT_EQ(rig->reply("save").rfind("ok ", 0), 0u);
+  EXPECT_EQ(rig->reply("defaults"), "ok params=21 unsaved=1");
+  EXPECT_EQ(rig->reply("load").rfind("ok ", 0), 0u);
+  EXPECT_EQ(test::value_of(rig->reply("provenance"), "wheel_method"), "fit");
+}
+
+}  // namespace
+}  // namespace odocal

@@ -182,6 +182,12 @@ class Console {
   // commands_calib.cpp
   void cmd_umbmark(const Token* words, std::size_t count);
   void cmd_lateral(const Token* words, std::size_t count);
+  void cmd_fit(const Token* words, std::size_t count);
+  /// `fit apply` / `lateral set`: puts host-computed factors in force with their provenance.
+  /// words[first..] are the values of `ids` (then an optional unix_s). Main loop.
+  void apply_host_factors(const Token* words, std::size_t count, std::size_t first,
+                          const params::ParamId* ids, std::size_t id_count,
+                          params::FactorMethod method);
 
   hal::ByteStream& stream_;
   drive::ControlLoop& loop_;

@@ -69,9 +69,11 @@ enum class FactorMethod : std::uint8_t {
   umbmark_exact = 3,  ///< the same, exact square geometry (no small-angle approximation)
   migrated = 4,       ///< loaded from an older record format that kept no provenance
   maddahi = 5,        ///< `lateral solve` + `lateral apply` on the robot (Maddahi eq. 4-5)
+  fit = 6,            ///< `fit apply`: wheel factors from a host's least-squares fit (odocal fit)
+  bootstrap = 7,      ///< `lateral set`: F_lat, F_lon from a host's bootstrap (Maddahi eq. 9-17)
 };
 /// The highest method a stored record may hold (append new methods before changing it).
-inline constexpr FactorMethod last_factor_method = FactorMethod::maddahi;
+inline constexpr FactorMethod last_factor_method = FactorMethod::bootstrap;
 
 /// Console spelling of a method ("umbmark", ...).
 [[nodiscard]] const char* method_name(FactorMethod method);

@@ -11,22 +11,6 @@ constexpr std::size_t kMaxWords = 6u;
 constexpr int kPoseDecimals = 3;
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
-// One word for the banner (key=value pairs hold no spaces).
-const char* store_word(params::StoreResult result) {
-  switch (result) {
-    case params::StoreResult::ok:
-      return "ok";
-    case params::StoreResult::empty:
-      return "empty";
-    case params::StoreResult::newer_version:
-      return "newer_version";
-    case params::StoreResult::device_error:
-      return "device_error";
-    case params::StoreResult::bad_geometry:
-      return "bad_geometry";
-  }
-  return "unknown";
-}
 
 }  // namespace
 

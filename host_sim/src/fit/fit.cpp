@@ -52,19 +52,23 @@ Solved solve(const std::vector<Unit>& units, const std::vector<std::size_t>& pic
       }
       continue;
     }
+    // Steps below 1e-10 of a parameter are far below anything a log can tell: converged.
+    const double relative_step = (step.array().abs() / p.array()).maxCoeff();
+    if (relative_step < 1e-10) {
+      break;
+    }
     const Normal m = fit_detail::normal_equations(units, pick, trial, k, heading_length_mm, true);
     if (std::isfinite(m.cost) && m.cost <= n.cost) {
-      const bool small = (step.array().abs() / trial.array()).maxCoeff() < 1e-12;
-      const bool flat = n.cost - m.cost <= 1e-15 * n.cost;
+      const bool flat = n.cost - m.cost <= 1e-12 * n.cost;
       p = trial;
       n = m;
       lambda = std::max(lambda * 0.1, 1e-12);
-      if (small || flat) {
+      if (flat || relative_step < 1e-9) {
         break;
       }
     } else {
       lambda *= 10.0;
-      if (lambda > 1e12) {
+      if (lambda > 1e12 || relative_step < 1e-9) {
         break;  // no step lowers the cost: at the minimum to working precision
       }
     }

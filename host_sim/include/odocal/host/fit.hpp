@@ -47,8 +47,8 @@ struct TickLog {
 /// "not measured at this row"; x_mm and y_mm are given together or not at all.
 /// Throws InputError ("FILE:LINE: field 'NAME': why") for: no file, missing or unknown header
 /// columns, wrong field count, a field that is not a plain finite number, absurd magnitudes,
-/// time not strictly increasing, fewer than 2 rows, no ground truth after the first row, a first
-/// row with x/y but no heading (the start pose needs all three).
+/// time going backwards (equal times are accepted), fewer than 2 rows, no ground truth after the
+/// first row, a first row with x/y but no heading (the start pose needs all three).
 [[nodiscard]] TickLog read_tick_log(const std::string& path);
 
 /// Checks a log built in memory by the same rules as read_tick_log; throws InputError.
@@ -83,15 +83,17 @@ struct FitOptions {
   /// one degree of heading weighs as much as 5 mm of position.
   double heading_length_mm = 286.4789;
   /// Identifiability: the data must determine each parameter direction (in relative terms, from
-  /// the scaled Jacobian's SVD) to this relative standard deviation or better...
+  /// the eigen-decomposition of the column-scaled JᵀJ, i.e. the scaled Jacobian's SVD) to this
+  /// relative standard deviation or better...
   double max_relative_sd = 0.01;
-  /// ... with a measurement noise of at least this much (mm), or the fit's residual RMS if larger.
+  /// ... with a measurement noise of this much (mm): judged at the nominal geometry with this
+  /// noise, then at the fitted one with the residual RMS if larger.
   double noise_floor_mm = 2.0;
   /// Bootstrap units: runs. When there are fewer than this many runs, runs with ground truth
   /// along the path are cut into pieces (each restarting at its first row's ground truth) so that
   /// there are about this many units to resample.
   std::size_t min_units = 10;
-  FitProgressFn progress;
+  FitProgressFn progress;  ///< called from the calling thread only (the bootstrap uses two)
 };
 
 /// Accuracy of a set of runs under the nominal ("before") and fitted ("after") geometry.

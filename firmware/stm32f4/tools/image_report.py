@@ -24,7 +24,7 @@ COMPONENTS = [
     (r"libodocal_hal_stm32f4\.a", "hal/stm32f4 (register-level backends)"),
     (r"libodocal_hal_sim\.a", "hal/sim (plant, RAM store: QEMU only)"),
     (r"odocal_fw_app\.dir|odocal-fw(-qemu)?\.dir", "firmware/stm32f4 (startup, boards, main)"),
-    (r"libm\.a|libm_nano\.a", "libm (sinf/cosf/atan2f/hypot, float and double)"),
+    (r"libm\.a|libm_nano\.a", "libm (atan2f; double atan/hypot/sqrt; QEMU: the plant's double sin/cos/exp)"),
     (r"libgcc\.a", "libgcc (soft double arithmetic, 64-bit division)"),
     (r"libc_nano\.a|libc\.a|libg_nano\.a", "libc (memcpy, memset, strlen, errno)"),
     (r"libstdc\+\+|libsupc\+\+", "libstdc++"),

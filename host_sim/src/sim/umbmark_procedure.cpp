@@ -18,6 +18,13 @@ std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0, do
   return buffer;
 }
 
+/// A column heading laid out with the same widths as the numbers below it.
+std::string format_columns(const char* fmt, const char* a, const char* b) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, fmt, a, b);
+  return buffer;
+}
+
 /// The firmware's sticky fault bits in words.
 std::string fault_names(std::uint8_t faults) {
   std::string names;
@@ -192,6 +199,10 @@ std::string umbmark_report_text(const UmbmarkReport& r) {
   out << "UMBmark on the simulated robot (" << format("%.0f", r.options.side_m * 1e3)
       << " mm square, " << r.options.runs << " cw + " << r.options.runs
       << " ccw runs per pass, seed " << r.seed << ")\n";
+  out << "E_d = D_R/D_L (right over left wheel diameter), E_b = actual over nominal wheelbase;\n"
+         "E_max,syst = the larger distance r of the two centres of gravity; SEM = standard error\n"
+         "of a centre (sigma/sqrt(n)); 3 SEM rule: another pass while E_max,syst >= 3 SEM, i.e.\n"
+         "while the systematic error still stands out of the run-to-run scatter.\n";
   if (!r.ok) {
     out << "failed: " << r.error << "\n";
     return out.str();
@@ -203,7 +214,9 @@ std::string umbmark_report_text(const UmbmarkReport& r) {
         << (i == 0 ? "Before calibration" : "After correction " + std::to_string(i))
         << format("  (c_L %.6f, c_R %.6f, b %.3f mm)\n", p.factors.c_l, p.factors.c_r,
                   p.factors.wheelbase_mm);
-    out << "  return errors, mm (measured minus odometry):\n";
+    out << "  return errors, mm (measured minus odometry), x and y of each run:\n";
+    out << "         " << format_columns("   cw %8s %8s", "x", "y")
+        << format_columns("   ccw %8s %8s", "x", "y") << "\n";
     for (std::size_t k = 0; k < p.cw.size() || k < p.ccw.size(); ++k) {
       out << "    run " << (k + 1);
       if (k < p.cw.size())

@@ -144,8 +144,8 @@ struct Robot {
     loop = std::make_unique<drive::ControlLoop>(drive::MotorChannel{*left_pwm.active, left_dir},
                                                 drive::MotorChannel{*right_pwm.active, right_dir},
                                                 critical);
-    encoders =
-        std::make_unique<EncoderEvents>(loop->left_decoder(), loop->right_decoder(), critical);
+    encoders = std::make_unique<EncoderEvents>(drive::edge_sink(loop->left_decoder()),
+                                               drive::edge_sink(loop->right_decoder()), critical);
     tick = std::make_unique<TimerfdTick>(config.tick_priority);
     return encoders->open(chips, EncoderPins{config.left_a, config.left_b},
                           EncoderPins{config.right_a, config.right_b}, kConsumer);

@@ -287,7 +287,8 @@ struct Robot {
   SoftwarePwm right_pwm;
   drive::ControlLoop loop{drive::MotorChannel{left_pwm, left_dir},
                           drive::MotorChannel{right_pwm, right_dir}, critical};
-  EncoderEvents encoders{loop.left_decoder(), loop.right_decoder(), critical};
+  EncoderEvents encoders{drive::edge_sink(loop.left_decoder()),
+                         drive::edge_sink(loop.right_decoder()), critical};
   TimerfdTick tick{kTickPriority};
   PosixMonotonicClock clock;
 

@@ -13,6 +13,9 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <utility>
+
+#include <CLI/CLI.hpp>
 
 #include "config.hpp"
 #include "odocal/console/console.hpp"
@@ -113,34 +116,44 @@ struct Options {
   bool check = false;
 };
 
-// @return -1 to go on, else the exit status.
+// The command line, by CLI11. @return -1 to go on, else the exit status. Options may repeat
+// (the last value counts); anything unknown is refused naming it.
 int parse_options(int argc, char** argv, Options& options) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (arg == "--help" || arg == "-h") {
-      print_help();
-      return 0;
-    }
-    if (arg == "--version") {
-      std::printf("odocal-linux %s\n", console::project_version);
-      return 0;
-    }
-    if (arg == "--pty") {
-      options.pty = true;
-    } else if (arg == "--check") {
-      options.check = true;
-    } else if ((arg == "--config" || arg == "--tty" || arg == "--store") && has_value) {
-      std::string& target =
-          arg == "--config" ? options.config : (arg == "--tty" ? options.tty : options.store);
-      target = argv[++i];
-    } else if (arg == "--config" || arg == "--tty" || arg == "--store") {
-      std::fprintf(stderr, "odocal-linux: %s needs a value (see --help)\n", arg.c_str());
-      return kExitUsage;
-    } else {
-      std::fprintf(stderr, "odocal-linux: unknown option \"%s\" (see --help)\n", arg.c_str());
-      return kExitUsage;
-    }
+  CLI::App app{"odocal-linux", "odocal-linux"};
+  app.set_help_flag();  // --help prints the reference of the configuration keys too
+  app.allow_extras();   // unknown arguments are named below, in this program's words
+  bool help = false;
+  bool version = false;
+  app.add_flag("-h,--help", help);
+  app.add_flag("--version", version);
+  app.add_flag("--pty", options.pty);
+  app.add_flag("--check", options.check);
+  for (auto [name, target] :
+       {std::pair{"--config", &options.config}, std::pair{"--tty", &options.tty},
+        std::pair{"--store", &options.store}}) {
+    app.add_option(name, *target)->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // The only parse error left: an option without its value ("--config: 1 required ...").
+    const std::string what = e.what();
+    std::fprintf(stderr, "odocal-linux: %s needs a value (see --help)\n",
+                 what.substr(0, what.find(':')).c_str());
+    return kExitUsage;
+  }
+  if (!app.remaining().empty()) {
+    std::fprintf(stderr, "odocal-linux: unknown option \"%s\" (see --help)\n",
+                 app.remaining().front().c_str());
+    return kExitUsage;
+  }
+  if (help) {
+    print_help();
+    return 0;
+  }
+  if (version) {
+    std::printf("odocal-linux %s\n", console::project_version);
+    return 0;
   }
   if (options.pty && !options.tty.empty()) {
     std::fprintf(stderr, "odocal-linux: --pty and --tty exclude each other\n");

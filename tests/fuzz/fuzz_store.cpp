@@ -1,6 +1,8 @@
 // libFuzzer target: arbitrary flash contents under the parameter store. Whatever the flash holds,
 // `load` must return only a whole, in-range set (or refuse), and a `save` must then succeed and
-// be what the next `load` returns. Also feeds the bytes straight to decode_record.
+// be what the next `load` returns. `load` never writes; it says `empty` exactly when the flash is
+// blank and `corrupt` when something is written but no record is whole. Also feeds the bytes
+// straight to decode_record.
 
 #include <cstddef>
 #include <cstdint>
@@ -26,9 +28,23 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   params::ParamStore store(flash);
   params::ParamSet loaded = params::default_params();
   params::StoreInfo info;
+  static std::uint8_t before[2048];
+  std::memcpy(before, flash.memory(), 2048);
   const params::StoreResult result = store.load(loaded, info);
   if (result == params::StoreResult::ok && !params::all_in_range(loaded))
     __builtin_trap();
+  if (std::memcmp(before, flash.memory(), 2048) != 0)
+    __builtin_trap();  // load never changes the flash (a damaged image stays for inspection)
+  {
+    // `empty` only for blank sectors; `corrupt` only when something is written.
+    bool blank = true;
+    for (std::size_t i = 0; i < 2048u; ++i)
+      blank = blank && before[i] == 0xFFu;
+    if ((result == params::StoreResult::empty) != blank)
+      __builtin_trap();
+    if (result == params::StoreResult::corrupt && info.damaged == 0u)
+      __builtin_trap();
+  }
   if (result == params::StoreResult::device_error || result == params::StoreResult::bad_geometry) {
     __builtin_trap();  // a RAM flash never fails
   }

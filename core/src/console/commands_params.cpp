@@ -93,6 +93,18 @@ void Console::cmd_load(const Token*, std::size_t) {
     send_error(ErrorCode::store_empty, params::to_string(load.store));
     return;
   }
+  if (load.store == params::StoreResult::corrupt) {
+    // Nothing loaded and nothing erased: the damaged image stays until the next `save`.
+    Reply reply;
+    reply.text("err ").text(error_code_name(ErrorCode::store_corrupt));
+    reply.text(" every stored record is damaged (");
+    char digits[8];
+    reply.bytes(digits, format_unsigned(load.info.damaged, digits, sizeof digits));
+    reply.text(" slots); the values in force are unchanged, save writes a new record");
+    ++errors_;
+    send(reply);
+    return;
+  }
   if (load.store == params::StoreResult::newer_version) {
     Reply reply;
     reply.text("err ").text(error_code_name(ErrorCode::store_version));

@@ -50,6 +50,7 @@ void Console::cmd_status(const Token*, std::size_t) {
       .pair("left_radps", status.left_radps, decimals)
       .pair("right_radps", status.right_radps, decimals)
       .pair_u("unsaved", settings_.unsaved() ? 1u : 0u)
+      .pair_s("store", store_word(settings_.store_state()))
       .pair_u("umbmark_cw", umbmark_.cw_count())
       .pair_u("umbmark_ccw", umbmark_.ccw_count())
       .pair_u("lateral", lateral_.count())

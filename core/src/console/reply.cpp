@@ -32,6 +32,8 @@ const char* error_code_name(ErrorCode code) {
       return "store_empty";
     case ErrorCode::store_version:
       return "store_version";
+    case ErrorCode::store_corrupt:
+      return "store_corrupt";
     case ErrorCode::umbmark_full:
       return "umbmark_full";
     case ErrorCode::umbmark_failed:

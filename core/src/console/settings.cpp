@@ -18,6 +18,24 @@ bool is_lateral_factor(params::ParamId id) {
 
 }  // namespace
 
+const char* store_word(params::StoreResult result) {
+  switch (result) {
+    case params::StoreResult::ok:
+      return "ok";
+    case params::StoreResult::empty:
+      return "empty";
+    case params::StoreResult::newer_version:
+      return "newer_version";
+    case params::StoreResult::device_error:
+      return "device_error";
+    case params::StoreResult::bad_geometry:
+      return "bad_geometry";
+    case params::StoreResult::corrupt:
+      return "corrupt";
+  }
+  return "unknown";
+}
+
 Settings::Settings(drive::ControlLoop& loop, params::ParamStore& store,
                    const params::ParamSet* target_defaults)
     : loop_(loop),
@@ -30,6 +48,7 @@ Settings::Start Settings::start() {
   Start start;
   params::ParamSet loaded;
   start.store = store_.load(loaded, start.info);
+  store_state_ = start.store;
   if (start.store == params::StoreResult::ok &&
       loop_.configure(params::to_drive_config(loaded)).ok()) {
     values_ = loaded;
@@ -66,6 +85,7 @@ drive::ConfigCheck Settings::set(params::ParamId id, float value) {
 
 params::StoreResult Settings::save(params::StoreInfo& info) {
   const params::StoreResult result = store_.save(values_, info);
+  store_state_ = result;
   if (result == params::StoreResult::ok) {
     unsaved_ = false;
   }
@@ -76,6 +96,7 @@ Settings::Load Settings::load() {
   Load load;
   params::ParamSet loaded;
   load.store = store_.load(loaded, load.info);
+  store_state_ = load.store;
   if (load.store != params::StoreResult::ok) {
     return load;
   }

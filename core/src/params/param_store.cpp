@@ -99,10 +99,8 @@ bool later(std::uint32_t a, std::uint32_t b) {
   return static_cast<std::int32_t>(a - b) > 0;
 }
 
-}  // namespace
-
-DecodeStatus decode_record(const std::uint8_t* data, std::size_t size, ParamSet& out,
-                           RecordInfo& info) {
+DecodeStatus decode(const std::uint8_t* data, std::size_t size, ParamSet& out, RecordInfo& info,
+                    bool check_crc) {
   if (data == nullptr || size < kHeaderSize + kCrcSize) {
     return DecodeStatus::corrupt;
   }
@@ -114,7 +112,7 @@ DecodeStatus decode_record(const std::uint8_t* data, std::size_t size, ParamSet&
   if (length < kHeaderSize || length > size - kCrcSize) {
     return DecodeStatus::corrupt;
   }
-  if (crc32(data, length) != get32(data + length)) {
+  if (check_crc && crc32(data, length) != get32(data + length)) {
     return DecodeStatus::corrupt;
   }
   const std::uint32_t sequence = get32(data + 8);
@@ -177,6 +175,13 @@ DecodeStatus decode_record(const std::uint8_t* data, std::size_t size, ParamSet&
   return DecodeStatus::ok;
 }
 
+}  // namespace
+
+DecodeStatus decode_record(const std::uint8_t* data, std::size_t size, ParamSet& out,
+                           RecordInfo& info) {
+  return decode(data, size, out, info, true);
+}
+
 std::size_t encode_record(const ParamSet& set, std::uint32_t sequence, std::uint8_t* out,
                           std::size_t capacity) {
   if (out == nullptr || capacity < record_slot_size) {
@@ -215,6 +220,8 @@ const char* to_string(StoreResult result) {
       return "block store failed";
     case StoreResult::bad_geometry:
       return "block store too small for two record sectors";
+    case StoreResult::corrupt:
+      return "every stored record is damaged";
   }
   return "unknown";
 }
@@ -253,11 +260,16 @@ StoreResult ParamStore::scan(Scan& found, ParamSet* newest_set) {
         return StoreResult::device_error;
       }
       RecordInfo info;
-      const DecodeStatus status = decode_record(buffer_.data(), buffer_.size(), scratch_, info);
+      const DecodeStatus status =
+          decode(buffer_.data(), buffer_.size(), scratch_, info, guards_.crc);
+      if (status == DecodeStatus::corrupt) {
+        ++found.damaged;
+      }
       if (status != DecodeStatus::ok && status != DecodeStatus::newer_version) {
         continue;
       }
-      if (!found.found_any || later(info.sequence, found.newest.record.sequence)) {
+      if (!found.found_any || !guards_.sequence ||
+          later(info.sequence, found.newest.record.sequence)) {
         found.found_any = true;
         found.newest.record = info;
         found.newest.sector = first_sector_ + sector;
@@ -287,9 +299,11 @@ StoreResult ParamStore::load(ParamSet& out, StoreInfo& info) {
     return result;
   }
   if (!found.found_any) {
-    return StoreResult::empty;
+    info.damaged = found.damaged;
+    return found.damaged > 0u ? StoreResult::corrupt : StoreResult::empty;
   }
   info = found.newest;
+  info.damaged = found.damaged;
   if (found.newest_is_newer_version) {
     return StoreResult::newer_version;
   }
@@ -340,13 +354,18 @@ StoreResult ParamStore::save(const ParamSet& set, StoreInfo& info) {
     return StoreResult::device_error;
   }
   // Read back: a record that does not decode to itself is a failed save.
-  if (read_slot(sector, slot) != StoreResult::ok) {
-    return StoreResult::device_error;
-  }
   RecordInfo written;
-  if (decode_record(buffer_.data(), buffer_.size(), scratch_, written) != DecodeStatus::ok ||
-      written.sequence != sequence || !same(scratch_, set)) {
-    return StoreResult::device_error;
+  written.version = record_format_version;
+  written.sequence = sequence;
+  if (guards_.read_back) {
+    if (read_slot(sector, slot) != StoreResult::ok) {
+      return StoreResult::device_error;
+    }
+    if (decode(buffer_.data(), buffer_.size(), scratch_, written, guards_.crc) !=
+            DecodeStatus::ok ||
+        written.sequence != sequence || !same(scratch_, set)) {
+      return StoreResult::device_error;
+    }
   }
   info.record = written;
   info.sector = first_sector_ + sector;

@@ -52,19 +52,23 @@ Solved solve(const std::vector<Unit>& units, const std::vector<std::size_t>& pic
       }
       continue;
     }
+    // Steps below 1e-10 of a parameter are far below anything a log can tell: converged.
+    const double relative_step = (step.array().abs() / p.array()).maxCoeff();
+    if (relative_step < 1e-10) {
+      break;
+    }
     const Normal m = fit_detail::normal_equations(units, pick, trial, k, heading_length_mm, true);
     if (std::isfinite(m.cost) && m.cost <= n.cost) {
-      const bool small = (step.array().abs() / trial.array()).maxCoeff() < 1e-12;
-      const bool flat = n.cost - m.cost <= 1e-15 * n.cost;
+      const bool flat = n.cost - m.cost <= 1e-12 * n.cost;
       p = trial;
       n = m;
       lambda = std::max(lambda * 0.1, 1e-12);
-      if (small || flat) {
+      if (flat || relative_step < 1e-9) {
         break;
       }
     } else {
       lambda *= 10.0;
-      if (lambda > 1e12) {
+      if (lambda > 1e12 || relative_step < 1e-9) {
         break;  // no step lowers the cost: at the minimum to working precision
       }
     }
@@ -192,10 +196,15 @@ double quantile(const std::vector<double>& sorted, double probability) {
   return sorted[lo] + (h - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
 }
 
-FitInterval interval(std::vector<double> values, double level) {
+/// Percentile interval of the bootstrap values, each end moved away from the estimate by
+/// `widen` (the small-sample correction, see fit_geometry).
+FitInterval interval(std::vector<double> values, double level, double estimate, double widen) {
   std::sort(values.begin(), values.end());
   const double tail = 0.5 * (1.0 - level);
-  return FitInterval{quantile(values, tail), quantile(values, 1.0 - tail)};
+  const double lo = quantile(values, tail);
+  const double hi = quantile(values, 1.0 - tail);
+  return FitInterval{std::min(lo, estimate - widen * (estimate - lo)),
+                     std::max(hi, estimate + widen * (hi - estimate))};
 }
 
 /// One bootstrap replicate: resample units with replacement (drawing again, at most 50 times,
@@ -354,11 +363,17 @@ FitOutcome fit_geometry(const std::vector<TickLog>& runs, const FitNominal& nomi
                            "give more runs"};
       return out;
     }
-    r.ci_left_mm = interval(column[0], o.level);
-    r.ci_right_mm = interval(column[1], o.level);
-    r.ci_wheelbase_mm = interval(column[2], o.level);
-    r.ci_c_l = interval(column[3], o.level);
-    r.ci_c_r = interval(column[4], o.level);
+    // Resampling n units spreads a fit of p = 3 parameters by about (n − p)/n of its true
+    // variance (as residuals underestimate the noise by that much): widen each end by
+    // sqrt(n/(n − p)) about the estimate, as the Maddahi bootstrap scales its residuals.
+    const double n = static_cast<double>(boot.size());
+    r.widen = n > 4.0 ? std::sqrt(n / (n - 3.0)) : 2.0;
+    const double d = nominal.wheel_diameter_mm;
+    r.ci_left_mm = interval(column[0], o.level, main.p[0], r.widen);
+    r.ci_right_mm = interval(column[1], o.level, main.p[1], r.widen);
+    r.ci_wheelbase_mm = interval(column[2], o.level, main.p[2], r.widen);
+    r.ci_c_l = interval(column[3], o.level, main.p[0] / d, r.widen);
+    r.ci_c_r = interval(column[4], o.level, main.p[1] / d, r.widen);
   }
   out.result = r;
   return out;

@@ -64,7 +64,8 @@ nlohmann::json fit_result_json(const FitResult& r) {
                     {"redrawn", r.redrawn},
                     {"level", r.level},
                     {"seed", r.seed},
-                    {"interval", "percentile"}};
+                    {"interval", "percentile"},
+                    {"widen", r.widen}};
   j["relative_sd"] = {{"wheel_diameter_left_mm", r.relative_sd[0]},
                       {"wheel_diameter_right_mm", r.relative_sd[1]},
                       {"wheelbase_mm", r.relative_sd[2]}};
@@ -80,8 +81,10 @@ std::string fit_result_text(const FitResult& r) {
   const auto row = [&](const char* name, double value, const std::optional<FitInterval>& ci,
                        const char* unit) {
     char text[128];
-    std::snprintf(text, sizeof text, "  %-24s %12.5f %s", name, value, unit);
-    out << text;
+    std::snprintf(text, sizeof text, "  %-24s %12.5f %-2s", name, value, unit);
+    std::string shown = text;
+    shown.erase(ci ? shown.size() : shown.find_last_not_of(' ') + 1);
+    out << shown;
     if (ci) {
       out << line("   %.0f %% interval [%.5f, %.5f]", 100.0 * r.level, ci->lo, ci->hi);
     }
@@ -90,13 +93,13 @@ std::string fit_result_text(const FitResult& r) {
   row("wheel_diameter_left_mm", r.geometry.wheel_diameter_left_mm, r.ci_left_mm, "mm");
   row("wheel_diameter_right_mm", r.geometry.wheel_diameter_right_mm, r.ci_right_mm, "mm");
   row("wheelbase_mm", r.geometry.wheelbase_mm, r.ci_wheelbase_mm, "mm");
-  row("c_l", r.c_l, r.ci_c_l, "  ");
-  row("c_r", r.c_r, r.ci_c_r, "  ");
-  row("e_d", r.e_d, std::nullopt, "  ");
-  row("e_b", r.e_b, std::nullopt, "  ");
+  row("c_l", r.c_l, r.ci_c_l, "");
+  row("c_r", r.c_r, r.ci_c_r, "");
+  row("e_d", r.e_d, std::nullopt, "");
+  row("e_b", r.e_b, std::nullopt, "");
   if (r.replicates > 0) {
     out << "  bootstrap: B = " << r.replicates << " over " << r.bootstrap_units << " unit(s), seed "
-        << r.seed << ", percentile intervals\n";
+        << r.seed << line(", percentile intervals widened x%.3f (small sample)\n", r.widen);
   } else {
     out << "  no bootstrap (B = 0): no intervals\n";
   }

@@ -104,10 +104,12 @@ void check_tick_log(const TickLog& log) {
     if (row.has_theta) {
       check_magnitude(log, row, "theta_deg", row.theta_deg, max_heading_deg);
     }
-    if (i > 0 && !(row.t_s > log.rows[i - 1].t_s)) {
+    // Time may repeat (loggers stamp at their own resolution) but never go back.
+    if (i > 0 && row.t_s < log.rows[i - 1].t_s) {
       char text[128];
-      std::snprintf(text, sizeof text, "time must increase from row to row: %.9g after %.9g",
-                    row.t_s, log.rows[i - 1].t_s);
+      std::snprintf(text, sizeof text,
+                    "time goes backwards: %.9g after %.9g (rows must be in time order)", row.t_s,
+                    log.rows[i - 1].t_s);
       fail_row(log, row, "t_s", text);
     }
     if (i > 0 && (row.has_xy || row.has_theta)) {

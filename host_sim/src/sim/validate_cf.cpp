@@ -1,5 +1,5 @@
-// Logged runs on the simulated robot (tick logs, DESIGN "Tick log") and the CF calibration of
-// `odocal sim validate`: the project's recommended procedure, fitted by `odocal fit`.
+// Logged runs on the simulated robot: tick logs (DESIGN "Tick log") recorded while a path runs,
+// for the CF calibration of `odocal sim validate` and for tests of `odocal fit`.
 
 #include <cmath>
 

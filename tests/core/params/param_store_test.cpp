@@ -77,6 +77,21 @@ TEST(Crc32, MatchesTheStandardCheckValue) {
   EXPECT_EQ(crc32(reinterpret_cast<const std::uint8_t*>(text) + 4, 5, first), 0xCBF43926u);
 }
 
+TEST(ParamStore, BlankFlashIsEmptyAndATornFirstRecordIsCorrupt) {
+  SmallFlash flash;
+  ParamStore store(flash);
+  ParamSet loaded;
+  StoreInfo info;
+  EXPECT_EQ(store.load(loaded, info), StoreResult::empty);
+  EXPECT_EQ(info.damaged, 0u);
+  // One programmed unit of a first save that never finished: written, but not a record.
+  flash.cut_after(0, 1);
+  EXPECT_EQ(store.save(default_params(), info), StoreResult::device_error);
+  flash.power_on();
+  EXPECT_EQ(store.load(loaded, info), StoreResult::corrupt);
+  EXPECT_EQ(info.damaged, 1u);
+}
+
 TEST(ParamStore, EmptyFlashLoadsNothing) {
   SmallFlash flash;
   ParamStore store(flash);
@@ -151,7 +166,7 @@ TEST(ParamStore, CorruptNewestRecordFallsBackToThePreviousOne) {
   EXPECT_EQ(info.record.sequence, 1u);
 }
 
-TEST(ParamStore, EveryRecordCorruptLoadsNothing) {
+TEST(ParamStore, EveryRecordCorruptIsReportedAsCorruptNotEmpty) {
   SmallFlash flash;
   ParamStore store(flash);
   std::mt19937 rng(4);
@@ -161,8 +176,17 @@ TEST(ParamStore, EveryRecordCorruptLoadsNothing) {
   for (std::size_t slot = 0; slot < 2; ++slot) {
     flash.memory()[slot * record_slot_size + 200] ^= 0x10;  // inside the CRC-covered bytes
   }
+  const std::vector<std::uint8_t> damaged(flash.memory(), flash.memory() + 4096);
   ParamSet loaded = default_params();
-  EXPECT_EQ(store.load(loaded, info), StoreResult::empty);
+  const ParamSet untouched = loaded;
+  EXPECT_EQ(store.load(loaded, info), StoreResult::corrupt);
+  EXPECT_EQ(info.damaged, 2u);
+  EXPECT_TRUE(same(loaded, untouched));
+  EXPECT_STREQ(to_string(StoreResult::corrupt), "every stored record is damaged");
+  // Loading again and again keeps the damaged image for inspection: load never writes.
+  EXPECT_EQ(store.load(loaded, info), StoreResult::corrupt);
+  EXPECT_TRUE(std::equal(damaged.begin(), damaged.end(), flash.memory()));
+  EXPECT_EQ(flash.operations(), 2u);  // the two saves: nothing erased or programmed since
   // And the store is still usable: the damaged slots are skipped.
   const ParamSet next = random_set(rng);
   ASSERT_EQ(store.save(next, info), StoreResult::ok);
@@ -178,7 +202,8 @@ TEST(ParamStore, GarbageFlashIsNeverLoaded) {
   ParamStore store(flash);
   ParamSet loaded;
   StoreInfo info;
-  EXPECT_EQ(store.load(loaded, info), StoreResult::empty);
+  EXPECT_EQ(store.load(loaded, info), StoreResult::corrupt);  // written, but nothing whole
+  EXPECT_EQ(info.damaged, 8u);
   const ParamSet next = random_set(rng);
   ASSERT_EQ(store.save(next, info), StoreResult::ok);  // erases a sector, then writes
   ASSERT_EQ(store.load(loaded, info), StoreResult::ok);
@@ -418,8 +443,10 @@ TEST(ParamStore, PowerCutAtEveryOperationOfALongWorkloadLeavesAWholeSet) {
       StoreInfo info;
       const StoreResult result = rebooted.load(loaded, info);
       ++cut_points;
-      if (save_index == 0 && result == StoreResult::empty) {
-        ++loaded_old;  // nothing had been saved yet: empty is the previous state
+      if (save_index == 0 && (result == StoreResult::empty || result == StoreResult::corrupt)) {
+        // Nothing had been saved yet: empty is the previous state, and a torn first record is
+        // written flash that holds no record.
+        ++loaded_old;
       } else {
         ASSERT_EQ(result, StoreResult::ok) << "cut at op " << k;
         const bool is_new = same(loaded, sets[save_index]);

@@ -34,6 +34,7 @@ enum class ErrorCode : std::uint8_t {
   no_trial,           ///< no such trial is kept (or the last one does not fit the command)
   lateral_full,       ///< no room for another lateral trial
   lateral_failed,     ///< the lateral solver refused the trials (message says why)
+  store_corrupt,      ///< `load` found records, every one of them damaged
 };
 
 /// The code as printed ("line_too_long", ...).

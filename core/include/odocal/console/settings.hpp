@@ -11,6 +11,9 @@
 
 namespace odocal::console {
 
+/// One word for a store answer, as the banner and `status` print it (`store=corrupt`).
+[[nodiscard]] const char* store_word(params::StoreResult result);
+
 class Settings {
  public:
   /// @param target_defaults this robot build's own defaults (e.g. the simulator's robot file), or
@@ -57,12 +60,17 @@ class Settings {
   /// Reloads the saved set; on success it is in force and nothing is unsaved.
   Load load();
 
+  /// The store's last answer to start, load or save (`status` prints it as `store=`): `corrupt`
+  /// stays until a save succeeds, so a robot running on defaults over a damaged store says so.
+  [[nodiscard]] params::StoreResult store_state() const { return store_state_; }
+
  private:
   drive::ControlLoop& loop_;
   params::ParamStore& store_;
   params::ParamSet defaults_;
   params::ParamSet values_;
   bool unsaved_ = false;
+  params::StoreResult store_state_ = params::StoreResult::empty;
 };
 
 }  // namespace odocal::console

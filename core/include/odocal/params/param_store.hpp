@@ -57,10 +57,12 @@ struct RecordInfo {
 /// Outcome of a store operation.
 enum class StoreResult : std::uint8_t {
   ok,
-  empty,          ///< load: no valid record (nothing was ever saved, or everything is corrupt)
+  empty,          ///< load: the two sectors are blank (nothing was ever saved)
   newer_version,  ///< load: the newest record has a newer format; nothing loaded
   device_error,   ///< the block store failed (I/O, power cut, program verify mismatch)
   bad_geometry,   ///< the block store cannot hold the two slots sectors (see constructor)
+  corrupt,        ///< load: records are there but every one is damaged; nothing loaded and nothing
+            ///< erased (the image stays for inspection until the next save reuses the sectors)
 };
 
 /// Short lower-case message ("no saved parameters", ...).
@@ -69,8 +71,20 @@ enum class StoreResult : std::uint8_t {
 /// Where the newest record lives and what it is (for tests and `status`).
 struct StoreInfo {
   RecordInfo record{};
-  std::size_t sector = 0u;  ///< absolute sector index
-  std::size_t slot = 0u;    ///< slot index inside the sector
+  std::size_t sector = 0u;   ///< absolute sector index
+  std::size_t slot = 0u;     ///< slot index inside the sector
+  std::size_t damaged = 0u;  ///< load: slots holding neither a record nor erased flash
+};
+
+/// The store's defences, all on in a product. Each one exists for a failure the others miss: the
+/// CRC for a record torn by a power cut or a bit lost later; the read-back for a program that
+/// reported success but did not land; the sequence number for telling the newest record once the
+/// sectors have wrapped. Fault-injection tests switch one off to show a workload then fails
+/// (tests/core/params/power_cut_test.cpp); nothing else should.
+struct StoreGuards {
+  bool crc = true;        ///< decode checks the CRC-32
+  bool read_back = true;  ///< save reads the slot back and compares
+  bool sequence = true;   ///< load takes the highest sequence number, not the last slot scanned
 };
 
 /// The A/B record store. Main-loop only (never from the tick or an ISR): a save erases and
@@ -84,13 +98,17 @@ class ParamStore {
 
   /// Loads the newest valid record into `out` (untouched unless `ok`). A version-1 record is
   /// migrated (missing parameters take their defaults, provenance `migrated`). `info` describes
-  /// the record found (also for `newer_version`).
+  /// the record found (also for `newer_version`) and counts the damaged slots. `empty` when both
+  /// sectors are blank, `corrupt` when something is written but no record is whole.
   [[nodiscard]] StoreResult load(ParamSet& out, StoreInfo& info);
 
   /// Appends `set` as a new record (sequence = newest + 1). Refuses (device_error) a set whose
   /// values are out of range rather than store what load would reject. On `ok`, `info` says where
   /// it went. Erases at most one sector.
   [[nodiscard]] StoreResult save(const ParamSet& set, StoreInfo& info);
+
+  /// Replaces the guards (test builds only: see StoreGuards).
+  void set_guards(const StoreGuards& guards) { guards_ = guards; }
 
   /// Slots per sector (0 with a bad geometry).
   [[nodiscard]] std::size_t slots_per_sector() const { return slots_per_sector_; }
@@ -102,6 +120,7 @@ class ParamStore {
     bool newest_is_newer_version = false;
     StoreInfo newest{};  ///< newest loadable or newer-version record
     std::uint32_t max_sequence = 0u;
+    std::size_t damaged = 0u;  ///< slots neither blank nor a CRC-valid record
   };
 
   [[nodiscard]] StoreResult scan(Scan& scan, ParamSet* newest_set);
@@ -114,6 +133,7 @@ class ParamStore {
   std::size_t slots_per_sector_ = 0u;
   std::array<std::uint8_t, record_slot_size> buffer_{};
   ParamSet scratch_{};
+  StoreGuards guards_{};
 };
 
 }  // namespace odocal::params

@@ -47,8 +47,8 @@ struct TickLog {
 /// "not measured at this row"; x_mm and y_mm are given together or not at all.
 /// Throws InputError ("FILE:LINE: field 'NAME': why") for: no file, missing or unknown header
 /// columns, wrong field count, a field that is not a plain finite number, absurd magnitudes,
-/// time not strictly increasing, fewer than 2 rows, no ground truth after the first row, a first
-/// row with x/y but no heading (the start pose needs all three).
+/// time going backwards (equal times are accepted), fewer than 2 rows, no ground truth after the
+/// first row, a first row with x/y but no heading (the start pose needs all three).
 [[nodiscard]] TickLog read_tick_log(const std::string& path);
 
 /// Checks a log built in memory by the same rules as read_tick_log; throws InputError.
@@ -83,15 +83,17 @@ struct FitOptions {
   /// one degree of heading weighs as much as 5 mm of position.
   double heading_length_mm = 286.4789;
   /// Identifiability: the data must determine each parameter direction (in relative terms, from
-  /// the scaled Jacobian's SVD) to this relative standard deviation or better...
+  /// the eigen-decomposition of the column-scaled JᵀJ, i.e. the scaled Jacobian's SVD) to this
+  /// relative standard deviation or better...
   double max_relative_sd = 0.01;
-  /// ... with a measurement noise of at least this much (mm), or the fit's residual RMS if larger.
+  /// ... with a measurement noise of this much (mm): judged at the nominal geometry with this
+  /// noise, then at the fitted one with the residual RMS if larger.
   double noise_floor_mm = 2.0;
   /// Bootstrap units: runs. When there are fewer than this many runs, runs with ground truth
   /// along the path are cut into pieces (each restarting at its first row's ground truth) so that
   /// there are about this many units to resample.
   std::size_t min_units = 10;
-  FitProgressFn progress;
+  FitProgressFn progress;  ///< called from the calling thread only (the bootstrap uses two)
 };
 
 /// Accuracy of a set of runs under the nominal ("before") and fitted ("after") geometry.
@@ -116,11 +118,13 @@ struct FitResult {
   double c_r = 1.0;  ///< D_R / D
   double e_d = 1.0;  ///< D_R / D_L
   double e_b = 1.0;  ///< b fitted / b nominal
-  /// Percentile bootstrap intervals over runs (absent when B = 0).
+  /// Percentile bootstrap intervals over runs, widened by `widen` about the estimate (absent when
+  /// B = 0).
   std::optional<FitInterval> ci_left_mm, ci_right_mm, ci_wheelbase_mm, ci_c_l, ci_c_r;
   std::size_t bootstrap_units = 0;  ///< runs (or pieces of runs) resampled
   std::uint32_t replicates = 0;     ///< B
   std::uint32_t redrawn = 0;        ///< resamples drawn again because they determined nothing
+  double widen = 1.0;  ///< each interval end's distance from the estimate × sqrt(n/(n − 3))
   double level = 0.95;
   std::uint64_t seed = 0;
   double heading_length_mm = 0.0;

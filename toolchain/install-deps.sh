@@ -4,13 +4,13 @@
 #
 #   ./toolchain/install-deps.sh          everything: host tests, STM32F4 image + QEMU, Linux board
 #   ./toolchain/install-deps.sh --demo   only what `cmake --build --preset host --target odocal`
-#                                        needs (host compiler, CMake, Ninja, Eigen, JSON, CLI11)
+#                                        needs (host compiler, CMake, Ninja, Eigen, JSON, CLI11, fmt)
 set -euo pipefail
 
 # The `odocal` host program: compiler, build tools and the libraries it links.
 demo_packages=(
   build-essential cmake ninja-build
-  libeigen3-dev nlohmann-json3-dev libcli11-dev
+  libeigen3-dev nlohmann-json3-dev libcli11-dev libfmt-dev
 )
 # Everything else CI builds and runs.
 other_packages=(

@@ -469,3 +469,105 @@ TEST(Session, VerifyAfterUmbmarkShowsTheImprovementAndKeepsTheFactors) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Session, FitFromLoggedRunsRecoversTheTrueGeometry) {
+  const std::string robot = write("robot.json", robot_json);
+  const std::string out = temp("fit_out");
+  std::system(("rm -rf " + out).c_str());
+  const json doc = parse(session("--sim " + robot + " --procedure fit --json --out " + out));
+  ASSERT_TRUE(doc.is_object());
+  const json& r = doc["result"];
+  ASSERT_EQ(doc["runs"].size(), 6u);
+  EXPECT_EQ(doc["runs"][1]["path"], "drive");
+  // The truth lies inside the fit's own 95 % intervals...
+  const std::pair<const char*, double> truth[] = {{"wheel_diameter_left_mm", true_left_mm},
+                                                  {"wheel_diameter_right_mm", true_right_mm},
+                                                  {"wheelbase_mm", true_wheelbase_mm}};
+  for (const auto& [key, value] : truth) {
+    EXPECT_LE(r["ci"][key][0].get<double>(), value) << key;
+    EXPECT_GE(r["ci"][key][1].get<double>(), value) << key;
+    // ...and close in absolute terms: 2 mm end points over ~1.5 m of travel are ~0.13 % of the
+    // scale (0.08 mm of diameter) per run; 6 runs, 5σ: 0.2 mm; the wheelbase from ~140° arcs of
+    // 0.3 m radius: 2 mm over a 0.7 m arc is 0.3 % (0.45 mm) per arc, 4 arcs, 5σ: 1.1 mm.
+    EXPECT_NEAR(r[key].get<double>(), value, std::string(key) == "wheelbase_mm" ? 1.1 : 0.2) << key;
+  }
+  EXPECT_NEAR(doc["factors"]["c_l"].get<double>(), r["c_l"].get<double>(), 1e-6);
+  EXPECT_NEAR(doc["factors"]["wheelbase_mm"].get<double>(), r["wheelbase_mm"].get<double>(), 1e-3);
+  // The tick logs are what `odocal fit` reads, and it agrees.
+  std::string logs;
+  for (int i = 1; i <= 6; ++i) {
+    logs += " " + out + "/fit_run_0" + std::to_string(i) + ".csv";
+  }
+  const Result again = shell(bin("odocal") + " fit --log" + logs +
+                             " --wheel-diameter-mm 60 --wheelbase-mm 150 --counts-per-rev 1440 "
+                             "--json");
+  ASSERT_EQ(again.status, 0) << again.err;
+  EXPECT_NEAR(json::parse(again.out)["wheelbase_mm"].get<double>(), r["wheelbase_mm"].get<double>(),
+              1e-6);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(Session, AtATerminalItAsksBeforeSavingAndSavesOnYes) {
+  // The person's terminal is a pty too: odocal's stdin is its slave, the test types on the master.
+  const std::string robot = write("robot.json", robot_json);
+  const std::string store = temp("confirm.store");
+  std::remove(store.c_str());
+  SimOnPty sim(robot, store);
+  ASSERT_FALSE(sim.path().empty());
+  const int master = ::posix_openpt(O_RDWR | O_NOCTTY);
+  ASSERT_GE(master, 0);
+  ASSERT_EQ(::grantpt(master), 0);
+  ASSERT_EQ(::unlockpt(master), 0);
+  const std::string slave = ::ptsname(master);
+  const std::string typed = "-40 -45\n41 44\n-5 8\n6 -9\nmaybe\ny\n";
+  ASSERT_EQ(::write(master, typed.data(), typed.size()), static_cast<ssize_t>(typed.size()));
+  const std::string out = temp("confirm_out");
+  std::system(("rm -rf " + out).c_str());
+  const Result r = session("--port " + sim.path() +
+                               " --procedure umbmark --side-m 1 --runs 2 "
+                               "--json --out " +
+                               out,
+                           slave);
+  ::close(master);
+  const json doc = parse(r);
+  EXPECT_NE(r.err.find("Save these factors on the robot? [y/n]"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("Please answer y or n (got 'maybe')"), std::string::npos) << r.err;
+  EXPECT_TRUE(doc["saved"].get<bool>());
+  EXPECT_NEAR(stored(robot, store, "c_l"), doc["factors"]["c_l"].get<double>(), 1e-6);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(Session, LateralSaysSoWhenItsDesignIsDegenerate) {
+  // Every stop point typed as the start itself: the trials' body velocities are all zero, so
+  // eq. 10 has nothing to fit and eq. 4-5 has no chord; nothing may be applied.
+  const std::string robot = write("robot.json", robot_json);
+  SimOnPty sim(robot, temp("degenerate.store"));
+  ASSERT_FALSE(sim.path().empty());
+  std::string csv = "x_mm,y_mm,theta_deg\n";
+  for (int i = 0; i < 6; ++i) {
+    csv += "0,0,0\n";
+  }
+  const std::string out = temp("degenerate_out");
+  std::system(("rm -rf " + out).c_str());
+  const Result r = session("--port " + sim.path() +
+                           " --procedure lateral --runs 2 --json "
+                           "--out " +
+                           out + " --measurements " + write("zeros.csv", csv));
+  const json doc = parse(r);
+  ASSERT_TRUE(doc.is_object());
+  EXPECT_TRUE(doc["result"]["degenerate"].get<bool>());
+  EXPECT_NE(r.err.find("design is degenerate"), std::string::npos) << r.err;
+  EXPECT_FALSE(doc["applied"].get<bool>());
+  EXPECT_EQ(doc["factors"]["f_lat"].get<double>(), 1.0);
+  EXPECT_EQ(doc["factors"]["f_lon"].get<double>(), 1.0);
+}
+
+}  // namespace

@@ -1,6 +1,9 @@
 #include "odocal/host/session_command.hpp"
 
+#include <signal.h>
 #include <unistd.h>
+
+#include <csignal>
 
 #include <cstdint>
 #include <iostream>
@@ -15,6 +18,20 @@
 
 namespace odocal::host {
 namespace {
+
+/// The robot's console, for the interrupt handler: Ctrl-C stops the robot before odocal exits.
+volatile std::sig_atomic_t console_fd = -1;
+
+extern "C" void stop_robot_and_exit(int) {
+  static const char stop[] = "\x03stop\n";
+  if (console_fd >= 0) {
+    static_cast<void>(::write(console_fd, stop, sizeof stop - 1));
+  }
+  static const char note[] =
+      "\nodocal session: interrupted; sent 'stop' to the robot, nothing saved\n";
+  static_cast<void>(::write(STDERR_FILENO, note, sizeof note - 1));
+  ::_exit(130);
+}
 
 struct SessionFlags {
   std::string port;
@@ -112,7 +129,7 @@ int run(const SessionFlags& f, const CLI::App& cmd) {
   }
   std::unique_ptr<SimProcess> sim;
   std::unique_ptr<FdChannel> port;
-  LineChannel* channel = nullptr;
+  FdChannel* channel = nullptr;
   if (!f.sim_robot.empty()) {
     if (::access(f.sim_robot.c_str(), R_OK) != 0) {
       throw InputError(f.sim_robot, 0, "", "--sim: cannot read the robot file");
@@ -123,6 +140,11 @@ int run(const SessionFlags& f, const CLI::App& cmd) {
     port = open_serial_port(f.port, static_cast<std::uint32_t>(f.baud));
     channel = port.get();
   }
+  console_fd = channel->fd();
+  struct sigaction action {};
+  action.sa_handler = stop_robot_and_exit;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
   RobotClient robot(*channel);
   std::unique_ptr<MeasurementSource> source;
   if (file_source) {
@@ -162,8 +184,10 @@ void register_session_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--procedure", flags->procedure, "umbmark, lateral, fit or verify")
       ->required()
       ->check(CLI::IsMember({"umbmark", "lateral", "fit", "verify"}));
-  cmd->add_option("--side-m", flags->side_m,
-                  "UMBmark square side (default 4) or lateral line length (default 1), metres")
+  cmd->add_option(
+         "--side-m", flags->side_m,
+         "UMBmark square side (default 4), lateral line length (1) or fit line length (1.5), "
+         "metres")
       ->check(real_in(0.1, 20.0, "m"));
   cmd->add_option("--runs", flags->runs,
                   "runs per direction (umbmark, default 5), straight trials (lateral, 10), runs "

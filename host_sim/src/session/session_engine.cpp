@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
@@ -38,7 +39,14 @@ std::string default_out_dir(Procedure procedure) {
   gmtime_r(&now, &utc);
   char stamp[32];
   std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &utc);
-  return std::string("odocal-session-") + to_string(procedure) + "-" + stamp;
+  const std::string base = std::string("odocal-session-") + to_string(procedure) + "-" + stamp;
+  // Two sessions in the same second get -2, -3, ...: a default never collides with a session.
+  std::string name = base;
+  struct stat info {};
+  for (int n = 2; ::stat(name.c_str(), &info) == 0; ++n) {
+    name = base + "-" + std::to_string(n);
+  }
+  return name;
 }
 
 std::size_t planned_runs(const SessionOptions& options) {
@@ -252,7 +260,7 @@ nlohmann::json runs_json(const std::vector<RunRecord>& runs) {
     out.push_back(
         {{"trial", r.trial},
          {"path", r.path},
-         {"duration_ms", r.duration_ms},
+         {"duration_ms", static_cast<std::int64_t>(std::llround(r.duration_ms))},
          {"count_l", r.count_l},
          {"count_r", r.count_r},
          {"odom",
@@ -323,9 +331,20 @@ SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
                           const SessionOptions& options) {
   std::ostream& log = options.log != nullptr ? *options.log : std::cerr;
   session::Context context(robot, measurements, options, log);
-  // Start from a quiet, idle console: no echo, no streams, no motion from before.
+  // Start from a quiet, idle console: no echo, no streams, no motion from before. A board that
+  // resets when its port opens (USB serial) may miss the first line: ask up to three times.
   robot.drain(200);
-  static_cast<void>(robot.command("echo off"));
+  for (int attempt = 1;; ++attempt) {
+    try {
+      static_cast<void>(robot.command("echo off", 2000));
+      break;
+    } catch (const LinkError&) {
+      if (attempt == 3) {
+        throw;
+      }
+      robot.drain(500);
+    }
+  }
   robot.expect_ok("stop");
   robot.expect_ok("stream off");
   robot.drain(100);

@@ -1,11 +1,102 @@
+// `odocal session --procedure fit`: runs logged with `stream ticks` into tick logs (the measured
+// stop point on each log's last row), then `odocal fit`'s least squares for the true wheel
+// diameters and wheelbase, applied as c_l = D_L/D, c_r = D_R/D and wheelbase_mm.
+// The runs alternate a straight line (scale and wheel ratio) with left and right arcs (the
+// wheelbase: an arc's end point moves with how far it turned), so that end points alone
+// determine all three.
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
 #include <stdexcept>
 
+#include "odocal/host/fit.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
+namespace {
 
-Outcome run_fit(Context&) {
-  throw std::runtime_error("--procedure fit: not implemented yet");
+std::string tick_log_csv(const RunRecord& r) {
+  std::ostringstream out;
+  out << "# odocal session: trial " << r.trial << " (" << r.path
+      << "), counts from 'stream ticks'; last row: the measured stop point\n"
+         "t_s,count_l,count_r,x_mm,y_mm,theta_deg\n";
+  const double t0 = r.ticks.front().t_ms;
+  for (std::size_t i = 0; i < r.ticks.size(); ++i) {
+    const TickSample& s = r.ticks[i];
+    char line[160];
+    std::snprintf(line, sizeof line, "%.3f,%lld,%lld,", (s.t_ms - t0) / 1000.0,
+                  static_cast<long long>(s.count_l), static_cast<long long>(s.count_r));
+    out << line;
+    if (i + 1 == r.ticks.size()) {
+      std::snprintf(line, sizeof line, "%.3f,%.3f,", r.measured.x_mm, r.measured.y_mm);
+      out << line;
+      if (r.measured.theta_deg) {
+        std::snprintf(line, sizeof line, "%.3f", *r.measured.theta_deg);
+        out << line;
+      }
+      out << "\n";
+    } else {
+      out << ",,\n";
+    }
+  }
+  return out.str();
+}
+
+}  // namespace
+
+Outcome run_fit(Context& c) {
+  const std::size_t n = c.options.runs.value_or(6);
+  const double length_m = c.options.side_m.value_or(1.5);
+  c.need_measurements(n, "the fit (" + std::to_string(n) + " runs)");
+  c.planned = n;
+  FitNominal nominal;
+  nominal.wheel_diameter_mm = c.get("wheel_diameter_mm");
+  nominal.wheelbase_mm = c.get("wheelbase_mm");
+  nominal.counts_per_rev = c.get("counts_per_rev");
+  const double cruise = c.get("v_max_mps");
+  c.log << "Fit: " << n << " runs logged with 'stream ticks' (a " << c.format(length_m, 2)
+        << " m line, a left arc, a right arc, repeated); measure the stop point of each, with "
+           "its heading if you can.\n";
+  std::vector<TickLog> logs;
+  char command[96];
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t kind = i % 3;
+    RunRecord r;
+    if (kind == 0) {
+      std::snprintf(command, sizeof command, "run line %.3f", length_m);
+      r = c.run("line", command, c.path_seconds(length_m, 0.0, 1), true);
+    } else {
+      // ~140° arcs of 0.3 m radius at 0.75 of the cruise speed.
+      const double v = 0.75 * cruise;
+      const double w = (kind == 1 ? 1.0 : -1.0) * v / 0.3;
+      const int ms = static_cast<int>(std::lround(2.5 / std::fabs(w) * 1000.0));
+      std::snprintf(command, sizeof command, "drive %.3f %.3f %d", v, w, ms);
+      r = c.run(kind == 1 ? "arc-left" : "arc-right", command, ms / 1000.0 + 2.0, true);
+    }
+    char name[48];
+    std::snprintf(name, sizeof name, "fit_run_%02zu.csv", i + 1);
+    c.write_file(name, tick_log_csv(r));
+    logs.push_back(read_tick_log(c.options.out_dir + "/" + name));
+  }
+
+  FitOptions options;
+  options.seed = c.options.seed;
+  options.progress = [&c](const std::string& message) { c.log << "  " << message << "\n"; };
+  const FitOutcome fitted = fit_geometry(logs, nominal, options);
+  if (!fitted) {
+    throw std::runtime_error("fit: " + fitted.error.message + " (nothing applied)");
+  }
+  const FitResult& result = *fitted.result;
+  Outcome outcome;
+  outcome.result = fit_result_json(result);
+  outcome.text = fit_result_text(result);
+  c.log << outcome.text;
+  c.set("c_l", result.c_l);
+  c.set("c_r", result.c_r);
+  c.set("wheelbase_mm", result.geometry.wheelbase_mm);
+  outcome.applied = true;
+  return outcome;
 }
 
 }  // namespace odocal::host::session

@@ -47,6 +47,8 @@ class FdChannel : public LineChannel {
   void write_line(const std::string& line) override;
   bool read_line(std::string& line, int timeout_ms) override;
   [[nodiscard]] std::string name() const override { return name_; }
+  /// The descriptor (for a signal handler's last `stop`).
+  [[nodiscard]] int fd() const { return fd_; }
 
  private:
   int fd_;
@@ -72,7 +74,7 @@ class SimProcess {
   ~SimProcess();
   SimProcess(const SimProcess&) = delete;
   SimProcess& operator=(const SimProcess&) = delete;
-  [[nodiscard]] LineChannel& channel() { return *channel_; }
+  [[nodiscard]] FdChannel& channel() { return *channel_; }
   /// Stops the child now (idempotent).
   void stop();
 

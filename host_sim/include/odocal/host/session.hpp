@@ -108,7 +108,8 @@ struct SessionReport {
 /// is not a directory) and, with `create`, makes it and its parents. Throws InputError.
 void prepare_out_dir(const std::string& dir, bool create);
 
-/// The default --out: `odocal-session-<procedure>-YYYYMMDD-HHMMSS` (UTC).
+/// The default --out: `odocal-session-<procedure>-YYYYMMDD-HHMMSS` (UTC), with `-2`, `-3`, ...
+/// added when that already exists.
 [[nodiscard]] std::string default_out_dir(Procedure procedure);
 
 [[nodiscard]] const char* to_string(Procedure procedure);

@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
 # Every test of the project, as CI runs it: install the packages, build each preset, run its tests.
+# The last line is the grand total over every preset: "N passed, N failed"; the exit status is
+# non-zero when a test failed or a preset's tests could not run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./toolchain/install-deps.sh
@@ -13,9 +15,38 @@ done
 echo "== aarch64 cross build of odocal-linux =="
 cmake --preset linux-sbc -B build/aarch64 -DCMAKE_TOOLCHAIN_FILE="$PWD/toolchain/aarch64-linux-gnu.cmake"
 cmake --build build/aarch64 -j "${jobs}" --target odocal-linux
+
 status=0
+passed=0
+failed=0
+skipped=0
+log=$(mktemp)
+trap 'rm -f "${log}"' EXIT
 for preset in stm32f4 linux-sbc host; do
   echo "== tests ${preset} =="
-  ctest --preset "${preset}" -j "${jobs}" || status=1
+  set +e
+  ctest --preset "${preset}" -j "${jobs}" 2>&1 | tee "${log}"
+  ctest_status=${PIPESTATUS[0]}
+  set -e
+  # ctest ends with "NN% tests passed, F tests failed out of T"; tests that exited with their
+  # SKIP_RETURN_CODE are listed as "(Skipped)" and counted neither passed nor failed here.
+  summary=$(sed -n 's/^[0-9]*% tests passed, \([0-9]*\) tests* failed out of \([0-9]*\)$/\1 \2/p' "${log}")
+  if [ -z "${summary}" ]; then
+    echo "run-tests: preset ${preset}: ctest printed no summary (exit ${ctest_status})"
+    status=1
+    continue
+  fi
+  read -r f t <<<"${summary}"
+  s=$(grep -c '(Skipped)$' "${log}" || true)
+  failed=$((failed + f))
+  skipped=$((skipped + s))
+  passed=$((passed + t - f - s))
+  if [ "${ctest_status}" -ne 0 ]; then status=1; fi
 done
+if [ "${failed}" -ne 0 ]; then status=1; fi
+echo "== total over the presets stm32f4, linux-sbc, host =="
+if [ "${skipped}" -ne 0 ]; then
+  echo "${skipped} skipped (a package the test fetches could not be downloaded)"
+fi
+echo "${passed} passed, ${failed} failed"
 exit ${status}

@@ -13,31 +13,26 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <utility>
+
+#include <CLI/CLI.hpp>
 
 #include "config.hpp"
 #include "odocal/console/console.hpp"
 #include "odocal/console/version.hpp"
-#include "odocal/drive/control_loop.hpp"
-#include "odocal/hal/linux_gpiod/encoder_events.hpp"
-#include "odocal/hal/linux_gpiod/gpio_output.hpp"
-#include "odocal/hal/linux_gpiod/mutex_critical_section.hpp"
-#include "odocal/hal/linux_gpiod/posix_clock.hpp"
-#include "odocal/hal/linux_gpiod/software_pwm.hpp"
-#include "odocal/hal/linux_gpiod/sysfs_pwm.hpp"
-#include "odocal/hal/linux_gpiod/timerfd_tick.hpp"
 #include "odocal/params/param_store.hpp"
 #include "odocal/posix/fd_byte_stream.hpp"
 #include "odocal/posix/file_block_store.hpp"
+#include "robot.hpp"
 
 namespace {
 
 using namespace odocal;
 using namespace odocal::hal::linux_gpiod;
 using odocal::linux_target::LinuxConfig;
-using odocal::linux_target::PwmSpec;
+using odocal::linux_target::Robot;
 
 constexpr const char* kDefaultConfig = "/etc/odocal/odocal-linux.conf";
-constexpr const char* kConsumer = "odocal";
 constexpr int kExitSetup = 1;  // hardware or file set-up failed
 constexpr int kExitUsage = 2;  // bad command line or configuration
 
@@ -67,107 +62,6 @@ void print_help() {
       "\n%s",
       kDefaultConfig, linux_target::config_reference());
 }
-
-// One motor's PWM: the sysfs channel when it works, else the software fallback.
-struct MotorPwm {
-  SysfsPwm sysfs;
-  SoftwarePwm soft;
-  hal::PwmOutput* active = nullptr;
-  std::string description;
-
-  SetupResult open(ChipSet& chips, const PwmSpec& spec, const LinuxConfig& config,
-                   const char* role) {
-    SetupResult result = SetupResult::failure(SetupCode::not_found, "");
-    if (spec.sysfs) {
-      result = sysfs.open(spec.chip, spec.channel, config.pwm_hz, role);
-      if (result.ok()) {
-        active = &sysfs;
-        description = sysfs.name() + " " + std::to_string(config.pwm_hz) + " Hz";
-        return result;
-      }
-      if (!spec.has_gpio) {
-        return result;
-      }
-      std::fprintf(stderr, "odocal-linux: %s; falling back to software PWM\n",
-                   result.message.c_str());
-    }
-    result = soft.open(chips, spec.gpio, config.soft_pwm_hz, config.pwm_priority, kConsumer);
-    if (result.ok()) {
-      active = &soft;
-      description = "software on " + describe(spec.gpio) + " " +
-                    std::to_string(config.soft_pwm_hz) + " Hz (LOW PRECISION)";
-      std::fprintf(stderr, "odocal-linux: %s: software PWM on %s, low precision\n", role,
-                   describe(spec.gpio).c_str());
-    }
-    return result;
-  }
-};
-
-// Everything the process wires, in construction order.
-struct Robot {
-  ChipSet chips;
-  MutexCriticalSection critical;
-  GpioOutput left_dir;
-  GpioOutput right_dir;
-  GpioOutput enable;
-  MotorPwm left_pwm;
-  MotorPwm right_pwm;
-  std::unique_ptr<drive::ControlLoop> loop;
-  std::unique_ptr<EncoderEvents> encoders;
-  std::unique_ptr<TimerfdTick> tick;
-  PosixMonotonicClock clock;
-
-  static void on_tick(void* context) {
-    auto* robot = static_cast<Robot*>(context);
-    const std::uint32_t start = robot->clock.now_us();
-    robot->loop->tick(start);
-    robot->loop->note_tick_duration_us(static_cast<float>(robot->clock.now_us() - start));
-  }
-
-  SetupResult open(const LinuxConfig& config) {
-    SetupResult r = left_dir.open(chips, config.left_dir, true, kConsumer);
-    if (r.ok()) {
-      r = right_dir.open(chips, config.right_dir, true, kConsumer);
-    }
-    if (r.ok() && config.has_enable) {
-      r = enable.open(chips, config.enable, false, kConsumer);
-    }
-    if (r.ok()) {
-      r = left_pwm.open(chips, config.left_pwm, config, "left_pwm");
-    }
-    if (r.ok()) {
-      r = right_pwm.open(chips, config.right_pwm, config, "right_pwm");
-    }
-    if (!r.ok()) {
-      return r;
-    }
-    loop = std::make_unique<drive::ControlLoop>(drive::MotorChannel{*left_pwm.active, left_dir},
-                                                drive::MotorChannel{*right_pwm.active, right_dir},
-                                                critical);
-    encoders =
-        std::make_unique<EncoderEvents>(loop->left_decoder(), loop->right_decoder(), critical);
-    tick = std::make_unique<TimerfdTick>(config.tick_priority);
-    return encoders->open(chips, EncoderPins{config.left_a, config.left_b},
-                          EncoderPins{config.right_a, config.right_b}, kConsumer);
-  }
-
-  void shut_down() {
-    if (tick) {
-      tick->stop();
-    }
-    if (loop) {
-      loop->stop();
-    }
-    enable.set(false);
-    left_pwm.sysfs.close();
-    left_pwm.soft.close();
-    right_pwm.sysfs.close();
-    right_pwm.soft.close();
-    if (encoders) {
-      encoders->close();
-    }
-  }
-};
 
 // ` key=value` pairs the console's `status` reply gets on this target.
 std::size_t linux_status_pairs(void* context, char* out, std::size_t capacity) {
@@ -222,34 +116,44 @@ struct Options {
   bool check = false;
 };
 
-// @return -1 to go on, else the exit status.
+// The command line, by CLI11. @return -1 to go on, else the exit status. Options may repeat
+// (the last value counts); anything unknown is refused naming it.
 int parse_options(int argc, char** argv, Options& options) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (arg == "--help" || arg == "-h") {
-      print_help();
-      return 0;
-    }
-    if (arg == "--version") {
-      std::printf("odocal-linux %s\n", console::project_version);
-      return 0;
-    }
-    if (arg == "--pty") {
-      options.pty = true;
-    } else if (arg == "--check") {
-      options.check = true;
-    } else if ((arg == "--config" || arg == "--tty" || arg == "--store") && has_value) {
-      std::string& target =
-          arg == "--config" ? options.config : (arg == "--tty" ? options.tty : options.store);
-      target = argv[++i];
-    } else if (arg == "--config" || arg == "--tty" || arg == "--store") {
-      std::fprintf(stderr, "odocal-linux: %s needs a value (see --help)\n", arg.c_str());
-      return kExitUsage;
-    } else {
-      std::fprintf(stderr, "odocal-linux: unknown option \"%s\" (see --help)\n", arg.c_str());
-      return kExitUsage;
-    }
+  CLI::App app{"odocal-linux", "odocal-linux"};
+  app.set_help_flag();  // --help prints the reference of the configuration keys too
+  app.allow_extras();   // unknown arguments are named below, in this program's words
+  bool help = false;
+  bool version = false;
+  app.add_flag("-h,--help", help);
+  app.add_flag("--version", version);
+  app.add_flag("--pty", options.pty);
+  app.add_flag("--check", options.check);
+  for (auto [name, target] :
+       {std::pair{"--config", &options.config}, std::pair{"--tty", &options.tty},
+        std::pair{"--store", &options.store}}) {
+    app.add_option(name, *target)->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // The only parse error left: an option without its value ("--config: 1 required ...").
+    const std::string what = e.what();
+    std::fprintf(stderr, "odocal-linux: %s needs a value (see --help)\n",
+                 what.substr(0, what.find(':')).c_str());
+    return kExitUsage;
+  }
+  if (!app.remaining().empty()) {
+    std::fprintf(stderr, "odocal-linux: unknown option \"%s\" (see --help)\n",
+                 app.remaining().front().c_str());
+    return kExitUsage;
+  }
+  if (help) {
+    print_help();
+    return 0;
+  }
+  if (version) {
+    std::printf("odocal-linux %s\n", console::project_version);
+    return 0;
   }
   if (options.pty && !options.tty.empty()) {
     std::fprintf(stderr, "odocal-linux: --pty and --tty exclude each other\n");

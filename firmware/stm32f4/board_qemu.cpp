@@ -105,9 +105,9 @@ void board_start_encoders(drive::QuadratureDecoder& left, drive::QuadratureDecod
                           hal::MonotonicClock& clock) {
   // The decoders take the plant's clock, which the plant sets to each edge's crossing instant.
   static sim::EncoderWiring left_wiring{plant.left().channel_a(), plant.left().channel_b(),
-                                        plant.clock(), left};
+                                        plant.clock(), drive::edge_sink(left)};
   static sim::EncoderWiring right_wiring{plant.right().channel_a(), plant.right().channel_b(),
-                                         plant.clock(), right};
+                                         plant.clock(), drive::edge_sink(right)};
   // Plant time = firmware time (same epoch), so edge stamps and tick stamps compare directly.
   driver.clock = &clock;
   driver.last_us = clock.now_us();

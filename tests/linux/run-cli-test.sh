@@ -43,6 +43,10 @@ EOF_CONF
 
 expect "help" 0 "left_pwm_gpio" --help
 expect "unknown option" 2 '"--frobnicate"' --frobnicate
+expect "stray argument" 2 'unknown option "extra"' extra
+expect "option without its value" 2 "--store needs a value" --store
+expect "pty and tty" 2 "--pty and --tty exclude each other" --pty --tty /dev/null
+expect "version" 0 "odocal-linux " --version
 expect "missing config" 2 "missing.conf" --config "${work}/missing.conf"
 { cat "${good}"; echo "speed = 3"; } > "${work}/key.conf"
 expect "unknown key named with its line" 2 'key.conf:13: unknown key "speed"' --config "${work}/key.conf"

@@ -31,11 +31,14 @@
 #include "odocal/hal/linux_gpiod/software_pwm.hpp"
 #include "odocal/hal/linux_gpiod/sysfs_pwm.hpp"
 #include "odocal/hal/linux_gpiod/timerfd_tick.hpp"
+#include "robot.hpp"
 
 namespace {
 
 using namespace odocal::hal::linux_gpiod;
 namespace drive = odocal::drive;
+using odocal::linux_target::LinuxConfig;
+using odocal::linux_target::Robot;
 
 constexpr const char* kDebugfs = "/sys/kernel/debug/gpio-mockup";
 constexpr std::uint32_t kHoldback_us = 1000u;
@@ -276,57 +279,39 @@ void check_software_pwm_duty() {
         "duty 0 -> " + std::to_string(off) + ", duty 1 -> " + std::to_string(on));
 }
 
-// Everything the robot process wires, with the control loop ticking on the timerfd thread.
-struct Robot {
-  ChipSet chips;
-  MutexCriticalSection critical;
-  GpioOutput left_dir;
-  GpioOutput right_dir;
-  GpioOutput enable;
-  SoftwarePwm left_pwm;
-  SoftwarePwm right_pwm;
-  drive::ControlLoop loop{drive::MotorChannel{left_pwm, left_dir},
-                          drive::MotorChannel{right_pwm, right_dir}, critical};
-  EncoderEvents encoders{loop.left_decoder(), loop.right_decoder(), critical};
-  TimerfdTick tick{kTickPriority};
-  PosixMonotonicClock clock;
+// The robot process's own wiring (firmware/linux/robot.hpp) on the mockup chips: no PWM chip
+// there, so both motors take the software fallback.
+LinuxConfig vm_config() {
+  LinuxConfig config;
+  config.left_a = LinePin{"gpiochip0", 0u, "left_a"};
+  config.left_b = LinePin{"gpiochip0", 1u, "left_b"};
+  config.right_a = LinePin{"gpiochip0", 2u, "right_a"};
+  config.right_b = LinePin{"gpiochip0", 3u, "right_b"};
+  config.left_dir = LinePin{"gpiochip0", 4u, "left_dir"};
+  config.right_dir = LinePin{"gpiochip0", 5u, "right_dir"};
+  config.has_enable = true;
+  config.enable = LinePin{"gpiochip0", 6u, "enable"};
+  config.left_pwm.has_gpio = true;
+  config.left_pwm.gpio = LinePin{"gpiochip0", 7u, "left_pwm"};
+  config.right_pwm.has_gpio = true;
+  config.right_pwm.gpio = LinePin{"gpio-mockup-B", 0u, "right_pwm"};
+  config.soft_pwm_hz = 200u;
+  config.event_priority = kEventPriority;
+  config.tick_priority = kTickPriority;
+  config.pwm_priority = kPwmPriority;
+  config.event_holdback_us = kHoldback_us;
+  return config;
+}
 
-  static void on_tick(void* context) {
-    auto* robot = static_cast<Robot*>(context);
-    const std::uint32_t start = robot->clock.now_us();
-    robot->loop.tick(start);
-    robot->loop.note_tick_duration_us(static_cast<float>(robot->clock.now_us() - start));
+// Opens the robot and starts its encoder thread and its 1 kHz tick.
+SetupResult open_robot(Robot& robot) {
+  const LinuxConfig config = vm_config();
+  SetupResult r = robot.open(config);
+  if (r.ok()) {
+    r = robot.start(config, 1000u);
   }
-
-  SetupResult open() {
-    SetupResult r = left_dir.open(chips, LinePin{"gpiochip0", 4u, "left_dir"}, true, "odocal");
-    if (r.ok()) {
-      r = right_dir.open(chips, LinePin{"gpiochip0", 5u, "right_dir"}, true, "odocal");
-    }
-    if (r.ok()) {
-      r = enable.open(chips, LinePin{"gpiochip0", 6u, "enable"}, false, "odocal");
-    }
-    if (r.ok()) {
-      r = left_pwm.open(chips, LinePin{"gpiochip0", 7u, "left_pwm"}, 200u, kPwmPriority, "odocal");
-    }
-    if (r.ok()) {
-      r = right_pwm.open(chips, LinePin{"gpio-mockup-B", 0u, "right_pwm"}, 200u, kPwmPriority,
-                         "odocal");
-    }
-    if (r.ok()) {
-      r = encoders.open(
-          chips, EncoderPins{{"gpiochip0", 0u, "left_a"}, {"gpiochip0", 1u, "left_b"}},
-          EncoderPins{{"gpiochip0", 2u, "right_a"}, {"gpiochip0", 3u, "right_b"}}, "odocal");
-    }
-    if (r.ok()) {
-      r = encoders.start(kEventPriority, kHoldback_us);
-    }
-    if (r.ok() && tick.start(1000u, &Robot::on_tick, this) == 0u) {
-      r = SetupResult::failure(SetupCode::system_error, tick.error());
-    }
-    return r;
-  }
-};
+  return r;
+}
 
 std::string describe_counts(const Counts& c, const EncoderStats& l, const EncoderStats& r) {
   char text[240];
@@ -340,14 +325,14 @@ std::string describe_counts(const Counts& c, const EncoderStats& l, const Encode
 }
 
 void check_counting(Robot& robot, QuadratureGenerator& generator) {
-  const Counts before = counts(robot.loop, robot.critical);
+  const Counts before = counts(*robot.loop, robot.critical);
   const QuadratureGenerator::Result moved = generator.move(1000, -600, kCheckRate);
   sleep_ms(100);
-  Counts after = counts(robot.loop, robot.critical);
+  Counts after = counts(*robot.loop, robot.critical);
   Counts delta{after.left - before.left, after.right - before.right,
                after.illegal - before.illegal};
-  EncoderStats ls = robot.encoders.stats(Wheel::left);
-  EncoderStats rs = robot.encoders.stats(Wheel::right);
+  EncoderStats ls = robot.encoders->stats(Wheel::left);
+  EncoderStats rs = robot.encoders->stats(Wheel::right);
   char rate[80];
   std::snprintf(rate, sizeof rate, " @ %.0f edges/s", moved.rate_hz());
   check(delta.left == 1000 && delta.right == -600 && delta.illegal == 0u && ls.dropped == 0u &&
@@ -357,11 +342,11 @@ void check_counting(Robot& robot, QuadratureGenerator& generator) {
   const Counts middle = after;
   generator.move(-300, 200, kCheckRate);
   sleep_ms(100);
-  after = counts(robot.loop, robot.critical);
+  after = counts(*robot.loop, robot.critical);
   delta =
       Counts{after.left - middle.left, after.right - middle.right, after.illegal - middle.illegal};
-  ls = robot.encoders.stats(Wheel::left);
-  rs = robot.encoders.stats(Wheel::right);
+  ls = robot.encoders->stats(Wheel::left);
+  rs = robot.encoders->stats(Wheel::right);
   check(delta.left == -300 && delta.right == 200 && delta.illegal == 0u && ls.dropped == 0u &&
             rs.dropped == 0u,
         "direction reversed -300 / +200", describe_counts(delta, ls, rs));
@@ -370,15 +355,15 @@ void check_counting(Robot& robot, QuadratureGenerator& generator) {
 void check_dropped(Robot& robot, QuadratureGenerator& generator) {
   // With the reader stopped, 41 left edges: A toggles 21 times and B 20, the kernel keeps 16 of
   // each and drops the rest. Five lost A edges (odd) show as a repeated edge type later.
-  const EncoderStats before = robot.encoders.stats(Wheel::left);
-  const Counts start = counts(robot.loop, robot.critical);
-  robot.encoders.stop();
+  const EncoderStats before = robot.encoders->stats(Wheel::left);
+  const Counts start = counts(*robot.loop, robot.critical);
+  robot.encoders->stop();
   generator.move(41, 0, 2000.0);
-  SetupResult r = robot.encoders.start(kEventPriority, kHoldback_us);
+  SetupResult r = robot.encoders->start(kEventPriority, kHoldback_us);
   generator.move(8, 0, 2000.0);
   sleep_ms(100);
-  const EncoderStats after = robot.encoders.stats(Wheel::left);
-  const Counts end = counts(robot.loop, robot.critical);
+  const EncoderStats after = robot.encoders->stats(Wheel::left);
+  const Counts end = counts(*robot.loop, robot.critical);
   char detail[200];
   std::snprintf(detail, sizeof detail,
                 "49 edges, 9 lost in the kernel: counted %d, dropped +%u, queue_full +%u",
@@ -404,7 +389,7 @@ TurnSample turn(Robot& robot, float w_radps) {
   MockLine left_pwm(0, 7);
   MockLine right_pwm(1, 0);
   TurnSample sample;
-  if (!robot.loop.drive(drive::Twist{0.0f, w_radps}, 400u)) {
+  if (!robot.loop->drive(drive::Twist{0.0f, w_radps}, 400u)) {
     return sample;
   }
   int prev_l = left_pwm.read();
@@ -422,7 +407,7 @@ TurnSample turn(Robot& robot, float w_radps) {
     const timespec pause{0, 100000};
     nanosleep(&pause, nullptr);
   }
-  robot.loop.stop();
+  robot.loop->stop();
   sleep_ms(50);
   return sample;
 }
@@ -451,15 +436,15 @@ void check_outputs(Robot& robot) {
 }
 
 void check_tick(Robot& robot) {
-  robot.tick.reset_stats();
-  const TickStats before = robot.tick.stats();
+  robot.tick->reset_stats();
+  const TickStats before = robot.tick->stats();
   const std::uint64_t start_ns = monotonic_ns();
   sleep_ms(1000);
-  const TickStats after = robot.tick.stats();
+  const TickStats after = robot.tick->stats();
   const double periods = static_cast<double>(monotonic_ns() - start_ns) * 1e-9 * after.rate_hz;
   const std::uint32_t ticks = after.ticks - before.ticks;
   const std::uint32_t accounted = ticks + after.missed;
-  const drive::LoopStatus status = robot.loop.status();
+  const drive::LoopStatus status = robot.loop->status();
   char detail[240];
   std::snprintf(detail, sizeof detail,
                 "%u ticks + %u missed in %.0f periods at %u Hz; late mean %u us max %u us, "
@@ -481,14 +466,14 @@ void benchmark(Robot& robot, QuadratureGenerator& generator) {
   const double rates[] = {1000.0, 2000.0, 5000.0, 10000.0, 20000.0, 0.0};
   double best = 0.0;
   for (const double rate : rates) {
-    const Counts before = counts(robot.loop, robot.critical);
-    const EncoderStats lb = robot.encoders.stats(Wheel::left);
-    const EncoderStats rb = robot.encoders.stats(Wheel::right);
+    const Counts before = counts(*robot.loop, robot.critical);
+    const EncoderStats lb = robot.encoders->stats(Wheel::left);
+    const EncoderStats rb = robot.encoders->stats(Wheel::right);
     const QuadratureGenerator::Result moved = generator.move(1000, -1000, rate);
     sleep_ms(200);
-    const Counts after = counts(robot.loop, robot.critical);
-    const EncoderStats la = robot.encoders.stats(Wheel::left);
-    const EncoderStats ra = robot.encoders.stats(Wheel::right);
+    const Counts after = counts(*robot.loop, robot.critical);
+    const EncoderStats la = robot.encoders->stats(Wheel::left);
+    const EncoderStats ra = robot.encoders->stats(Wheel::right);
     const bool exact = after.left - before.left == 1000 && after.right - before.right == -1000;
     const std::uint32_t lost = (la.dropped - lb.dropped) + (ra.dropped - rb.dropped);
     const std::uint32_t full = (la.queue_full - lb.queue_full) + (ra.queue_full - rb.queue_full);
@@ -525,7 +510,7 @@ int main() {
   QuadratureGenerator generator;
   check(generator.valid(), "debugfs mockup lines", kDebugfs);
   Robot robot;
-  const SetupResult opened = robot.open();
+  const SetupResult opened = open_robot(robot);
   check(opened.ok(), "robot wiring", opened.ok() ? "all lines requested" : opened.message);
   if (opened.ok() && generator.valid()) {
     check_tick(robot);

@@ -58,8 +58,8 @@ SetupResult EncoderEvents::open(ChipSet& chips, const EncoderPins& left, const E
   }
   {
     CriticalGuard guard(critical_);
-    decoders_[0]->reset(levels_[0], levels_[1]);
-    decoders_[1]->reset(levels_[2], levels_[3]);
+    sinks_[0].reset(levels_[0], levels_[1]);
+    sinks_[1].reset(levels_[2], levels_[3]);
   }
   pending_count_ = 0u;
   last_decoded_ns_ = 0u;
@@ -208,8 +208,8 @@ void EncoderEvents::decode_up_to(std::uint64_t limit_ns) {
         disagreed_[event.line] = false;
       }
       levels_[event.line] = !levels_[event.line];
-      decoders_[wheel]->on_edge(levels_[wheel * 2u], levels_[wheel * 2u + 1u],
-                                static_cast<std::uint32_t>(event.ts_ns / 1000u));
+      sinks_[wheel].on_edge(levels_[wheel * 2u], levels_[wheel * 2u + 1u],
+                            static_cast<std::uint32_t>(event.ts_ns / 1000u));
     }
   }
   std::copy(pending_.begin() + static_cast<std::ptrdiff_t>(done),

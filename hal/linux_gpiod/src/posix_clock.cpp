@@ -15,10 +15,6 @@ std::uint64_t monotonic_ns() {
          static_cast<std::uint64_t>(now.tv_nsec);
 }
 
-std::uint32_t PosixMonotonicClock::do_now_us() {
-  return static_cast<std::uint32_t>(monotonic_ns() / 1000u);
-}
-
 RealtimeResult make_thread_realtime(int priority) {
   RealtimeResult result;
   if (priority <= 0) {

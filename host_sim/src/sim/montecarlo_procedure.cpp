@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <cstdio>
 #include <mutex>
 #include <sstream>
 #include <thread>
+
+#include <fmt/format.h>
 
 #include "odocal/host/sim_procedures.hpp"
 #include "odocal/host/sim_svg.hpp"
@@ -106,13 +107,6 @@ Columns columns(const MonteCarloReport& r) {
   return c;
 }
 
-std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0, double d = 0.0,
-                   double e = 0.0, double f = 0.0) {
-  char buffer[256];
-  std::snprintf(buffer, sizeof buffer, fmt, a, b, c, d, e, f);
-  return buffer;
-}
-
 }  // namespace
 
 MonteCarloReport run_montecarlo(const RobotSpec& robot, std::uint64_t seed,
@@ -175,25 +169,30 @@ std::string montecarlo_report_text(const MonteCarloReport& r) {
   std::ostringstream out;
   out << "Monte Carlo: " << r.robots.size() << " random robots calibrated by UMBmark (seed "
       << r.seed << ")\n";
-  out << format(
-      "  true diameters nominal x (1 +- %.2f %%), wheelbase x (1 +- %.1f %%), %.0f mm square\n",
-      r.options.diameter_spread * 100.0, r.options.wheelbase_spread * 100.0,
-      r.options.umbmark.side_m * 1e3);
+  out << fmt::format(FMT_STRING("  true diameters nominal x (1 +- {:.2f} %), wheelbase x (1 +- "
+                                "{:.1f} %), {:.0f} mm square\n"),
+                     r.options.diameter_spread * 100.0, r.options.wheelbase_spread * 100.0,
+                     r.options.umbmark.side_m * 1e3);
   out << "                           min        p05     median       mean        p95        max\n";
-  auto row = [&out](const char* name, const Summary& s, const char* fmt) {
-    char head[32];
-    std::snprintf(head, sizeof head, "  %-20s", name);
-    out << head << format(fmt, s.min, s.p05, s.median, s.mean, s.p95, s.max) << "\n";
+  // One row: the six statistics in 10 columns, fixed-point or (for tiny errors) exponent form.
+  auto row = [&out](const char* name, const Summary& s, bool exponent) {
+    const double v[] = {s.min, s.p05, s.median, s.mean, s.p95, s.max};
+    out << fmt::format("  {:<20}", name)
+        << (exponent ? fmt::format("{:10.1e}", fmt::join(v, " "))
+                     : fmt::format("{:10.1f}", fmt::join(v, " ")))
+        << "\n";
   };
-  row("fold improvement", summarise(c.fold), "%10.1f %10.1f %10.1f %10.1f %10.1f %10.1f");
-  row("E_max,syst before mm", summarise(c.before), "%10.1f %10.1f %10.1f %10.1f %10.1f %10.1f");
-  row("E_max,syst after mm", summarise(c.after), "%10.1f %10.1f %10.1f %10.1f %10.1f %10.1f");
-  row("|E_d error|", summarise(c.e_d_error), "%10.1e %10.1e %10.1e %10.1e %10.1e %10.1e");
-  row("|E_b error|", summarise(c.e_b_error), "%10.1e %10.1e %10.1e %10.1e %10.1e %10.1e");
-  out << format("  robots calibrated %.0f/%.0f, >= 10-fold: %.1f %%, second correction: %.1f %%\n",
-                static_cast<double>(c.ok), static_cast<double>(r.robots.size()),
-                c.ok ? 100.0 * c.tenfold / c.ok : 0.0, c.ok ? 100.0 * c.second / c.ok : 0.0);
-  out << format("  simulated %.0f s of robot time\n", r.simulated_s);
+  row("fold improvement", summarise(c.fold), false);
+  row("E_max,syst before mm", summarise(c.before), false);
+  row("E_max,syst after mm", summarise(c.after), false);
+  row("|E_d error|", summarise(c.e_d_error), true);
+  row("|E_b error|", summarise(c.e_b_error), true);
+  out << fmt::format(
+      FMT_STRING(
+          "  robots calibrated {:.0f}/{:.0f}, >= 10-fold: {:.1f} %, second correction: {:.1f} %\n"),
+      static_cast<double>(c.ok), static_cast<double>(r.robots.size()),
+      c.ok ? 100.0 * c.tenfold / c.ok : 0.0, c.ok ? 100.0 * c.second / c.ok : 0.0);
+  out << fmt::format(FMT_STRING("  simulated {:.0f} s of robot time\n"), r.simulated_s);
   return out.str();
 }
 

@@ -1,22 +1,17 @@
 // `odocal sim umbmark`: UMBmark (Borenstein & Feng, section 6) on the simulated robot.
 
 #include <cmath>
-#include <cstdio>
 #include <sstream>
 #include <string>
 #include <utility>
+
+#include <fmt/format.h>
 
 #include "odocal/host/sim_procedures.hpp"
 #include "odocal/host/sim_svg.hpp"
 
 namespace odocal::host {
 namespace {
-
-std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
-  char buffer[256];
-  std::snprintf(buffer, sizeof buffer, fmt, a, b, c, d);
-  return buffer;
-}
 
 /// The firmware's sticky fault bits in words.
 std::string fault_names(std::uint8_t faults) {
@@ -60,7 +55,8 @@ bool run_pass(SimulatedRobot& robot, const UmbmarkOptions& options, std::size_t 
               " run " + std::to_string(i % options.runs + 1) + ": the square did not complete (" +
               (status.faults != drive::fault_none
                    ? "firmware fault: " + fault_names(status.faults)
-                   : "not finished after " + format("%.0f", timeout_s) + " s of robot time") +
+                   : "not finished after " + fmt::format(FMT_STRING("{:.0f}"), timeout_s) +
+                         " s of robot time") +
               ")";
       return false;
     }
@@ -189,9 +185,14 @@ nlohmann::json umbmark_report_json(const UmbmarkReport& r) {
 
 std::string umbmark_report_text(const UmbmarkReport& r) {
   std::ostringstream out;
-  out << "UMBmark on the simulated robot (" << format("%.0f", r.options.side_m * 1e3)
-      << " mm square, " << r.options.runs << " cw + " << r.options.runs
-      << " ccw runs per pass, seed " << r.seed << ")\n";
+  out << "UMBmark on the simulated robot ("
+      << fmt::format(FMT_STRING("{:.0f}"), r.options.side_m * 1e3) << " mm square, "
+      << r.options.runs << " cw + " << r.options.runs << " ccw runs per pass, seed " << r.seed
+      << ")\n";
+  out << "E_d = D_R/D_L (right over left wheel diameter), E_b = actual over nominal wheelbase;\n"
+         "E_max,syst = the larger distance r of the two centres of gravity; SEM = standard error\n"
+         "of a centre (sigma/sqrt(n)); 3 SEM rule: another pass while E_max,syst >= 3 SEM, i.e.\n"
+         "while the systematic error still stands out of the run-to-run scatter.\n";
   if (!r.ok) {
     out << "failed: " << r.error << "\n";
     return out.str();
@@ -201,38 +202,41 @@ std::string umbmark_report_text(const UmbmarkReport& r) {
     const calib::UmbmarkResult& res = p.result;
     out << "\n"
         << (i == 0 ? "Before calibration" : "After correction " + std::to_string(i))
-        << format("  (c_L %.6f, c_R %.6f, b %.3f mm)\n", p.factors.c_l, p.factors.c_r,
-                  p.factors.wheelbase_mm);
-    out << "  return errors, mm (measured minus odometry):\n";
+        << fmt::format(FMT_STRING("  (c_L {:.6f}, c_R {:.6f}, b {:.3f} mm)\n"), p.factors.c_l,
+                       p.factors.c_r, p.factors.wheelbase_mm);
+    out << "  return errors, mm (measured minus odometry), x and y of each run:\n";
+    out << "         " << fmt::format("   cw {:>8} {:>8}", "x", "y")
+        << fmt::format("   ccw {:>8} {:>8}", "x", "y") << "\n";
     for (std::size_t k = 0; k < p.cw.size() || k < p.ccw.size(); ++k) {
       out << "    run " << (k + 1);
       if (k < p.cw.size())
-        out << format("   cw %8.1f %8.1f", p.cw[k].x_mm, p.cw[k].y_mm);
+        out << fmt::format(FMT_STRING("   cw {:8.1f} {:8.1f}"), p.cw[k].x_mm, p.cw[k].y_mm);
       if (k < p.ccw.size())
-        out << format("   ccw %8.1f %8.1f", p.ccw[k].x_mm, p.ccw[k].y_mm);
+        out << fmt::format(FMT_STRING("   ccw {:8.1f} {:8.1f}"), p.ccw[k].x_mm, p.ccw[k].y_mm);
       out << "\n";
     }
-    out << format("  centre of gravity cw  (%.1f, %.1f) mm, r = %.1f mm\n", res.x_cg_cw,
-                  res.y_cg_cw, res.r_cg_cw);
-    out << format("  centre of gravity ccw (%.1f, %.1f) mm, r = %.1f mm\n", res.x_cg_ccw,
-                  res.y_cg_ccw, res.r_cg_ccw);
-    out << format("  E_max,syst = %.1f mm   SEM = %.1f mm   alpha = %.4f deg   beta = %.4f deg\n",
-                  res.e_max_syst_mm, res.sem_mm, res.alpha_deg, res.beta_deg);
-    out << format("  solves to E_d = %.6f, E_b = %.5f", res.e_d, res.e_b)
+    out << fmt::format(FMT_STRING("  centre of gravity cw  ({:.1f}, {:.1f}) mm, r = {:.1f} mm\n"),
+                       res.x_cg_cw, res.y_cg_cw, res.r_cg_cw);
+    out << fmt::format(FMT_STRING("  centre of gravity ccw ({:.1f}, {:.1f}) mm, r = {:.1f} mm\n"),
+                       res.x_cg_ccw, res.y_cg_ccw, res.r_cg_ccw);
+    out << fmt::format(FMT_STRING("  E_max,syst = {:.1f} mm   SEM = {:.1f} mm   alpha = {:.4f} deg "
+                                  "  beta = {:.4f} deg\n"),
+                       res.e_max_syst_mm, res.sem_mm, res.alpha_deg, res.beta_deg);
+    out << fmt::format(FMT_STRING("  solves to E_d = {:.6f}, E_b = {:.5f}"), res.e_d, res.e_b)
         << (res.second_pass_recommended ? "  (E_max,syst >= 3 SEM: correct again)\n"
                                         : "  (E_max,syst < 3 SEM: no further pass)\n");
   }
   out << "\nResult\n";
-  out << format("  E_max,syst %.1f mm -> %.1f mm: %.1f-fold improvement\n",
-                r.passes.front().result.e_max_syst_mm, r.passes.back().result.e_max_syst_mm,
-                r.improvement_fold);
-  out << format("  E_d recovered %.6f, true %.6f (error %+.1e)\n", r.recovered_e_d, r.truth.e_d,
-                r.recovered_e_d - r.truth.e_d);
-  out << format("  E_b recovered %.5f, true %.5f (error %+.1e)\n", r.recovered_e_b, r.truth.e_b,
-                r.recovered_e_b - r.truth.e_b);
-  out << format("  factors to save: c_l %.6f  c_r %.6f  wheelbase_mm %.3f\n", r.applied.c_l,
-                r.applied.c_r, r.applied.wheelbase_mm);
-  out << format("  simulated %.0f s of robot time\n", r.simulated_s);
+  out << fmt::format(FMT_STRING("  E_max,syst {:.1f} mm -> {:.1f} mm: {:.1f}-fold improvement\n"),
+                     r.passes.front().result.e_max_syst_mm, r.passes.back().result.e_max_syst_mm,
+                     r.improvement_fold);
+  out << fmt::format(FMT_STRING("  E_d recovered {:.6f}, true {:.6f} (error {:+.1e})\n"),
+                     r.recovered_e_d, r.truth.e_d, r.recovered_e_d - r.truth.e_d);
+  out << fmt::format(FMT_STRING("  E_b recovered {:.5f}, true {:.5f} (error {:+.1e})\n"),
+                     r.recovered_e_b, r.truth.e_b, r.recovered_e_b - r.truth.e_b);
+  out << fmt::format(FMT_STRING("  factors to save: c_l {:.6f}  c_r {:.6f}  wheelbase_mm {:.3f}\n"),
+                     r.applied.c_l, r.applied.c_r, r.applied.wheelbase_mm);
+  out << fmt::format(FMT_STRING("  simulated {:.0f} s of robot time\n"), r.simulated_s);
   return out.str();
 }
 

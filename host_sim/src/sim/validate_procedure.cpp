@@ -1,8 +1,9 @@
 // `odocal sim validate`: the Maddahi & Zareinia protocol on the simulated robot.
 
 #include <cmath>
-#include <cstdio>
 #include <sstream>
+
+#include <fmt/format.h>
 
 #include "odocal/host/sim_procedures.hpp"
 #include "odocal/host/sim_svg.hpp"
@@ -29,13 +30,6 @@ sim::WorldPose path_end(const drive::Path& path) {
 }
 
 namespace {
-
-std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0, double d = 0.0,
-                   double e = 0.0) {
-  char buffer[256];
-  std::snprintf(buffer, sizeof buffer, fmt, a, b, c, d, e);
-  return buffer;
-}
 
 void report_progress(const ProgressFn& progress, const std::string& floor, const std::string& what,
                      std::size_t i, std::size_t n) {
@@ -376,26 +370,28 @@ std::string validate_report_text(const ValidateReport& r) {
     out << "failed: " << r.error << "\n";
     return out.str();
   }
-  out << format("firmware told the actual wheelbase l = %.2f mm (eq. 7 assumes it known)\n",
-                r.wheelbase_told_mm);
+  out << fmt::format(
+      FMT_STRING("firmware told the actual wheelbase l = {:.2f} mm (eq. 7 assumes it known)\n"),
+      r.wheelbase_told_mm);
   for (const ValidateFloor& f : r.floors) {
     out << "\n== " << f.name;
     if (f.bump_height_m > 0.0) {
-      out << format(" (%.0f mm bumps every %.0f mm)", f.bump_height_m * 1e3,
-                    f.bump_spacing_m * 1e3);
+      out << fmt::format(FMT_STRING(" ({:.0f} mm bumps every {:.0f} mm)"), f.bump_height_m * 1e3,
+                         f.bump_spacing_m * 1e3);
     }
-    out << format(": %.0f straight trials of %.0f mm\n", static_cast<double>(f.training.size()),
-                  f.line_m * 1e3);
-    out << format("  eq. 4/5 from the stop points:  F_lat %.5f  F_lon %.5f\n", f.eq45.f_lat,
-                  f.eq45.f_lon);
+    out << fmt::format(FMT_STRING(": {:.0f} straight trials of {:.0f} mm\n"),
+                       static_cast<double>(f.training.size()), f.line_m * 1e3);
+    out << fmt::format(FMT_STRING("  eq. 4/5 from the stop points:  F_lat {:.5f}  F_lon {:.5f}\n"),
+                       f.eq45.f_lat, f.eq45.f_lon);
     for (const ValidateScenario& s : f.scenarios) {
       if (s.name == "CL" || s.name == "CB") {
-        out << format("  ", 0.0) << s.name
-            << format(" factors:  F_lat %.5f  F_lon %.5f\n", s.factors.f_lat, s.factors.f_lon);
+        out << "  " << s.name
+            << fmt::format(FMT_STRING(" factors:  F_lat {:.5f}  F_lon {:.5f}\n"), s.factors.f_lat,
+                           s.factors.f_lon);
       } else if (s.name != "NC") {
-        out << format("  ", 0.0) << s.name
-            << format(" geometry: c_l %.5f  c_r %.5f  wheelbase %.2f mm", s.c_l, s.c_r,
-                      s.wheelbase_mm)
+        out << "  " << s.name
+            << fmt::format(FMT_STRING(" geometry: c_l {:.5f}  c_r {:.5f}  wheelbase {:.2f} mm"),
+                           s.c_l, s.c_r, s.wheelbase_mm)
             << (s.name == "OR" ? " (the truth)\n" : " (odocal fit of the CF trials)\n");
       }
     }
@@ -410,19 +406,19 @@ std::string validate_report_text(const ValidateReport& r) {
       for (std::size_t i = 0; i < s.errors.size(); ++i) {
         const calib::EndError& e = s.errors[i];
         out << "  " << s.name
-            << format("       %2.0f %10.1f %10.1f %10.1f", i + 1.0, e.x_mm, e.y_mm,
-                      std::hypot(e.x_mm, e.y_mm));
+            << fmt::format(FMT_STRING("       {:2.0f} {:10.1f} {:10.1f} {:10.1f}"), i + 1.0, e.x_mm,
+                           e.y_mm, std::hypot(e.x_mm, e.y_mm));
         if (i == s.errors.size() / 2 && acc != nullptr) {
-          out << format(" %10.1f", acc->rms_mm);
+          out << fmt::format(FMT_STRING(" {:10.1f}"), acc->rms_mm);
           if (s.name != "NC" && acc->improvement_pct) {
-            out << format("  %5.1f%%", *acc->improvement_pct);
+            out << fmt::format(FMT_STRING("  {:5.1f}%"), *acc->improvement_pct);
           }
         }
         out << "\n";
       }
     }
   }
-  out << format("\nsimulated %.0f s of robot time\n", r.simulated_s);
+  out << fmt::format(FMT_STRING("\nsimulated {:.0f} s of robot time\n"), r.simulated_s);
   return out.str();
 }
 

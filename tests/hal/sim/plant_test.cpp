@@ -171,7 +171,7 @@ TEST(Plant, DecoderWiredThroughTheHalCountsEveryEdgeAndNoIllegalOne) {
   Plant plant(quiet_robot(), 5u);
   drive::QuadratureDecoder decoder;
   EncoderWiring wiring(plant.right().channel_a(), plant.right().channel_b(), plant.clock(),
-                       decoder);
+                       drive::edge_sink(decoder));
   wiring.attach();
   set_wheel(plant.right(), 1.0f);
   plant.advance_to_ns(1'000'000'000u);

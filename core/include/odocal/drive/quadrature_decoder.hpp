@@ -4,6 +4,8 @@
 
 #include <cstdint>
 
+#include "odocal/hal/edge_sink.hpp"
+
 namespace odocal::drive {
 
 /// What the tick reads from a decoder: a consistent copy taken under a critical section.
@@ -41,5 +43,19 @@ class QuadratureDecoder {
   std::uint32_t illegal_ = 0u;
   std::uint8_t state_ = 0u;  ///< previous (A << 1) | B
 };
+
+/// `decoder` as the receiver of a HAL backend's encoder edges (hal::EdgeSink): the firmware or
+/// simulator connects its backend's edges to its decoders with this. `decoder` must outlive it.
+inline hal::EdgeSink edge_sink(QuadratureDecoder& decoder) {
+  hal::EdgeSink sink;
+  sink.edge = [](void* context, bool a, bool b, std::uint32_t t_us) {
+    static_cast<QuadratureDecoder*>(context)->on_edge(a, b, t_us);
+  };
+  sink.preset = [](void* context, bool a, bool b) {
+    static_cast<QuadratureDecoder*>(context)->reset(a, b);
+  };
+  sink.context = &decoder;
+  return sink;
+}
 
 }  // namespace odocal::drive

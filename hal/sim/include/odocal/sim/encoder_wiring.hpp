@@ -1,13 +1,14 @@
 #pragma once
 /// @file
-/// Connects two encoder lines to a quadrature decoder through the HAL edge callbacks, the way a
-/// board file wires its EXTI lines: on every edge, sample both levels and the clock, and call
-/// drive::QuadratureDecoder::on_edge. Used by the host simulator and the QEMU image.
+/// Connects two encoder lines to an edge sink (hal::EdgeSink, in practice a quadrature decoder)
+/// through the HAL edge callbacks, the way a board file wires its EXTI lines: on every edge,
+/// sample both levels and the clock, and hand them to the sink. Used by the host simulator and
+/// the QEMU image.
 
 #include <cstdint>
 
-#include "odocal/drive/quadrature_decoder.hpp"
 #include "odocal/hal/digital_input.hpp"
+#include "odocal/hal/edge_sink.hpp"
 #include "odocal/hal/monotonic_clock.hpp"
 
 namespace odocal::sim {
@@ -19,22 +20,22 @@ enum class ChannelFault : std::uint8_t {
   noisy,  ///< every 5th B edge arrives with a glitch on A (both channels change at once)
 };
 
-/// One wheel's edge path: lines A and B -> decoder. Must outlive the registration.
+/// One wheel's edge path: lines A and B -> sink. Must outlive the registration.
 class EncoderWiring {
  public:
   EncoderWiring(hal::DigitalInput& a, hal::DigitalInput& b, hal::MonotonicClock& clock,
-                drive::QuadratureDecoder& decoder)
-      : a_(a), b_(b), clock_(clock), decoder_(decoder) {}
+                const hal::EdgeSink& sink)
+      : a_(a), b_(b), clock_(clock), sink_(sink) {}
 
   EncoderWiring(const EncoderWiring&) = delete;
   EncoderWiring& operator=(const EncoderWiring&) = delete;
 
-  /// Presets the decoder to the current levels and registers the edge handler on both lines.
+  /// Presets the sink to the current levels and registers the edge handler on both lines.
   /// Start-up only (not ISR-safe).
   void attach() {
     a_seen_ = a_.read();
     b_seen_ = b_.read();
-    decoder_.reset(a_seen_, b_seen_);
+    sink_.reset(a_seen_, b_seen_);
     a_.on_edge(&EncoderWiring::on_edge, this);
     b_.on_edge(&EncoderWiring::on_edge, this);
   }
@@ -53,7 +54,7 @@ class EncoderWiring {
   }
 
  private:
-  /// Edge context: latch the levels and the time into the decoder, nothing else.
+  /// Edge context: latch the levels and the time into the sink, nothing else.
   static void on_edge(void* context) {
     auto* self = static_cast<EncoderWiring*>(context);
     bool a = self->a_.read();
@@ -70,13 +71,13 @@ class EncoderWiring {
     }
     self->a_seen_ = self->a_.read();
     self->b_seen_ = b;
-    self->decoder_.on_edge(a, b, self->clock_.now_us());
+    self->sink_.on_edge(a, b, self->clock_.now_us());
   }
 
   hal::DigitalInput& a_;
   hal::DigitalInput& b_;
   hal::MonotonicClock& clock_;
-  drive::QuadratureDecoder& decoder_;
+  const hal::EdgeSink sink_;
   ChannelFault fault_ = ChannelFault::none;
   bool stuck_a_ = false;
   bool a_seen_ = false;

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Quadrature encoder edges from libgpiod v1 line events, fed to the core's decoders.
+/// Quadrature encoder edges from libgpiod v1 line events, fed to one edge sink per wheel.
 
 #include <array>
 #include <atomic>
@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <thread>
 
-#include "odocal/drive/quadrature_decoder.hpp"
 #include "odocal/hal/critical_section.hpp"
+#include "odocal/hal/edge_sink.hpp"
 #include "odocal/hal/linux_gpiod/gpio_chips.hpp"
 
 namespace odocal::hal::linux_gpiod {
@@ -38,8 +38,8 @@ struct EncoderStats {
 /// are dropped when it is full) and stamps each event with CLOCK_MONOTONIC. The thread polls
 /// the four queues, merges what it reads by timestamp, holds back events younger than
 /// `holdback_us` (an event of one line may still be on its way while a later one of the other
-/// line is already readable), and feeds each wheel's `QuadratureDecoder` the line levels after
-/// every edge, under the critical section.
+/// line is already readable), and hands each wheel's edge sink (`hal::EdgeSink`, in practice the
+/// core's quadrature decoder) the line levels after every edge, under the critical section.
 ///
 /// Each event is one edge, so a line's level is toggled per event. The edge type the kernel
 /// reports is used as a check, not as the level: v1 decides it by reading the line when its
@@ -54,14 +54,14 @@ class EncoderEvents {
   /// Events buffered between reads (held back or not yet decoded).
   static constexpr std::size_t max_pending = 256u;
 
-  EncoderEvents(drive::QuadratureDecoder& left, drive::QuadratureDecoder& right,
+  EncoderEvents(const hal::EdgeSink& left, const hal::EdgeSink& right,
                 hal::CriticalSection& critical)
-      : decoders_{&left, &right}, critical_(critical) {}
+      : sinks_{left, right}, critical_(critical) {}
   ~EncoderEvents();
   EncoderEvents(const EncoderEvents&) = delete;
   EncoderEvents& operator=(const EncoderEvents&) = delete;
 
-  /// Requests the four lines for both-edge events, reads their levels and resets the decoders
+  /// Requests the four lines for both-edge events, reads their levels and presets the sinks
   /// to them. Set-up only. Fails naming the line when a chip or line is missing or in use.
   SetupResult open(ChipSet& chips, const EncoderPins& left, const EncoderPins& right,
                    const char* consumer);
@@ -102,7 +102,7 @@ class EncoderEvents {
   void read_line(std::size_t line);
   void decode_up_to(std::uint64_t limit_ns);
 
-  std::array<drive::QuadratureDecoder*, 2> decoders_;
+  std::array<hal::EdgeSink, 2> sinks_;
   hal::CriticalSection& critical_;
   std::array<gpiod_line*, 4> lines_{};
   std::array<int, 4> fds_{-1, -1, -1, -1};

@@ -1,11 +1,12 @@
 #pragma once
 /// @file
-/// CLOCK_MONOTONIC as the HAL's microsecond clock, and the realtime-scheduling helper.
+/// CLOCK_MONOTONIC in nanoseconds and as the HAL's microsecond clock, and the realtime-scheduling
+/// helper.
 
 #include <cstdint>
 #include <string>
 
-#include "odocal/hal/monotonic_clock.hpp"
+#include "odocal/posix/fd_byte_stream.hpp"
 
 namespace odocal::hal::linux_gpiod {
 
@@ -13,11 +14,8 @@ namespace odocal::hal::linux_gpiod {
 std::uint64_t monotonic_ns();
 
 /// CLOCK_MONOTONIC in microseconds modulo 2^32: the same time base as the encoder event
-/// timestamps handed to the decoders.
-class PosixMonotonicClock final : public hal::MonotonicClock {
- private:
-  std::uint32_t do_now_us() override;
-};
+/// timestamps handed to the decoders. One clock for every POSIX target (hal/posix).
+using PosixMonotonicClock = posix::PosixClock;
 
 /// Outcome of asking for SCHED_FIFO.
 struct RealtimeResult {

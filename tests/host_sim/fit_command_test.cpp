@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <fstream>
@@ -23,8 +24,10 @@ std::string odocal_binary() {
 }
 
 int run_command(const std::string& command, std::string& out, std::string& err) {
-  const std::string out_file = ::testing::TempDir() + "odocal_fit_out.txt";
-  const std::string err_file = ::testing::TempDir() + "odocal_fit_err.txt";
+  // Per process: two test runs on one machine must not read each other's output.
+  const std::string tag = std::to_string(::getpid());
+  const std::string out_file = ::testing::TempDir() + "odocal_fit_out_" + tag + ".txt";
+  const std::string err_file = ::testing::TempDir() + "odocal_fit_err_" + tag + ".txt";
   const int status = std::system((command + " >" + out_file + " 2>" + err_file).c_str());
   std::ifstream o(out_file);
   out.assign(std::istreambuf_iterator<char>(o), std::istreambuf_iterator<char>());

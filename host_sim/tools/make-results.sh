@@ -117,4 +117,5 @@ for name, title in (("umbmark.txt", "UMBmark report"), ("validate.txt", "Validat
     print(open(f"{d}/{name}").read().rstrip())
     print("```\n")
 PY
+python3 "$here/host_sim/tools/validate-seeds.py" "$bin" 30 >>"$out"
 echo "wrote $out"

@@ -13,19 +13,12 @@
 #include <string>
 #include <vector>
 
+#include "sim_process.hpp"
+
 namespace {
 
-std::string sim_program() {
-  const char* bin = std::getenv("ODOCAL_BIN_DIR");
-  const std::string sim = bin != nullptr ? std::string(bin) + "/odocal-sim" : "";
-  return sim.empty() || !std::ifstream(sim) ? std::string() : sim;
-}
-
-std::string temp_file(const std::string& name, const std::string& content) {
-  const std::string path = ::testing::TempDir() + name;
-  std::ofstream(path) << content;
-  return path;
-}
+using odocal::test::sim_program;
+using odocal::test::temp_file;
 
 /// Runs odocal-sim with `script` on stdin; `replies` gets the reply lines (not the `#` ones).
 int run_sim(const std::string& args, const std::string& script, std::vector<std::string>& replies,

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "sim_process.hpp"
+
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -23,17 +25,8 @@ constexpr double kWheelbaseMm = 150.0;
 constexpr double kCountsPerRev = 1440.0;
 constexpr double kMmPerCount = kPi * kWheelMm / kCountsPerRev;
 
-std::string sim_program() {
-  const char* bin = std::getenv("ODOCAL_BIN_DIR");
-  const std::string sim = bin != nullptr ? std::string(bin) + "/odocal-sim" : "";
-  return sim.empty() || !std::ifstream(sim) ? std::string() : sim;
-}
-
-std::string temp_file(const std::string& name, const std::string& content) {
-  const std::string path = ::testing::TempDir() + name;
-  std::ofstream(path) << content;
-  return path;
-}
+using odocal::test::sim_program;
+using odocal::test::temp_file;
 
 /// Runs odocal-sim on `script`; every output line in order.
 int run_sim(const std::string& args, const std::string& script, std::vector<std::string>& lines) {

@@ -6,8 +6,29 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 
+#include "odocal/drive/bounded_trig.hpp"
+
 namespace odocal::calib {
 namespace {
+
+// The solver's angles stay within a few turns. On the bare-metal image the bounded sin/cos
+// replaces newlib's full-range double sin/cos (~4.5 KB of flash; a few roundings of difference,
+// far inside every tolerance); the host keeps libm, so `odocal umbmark` output is unchanged.
+#if defined(__arm__) && !defined(__linux__)
+double sin_of(double a) {
+  return drive::sin_cos(a).sin;
+}
+double cos_of(double a) {
+  return drive::sin_cos(a).cos;
+}
+#else
+double sin_of(double a) {
+  return std::sin(a);
+}
+double cos_of(double a) {
+  return std::cos(a);
+}
+#endif
 
 constexpr double pi = 3.14159265358979323846;
 constexpr double quarter_turn_rad = pi / 2.0;
@@ -42,11 +63,11 @@ Dual operator/(Dual a, Dual b) {
 Dual chain(Dual a, double value, double slope) {
   return {value, slope * a.d0, slope * a.d1};
 }
-Dual sin(Dual a) {
-  return chain(a, std::sin(a.v), std::cos(a.v));
+Dual sin_of(Dual a) {
+  return chain(a, sin_of(a.v), cos_of(a.v));
 }
-Dual cos(Dual a) {
-  return chain(a, std::cos(a.v), -std::sin(a.v));
+Dual cos_of(Dual a) {
+  return chain(a, cos_of(a.v), -sin_of(a.v));
 }
 
 double scalar_sinc(double u, double& slope) {
@@ -55,8 +76,8 @@ double scalar_sinc(double u, double& slope) {
     slope = u * (-1.0 / 3.0 + u2 / 30.0);
     return 1.0 - u2 / 6.0 + u2 * u2 / 120.0;
   }
-  const double s = std::sin(u);
-  slope = (u * std::cos(u) - s) / (u * u);
+  const double s = sin_of(u);
+  slope = (u * cos_of(u) - s) / (u * u);
   return s / u;
 }
 double sinc(double u) {
@@ -78,15 +99,13 @@ struct ArcPose {
 
   /// One segment with real wheel travels s_l, s_r (mm) and real wheelbase b (mm).
   void move(T s_l, T s_r, T b) {
-    using std::cos;
-    using std::sin;
     const T dtheta = (s_r - s_l) / b;
     const T ds = 0.5 * (s_l + s_r);
     const T half = 0.5 * dtheta;
     const T chord = ds * sinc(half);  // chord length of the arc
     const T mid = theta + half;
-    x = x + chord * cos(mid);
-    y = y + chord * sin(mid);
+    x = x + chord * cos_of(mid);
+    y = y + chord * sin_of(mid);
     theta = theta + dtheta;
   }
 };
@@ -268,7 +287,7 @@ UmbmarkStatus solve_umbmark(const UmbmarkInput& input, UmbmarkResult& result) {
   double beta = 0.5 * (beta_x + beta_y);
   double alpha = 0.5 * (alpha_x + alpha_y);
   // UMBmark eq. 6.23 and 6.24, written with b/(2R) = b·sin(β/2)/L so that β = 0 is regular.
-  const double half_b_over_r = b * std::sin(beta / 2.0) / side;
+  const double half_b_over_r = b * sin_of(beta / 2.0) / side;
   if (std::fabs(half_b_over_r) >= 1.0 || alpha >= quarter_turn_rad) {
     return UmbmarkStatus::degenerate;
   }
@@ -276,7 +295,7 @@ UmbmarkStatus solve_umbmark(const UmbmarkInput& input, UmbmarkResult& result) {
   double e_b = quarter_turn_rad / (quarter_turn_rad - alpha);  // UMBmark eq. 6.29
   // UMBmark eq. 6.22: a straight leg (β = 0) has an infinite radius.
   const double straight = std::numeric_limits<double>::infinity();
-  double radius = beta == 0.0 ? straight : (side / 2.0) / std::sin(beta / 2.0);
+  double radius = beta == 0.0 ? straight : (side / 2.0) / sin_of(beta / 2.0);
 
   if (input.exact) {
     Eigen::Vector4d observed(cw.x, cw.y, ccw.x, ccw.y);

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "odocal/drive/bounded_trig.hpp"
+
 namespace odocal::drive {
 namespace {
 
@@ -22,7 +24,7 @@ struct HalfAngle {
 };
 
 // cos, sin and sinc of a half-increment. Per-tick angles are small, where a short series is exact
-// to single precision and much cheaper than sinf/cosf.
+// to single precision and much cheaper even than the bounded sin_cos.
 HalfAngle half_angle(float h) {
   const float h2 = h * h;
   if (h2 < 4e-4f) {  // |h| < 0.02 rad: the next series terms are below 2^-24
@@ -30,8 +32,8 @@ HalfAngle half_angle(float h) {
     const float c = 1.0f - h2 * 0.5f * (1.0f - h2 * (1.0f / 12.0f));
     return HalfAngle{c, h * sinc, sinc};
   }
-  const float s = std::sin(h);
-  return HalfAngle{std::cos(h), s, s / h};
+  const SinCos sc = sin_cos(h);
+  return HalfAngle{sc.cos, sc.sin, sc.sin / h};
 }
 
 }  // namespace
@@ -41,10 +43,11 @@ void Odometry::reset(const Pose& pose) {
   y_m_ = pose.y_m;
   x_comp_ = 0.0f;
   y_comp_ = 0.0f;
-  heading_ = std::remainder(pose.theta_rad, 2.0f * kPi);
+  heading_ = wrap_pi(pose.theta_rad);
   heading_comp_ = 0.0f;
-  cos_ = std::cos(heading_);
-  sin_ = std::sin(heading_);
+  const SinCos sc = sin_cos(heading_);
+  cos_ = sc.cos;
+  sin_ = sc.sin;
   since_resync_ = 0u;
 }
 
@@ -69,8 +72,9 @@ void Odometry::update(float left_m, float right_m, float wheelbase_m) {
   if (++since_resync_ >= resync_period) {
     // Recompute the vector from the reference heading: rotation rounding never accumulates.
     since_resync_ = 0u;
-    cos_ = std::cos(heading_);
-    sin_ = std::sin(heading_);
+    const SinCos sc = sin_cos(heading_);
+    cos_ = sc.cos;
+    sin_ = sc.sin;
   } else {
     // Rotate to the end heading and renormalise.
     const float c = mid_cos * half.cos - mid_sin * half.sin;

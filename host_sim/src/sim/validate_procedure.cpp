@@ -45,6 +45,66 @@ void report_progress(const ProgressFn& progress, const std::string& floor, const
   }
 }
 
+/// CF trials (squares; the straight trials are already logged) and the fit.
+bool run_cf(SimulatedRobot& robot, const drive::DriveConfig& base, const ValidateOptions& o,
+            ValidateFloor& floor, FitGeometry& fitted, std::string& error,
+            const ProgressFn& progress) {
+  if (!robot.configure(base)) {
+    error = "CF trial configuration refused";
+    return false;
+  }
+  const std::size_t squares = 2 * o.cf_squares;
+  for (std::size_t i = 0; i < squares; ++i) {
+    report_progress(progress, floor.name, "CF square", i, squares);
+    const bool clockwise = i % 2 == 0;
+    TickLog log;
+    log.source = floor.name + (clockwise ? " cw" : " ccw") + " square " + std::to_string(i / 2 + 1);
+    const RunOutcome out = run_path_logged(
+        robot, drive::make_umbmark_square(clockwise, static_cast<float>(o.cf_side_m)), log);
+    if (!out.completed) {
+      error = "a CF square did not complete";
+      return false;
+    }
+    floor.cf_logs.push_back(std::move(log));
+  }
+  // Turns in place, alternately clockwise and counter-clockwise: the wheelbase's best witness.
+  const std::size_t spins = 2 * o.cf_spins;
+  for (std::size_t i = 0; i < spins; ++i) {
+    report_progress(progress, floor.name, "CF turn in place", i, spins);
+    constexpr double two_pi = 6.283185307179586;
+    const double sign = i % 2 == 0 ? -1.0 : 1.0;
+    drive::Path spin;
+    static_cast<void>(
+        spin.push(drive::Segment{0.0f, static_cast<float>(sign * o.cf_spin_turns * two_pi)}));
+    TickLog log;
+    log.source = floor.name + " turn in place " + std::to_string(i + 1);
+    const RunOutcome out = run_path_logged(robot, spin, log);
+    if (!out.completed) {
+      error = "a CF turn in place did not complete";
+      return false;
+    }
+    floor.cf_logs.push_back(std::move(log));
+  }
+  FitNominal nominal;
+  nominal.wheel_diameter_mm = static_cast<double>(base.wheel_diameter_mm);
+  nominal.wheelbase_mm = static_cast<double>(base.wheelbase_mm);
+  nominal.counts_per_rev = static_cast<double>(base.counts_per_rev);
+  FitOptions options;
+  options.replicates = 0;  // the point estimate is what the robot is given
+  // The procedure determines every parameter by design (lines: the scale and E_d; squares and
+  // turns: the wheelbase); only the bumps' noise can make it loose, and then the fit is still the
+  // best guess.
+  options.max_relative_sd = 0.05;
+  const FitOutcome outcome = fit_geometry(floor.cf_logs, nominal, options);
+  if (!outcome) {
+    error = "CF fit: " + outcome.error.message;
+    return false;
+  }
+  floor.cf_fit = outcome.result;
+  fitted = outcome.result->geometry;
+  return true;
+}
+
 /// Runs one floor: the straight calibration trials, the two estimates, and the unseen path.
 bool run_floor(SimulatedRobot& robot, const drive::DriveConfig& base, const ValidateOptions& o,
                std::uint64_t seed, ValidateFloor& floor, std::string& error,
@@ -74,7 +134,10 @@ bool run_floor(SimulatedRobot& robot, const drive::DriveConfig& base, const Vali
       error = "trial configuration refused";
       return false;
     }
-    const RunOutcome out = robot.run_path(line);
+    TickLog log;
+    log.source = floor.name + " straight trial " + std::to_string(i + 1);
+    const RunOutcome out = run_path_logged(robot, line, log);
+    floor.cf_logs.push_back(std::move(log));
     if (!out.completed || !(out.duration_s > 0.0)) {
       error = "a straight trial did not complete";
       return false;
@@ -134,20 +197,46 @@ bool run_floor(SimulatedRobot& robot, const drive::DriveConfig& base, const Vali
     return false;
   }
 
-  // 3. The unseen path, 5 runs each with no correction, LR factors and bootstrap factors.
+  // 3. CF: the recommended calibration, fitted to the straight trials and to squares driven
+  //    with the nominal geometry, all measured only where they stopped.
+  FitGeometry cf;
+  if (!run_cf(robot, base, o, floor, cf, error, progress)) {
+    return false;
+  }
+
+  // 4. The unseen path, 5 runs each with no correction, LR factors, bootstrap factors, the true
+  //    geometry (OR) and the fitted one (CF).
   const drive::Path unseen = drive::make_unseen_path();
   const sim::WorldPose goal = path_end(unseen);
   const calib::LateralResult none{};
-  const std::pair<const char*, calib::LateralResult> scenarios[3] = {
-      {"NC", none}, {"CL", cl}, {"CB", cb}};
+  const sim::RobotModel& truth = robot.spec().truth;
+  const FitGeometry oracle{truth.left_diameter_m * 1e3, truth.right_diameter_m * 1e3,
+                           truth.wheelbase_m * 1e3};
+  const FitGeometry told{nominal_d, nominal_d, wheelbase};
+  struct Scenario {
+    const char* name;
+    calib::LateralResult factors;
+    FitGeometry geometry;
+  };
+  const Scenario scenarios[5] = {{"NC", none, told},
+                                 {"CL", cl, told},
+                                 {"CB", cb, told},
+                                 {"OR", none, oracle},
+                                 {"CF", none, cf}};
   std::vector<AccuracyTrial> trials;
-  for (const auto& [name, factors] : scenarios) {
+  for (const auto& [name, factors, geometry] : scenarios) {
     ValidateScenario s;
     s.name = name;
     s.factors = factors;
+    s.c_l = geometry.wheel_diameter_left_mm / nominal_d;
+    s.c_r = geometry.wheel_diameter_right_mm / nominal_d;
+    s.wheelbase_mm = geometry.wheelbase_mm;
     drive::DriveConfig c = base;
     c.f_lat = static_cast<float>(factors.f_lat);
     c.f_lon = static_cast<float>(factors.f_lon);
+    c.c_l = static_cast<float>(s.c_l);
+    c.c_r = static_cast<float>(s.c_r);
+    c.wheelbase_mm = static_cast<float>(s.wheelbase_mm);
     if (!robot.configure(c)) {
       error = std::string(name) + " factors outside the firmware's range";
       return false;
@@ -248,11 +337,26 @@ nlohmann::json validate_report_json(const ValidateReport& r) {
         if (sj["name"] == s.name) {
           sj["f_lat"] = s.factors.f_lat;
           sj["f_lon"] = s.factors.f_lon;
+          sj["c_l"] = s.c_l;
+          sj["c_r"] = s.c_r;
+          sj["wheelbase_mm"] = s.wheelbase_mm;
           sj["runs"] = trials;
         }
       }
     }
     fj["eq4_5"] = lateral_to_json(f.eq45);
+    if (f.cf_fit) {
+      nlohmann::json cf = fit_result_json(*f.cf_fit);
+      fj["cf"] = {{"procedure",
+                   {{"straight_trials", f.training.size()},
+                    {"squares_per_direction", r.options.cf_squares},
+                    {"square_side_mm", r.options.cf_side_m * 1e3}}},
+                  {"wheel_diameter_left_mm", cf["wheel_diameter_left_mm"]},
+                  {"wheel_diameter_right_mm", cf["wheel_diameter_right_mm"]},
+                  {"wheelbase_mm", cf["wheelbase_mm"]},
+                  {"relative_sd", cf["relative_sd"]},
+                  {"fit", cf["fit"]}};
+    }
     fj["estimate"] = {{"xdot_mps", f.unknown.xdot_mps},
                       {"lr_l", f.estimate.lr_l},
                       {"lr_r", f.estimate.lr_r},
@@ -285,9 +389,14 @@ std::string validate_report_text(const ValidateReport& r) {
     out << format("  eq. 4/5 from the stop points:  F_lat %.5f  F_lon %.5f\n", f.eq45.f_lat,
                   f.eq45.f_lon);
     for (const ValidateScenario& s : f.scenarios) {
-      if (s.name != "NC") {
+      if (s.name == "CL" || s.name == "CB") {
         out << format("  ", 0.0) << s.name
             << format(" factors:  F_lat %.5f  F_lon %.5f\n", s.factors.f_lat, s.factors.f_lon);
+      } else if (s.name != "NC") {
+        out << format("  ", 0.0) << s.name
+            << format(" geometry: c_l %.5f  c_r %.5f  wheelbase %.2f mm", s.c_l, s.c_r,
+                      s.wheelbase_mm)
+            << (s.name == "OR" ? " (the truth)\n" : " (odocal fit of the CF trials)\n");
       }
     }
     out << "  Unseen path (100 cm square, 100 cm triangle, 80 cm semicircle), END-point error:\n";
@@ -322,11 +431,11 @@ std::string validate_report_svg(const ValidateReport& r) {
   if (!r.ok) {
     return fig.finish();
   }
-  const char* colours[3] = {"#c0392b", "#e67e22", "#2471a3"};
+  const char* colours[5] = {"#c0392b", "#e67e22", "#2471a3", "#7f8c8d", "#27ae60"};
   for (std::size_t i = 0; i < r.floors.size(); ++i) {
     const ValidateFloor& f = r.floors[i];
     SvgPanel& p = fig.panel(i, "Unseen path, " + f.name, "x, m", "y, m");
-    for (std::size_t k = 0; k < f.scenarios.size() && k < 3; ++k) {
+    for (std::size_t k = 0; k < f.scenarios.size() && k < 5; ++k) {
       for (const auto& path : f.scenarios[k].paths) {
         p.add_line(path, colours[k]);
       }
@@ -337,6 +446,8 @@ std::string validate_report_svg(const ValidateReport& r) {
     p.legend({{colours[0], "NC"},
               {colours[1], "CL"},
               {colours[2], "CB"},
+              {colours[3], "OR"},
+              {colours[4], "CF"},
               {"#000000", "start o, END +"}});
   }
   return fig.finish();

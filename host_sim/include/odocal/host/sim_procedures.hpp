@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "odocal/calib/umbmark.hpp"
 #include "odocal/drive/motion_executor.hpp"
 #include "odocal/host/calib_json.hpp"
+#include "odocal/host/fit.hpp"
 #include "odocal/host/sim_robot.hpp"
 
 namespace odocal::host {
@@ -25,6 +27,20 @@ using ProgressFn = std::function<void(const std::string&)>;
 
 /// Where a path ends if driven exactly (the desired END point), start frame, m / rad.
 [[nodiscard]] sim::WorldPose path_end(const drive::Path& path);
+
+/// What ground truth a logged run records.
+enum class LogTruth {
+  end_only,  ///< the tape measure: the measured stop pose (with the robot's noise) in the last row
+  path,      ///< motion capture: the exact true pose in every row
+};
+
+/// Drives `path` like SimulatedRobot::run_path and records its tick log (DESIGN "Tick log"):
+/// cumulative encoder counts every `period_ms` of robot time and at the end (after the wheels
+/// came to rest), with the ground truth `truth` asks for. The run starts at the origin, so an
+/// end-only log starts at (0, 0, 0). `log.rows` is replaced.
+RunOutcome run_path_logged(SimulatedRobot& robot, const drive::Path& path, TickLog& log,
+                           LogTruth truth = LogTruth::end_only, std::uint32_t period_ms = 10u,
+                           double timeout_s = 600.0);
 
 // ---------------------------------------------------------------------------------------------
 // UMBmark
@@ -88,11 +104,23 @@ struct ValidateOptions {
   double bump_height_m = 0.010;        ///< used when the robot file gives no bumps (Maddahi)
   double bump_spacing_m = 0.200;
   bool record_paths = false;
+  /// CF, the recommended calibration (docs/calibration.md section 4): the straight trials above,
+  /// `cf_squares` cw + `cf_squares` ccw squares of `cf_side_m`, and `cf_spins` cw + `cf_spins`
+  /// ccw turns in place of `cf_spin_turns` turns, all with the nominal geometry and each
+  /// measured only where it stopped (x, y, heading, with the robot's measurement noise), fitted
+  /// by `odocal fit`.
+  std::size_t cf_squares = 2;
+  double cf_side_m = 1.0;
+  std::size_t cf_spins = 4;
+  double cf_spin_turns = 5.0;
 };
 
-/// One scenario (NC, CL or CB) on the unseen path.
+/// One scenario (NC, CL, CB, OR or CF) on the unseen path.
 struct ValidateScenario {
   std::string name;
+  double c_l = 1.0;  ///< wheel factors and wheelbase in the firmware (OR, CF; 1, 1, told else)
+  double c_r = 1.0;
+  double wheelbase_mm = 0.0;
   calib::LateralResult factors{};       ///< F_lat, F_lon in the firmware
   std::vector<calib::EndError> errors;  ///< reached minus desired END point, mm
   std::vector<std::vector<PathPoint>> paths;
@@ -109,7 +137,9 @@ struct ValidateFloor {
   calib::LateralResult eq45{};          ///< eq. 4/5 from the stop points (for reference)
   calib::BootstrapEstimate estimate{};  ///< wheel rates for the straight unknown
   calib::UnknownRow unknown{};
-  std::vector<ValidateScenario> scenarios;  ///< NC, CL, CB
+  std::vector<TickLog> cf_logs;             ///< the CF trial runs (straight trials, squares)
+  std::optional<FitResult> cf_fit;          ///< what `odocal fit` made of them
+  std::vector<ValidateScenario> scenarios;  ///< NC, CL, CB, OR, CF
   std::vector<ScenarioAccuracy> accuracy;   ///< RMS and improvement against NC
 };
 

@@ -1,0 +1,174 @@
+#pragma once
+/// @file
+/// `odocal fit`: least-squares estimate of a differential-drive robot's true left and right wheel
+/// diameters and wheelbase from tick logs (DESIGN "Tick log", "Host program: sessions and fits"),
+/// with bootstrap intervals over runs and in-sample / held-out accuracy figures.
+///
+/// Model: the odometry of each run is integrated row by row from the count increments, each row
+/// an exact circular arc (as core/src/drive/odometry.cpp), with the parameters D_L, D_R, b. It
+/// starts at the ground-truth pose of the run's first row, or at (0, 0, 0) when that row has none.
+/// Residuals, at every row with ground truth: x and y in mm, and the heading (wrapped difference,
+/// so unwrapped logs work) times FitOptions::heading_length_mm. Levenberg-Marquardt with an
+/// analytic Jacobian. Host code: dynamic containers, exceptions only for unreadable input.
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace odocal::host {
+
+/// One row of a tick log: cumulative encoder counts at a time, and the ground truth if measured.
+struct TickRow {
+  std::size_t line = 0;  ///< 1-based line in the file (0 for logs built in memory)
+  double t_s = 0.0;
+  double count_l = 0.0;  ///< cumulative counts (x4), signed
+  double count_r = 0.0;
+  bool has_xy = false;  ///< x_mm, y_mm measured at this instant
+  double x_mm = 0.0;
+  double y_mm = 0.0;
+  bool has_theta = false;  ///< theta_deg measured at this instant (may be unwrapped past ±180°)
+  double theta_deg = 0.0;
+};
+
+/// One run: a tick log file (or one built in memory by a simulator).
+struct TickLog {
+  std::string source;  ///< file name, for messages
+  std::vector<TickRow> rows;
+};
+
+/// Reads a tick log CSV: header `t_s,count_l,count_r` or `t_s,count_l,count_r,x_mm,y_mm,theta_deg`
+/// (UTF-8 BOM and CRLF accepted, '#' lines and blank lines skipped). Empty ground-truth cells mean
+/// "not measured at this row"; x_mm and y_mm are given together or not at all.
+/// Throws InputError ("FILE:LINE: field 'NAME': why") for: no file, missing or unknown header
+/// columns, wrong field count, a field that is not a plain finite number, absurd magnitudes,
+/// time going backwards (equal times are accepted), fewer than 2 rows, no ground truth after the
+/// first row, a first row with x/y but no heading (the start pose needs all three).
+[[nodiscard]] TickLog read_tick_log(const std::string& path);
+
+/// Checks a log built in memory by the same rules as read_tick_log; throws InputError.
+void check_tick_log(const TickLog& log);
+
+/// Writes `log` as CSV with the ground-truth columns (empty cells where a row has none), numbers
+/// in full precision: what read_tick_log reads back.
+void write_tick_log(const TickLog& log, std::ostream& out);
+
+/// What the firmware is told (the geometry "before" the fit).
+struct FitNominal {
+  double wheel_diameter_mm = 60.0;  ///< nominal (average) wheel diameter D
+  double wheelbase_mm = 150.0;      ///< nominal wheelbase b
+  double counts_per_rev = 1440.0;   ///< counts per wheel turn after x4 decoding; may be fractional
+};
+
+/// The estimated geometry.
+struct FitGeometry {
+  double wheel_diameter_left_mm = 0.0;
+  double wheel_diameter_right_mm = 0.0;
+  double wheelbase_mm = 0.0;
+};
+
+/// Receives one-line progress messages during the bootstrap ("fit: bootstrap 200/1000").
+using FitProgressFn = std::function<void(const std::string&)>;
+
+struct FitOptions {
+  std::uint32_t replicates = 500;  ///< bootstrap B (0: no intervals)
+  std::uint64_t seed = 1;          ///< bootstrap resampling seed (same seed, same intervals)
+  double level = 0.95;             ///< interval level, in (0, 1)
+  /// Heading residuals are scaled to mm by this length: 2 mm / 0.4° (UMBmark's calibrator), so
+  /// one degree of heading weighs as much as 5 mm of position.
+  double heading_length_mm = 286.4789;
+  /// Identifiability: the data must determine each parameter direction (in relative terms, from
+  /// the eigen-decomposition of the column-scaled JᵀJ, i.e. the scaled Jacobian's SVD) to this
+  /// relative standard deviation or better...
+  double max_relative_sd = 0.01;
+  /// ... with a measurement noise of this much (mm): judged at the nominal geometry with this
+  /// noise, then at the fitted one with the residual RMS if larger.
+  double noise_floor_mm = 2.0;
+  /// Bootstrap units: runs. When there are fewer than this many runs, runs with ground truth
+  /// along the path are cut into pieces (each restarting at its first row's ground truth) so that
+  /// there are about this many units to resample.
+  std::size_t min_units = 10;
+  FitProgressFn progress;  ///< called from the calling thread only (the bootstrap uses two)
+};
+
+/// Accuracy of a set of runs under the nominal ("before") and fitted ("after") geometry.
+struct FitFigures {
+  std::size_t runs = 0;
+  double end_rms_before_mm = 0.0;  ///< RMS over runs of the last x/y ground truth's radial error
+  double end_rms_after_mm = 0.0;
+  double path_rms_before_mm = 0.0;  ///< RMS over every x/y ground-truth row of all runs
+  double path_rms_after_mm = 0.0;
+};
+
+/// Interval [lo, hi] at FitOptions::level.
+struct FitInterval {
+  double lo = 0.0;
+  double hi = 0.0;
+};
+
+struct FitResult {
+  FitGeometry geometry;
+  FitNominal nominal;
+  double c_l = 1.0;  ///< D_L / D (the firmware's c_l)
+  double c_r = 1.0;  ///< D_R / D
+  double e_d = 1.0;  ///< D_R / D_L
+  double e_b = 1.0;  ///< b fitted / b nominal
+  /// Percentile bootstrap intervals over runs, widened by `widen` about the estimate (absent when
+  /// B = 0).
+  std::optional<FitInterval> ci_left_mm, ci_right_mm, ci_wheelbase_mm, ci_c_l, ci_c_r;
+  std::size_t bootstrap_units = 0;  ///< runs (or pieces of runs) resampled
+  std::uint32_t replicates = 0;     ///< B
+  std::uint32_t redrawn = 0;        ///< resamples drawn again because they determined nothing
+  double widen = 1.0;  ///< each interval end's distance from the estimate × sqrt(n/(n − 3))
+  double level = 0.95;
+  std::uint64_t seed = 0;
+  double heading_length_mm = 0.0;
+  std::size_t iterations = 0;         ///< Levenberg-Marquardt iterations of the main fit
+  double relative_sd[3] = {0, 0, 0};  ///< D_L, D_R, b relative standard deviations (linearised)
+  FitFigures fit;                     ///< on the logs fitted
+  std::optional<FitFigures> holdout;  ///< on the held-out logs, when given
+};
+
+/// Why the data cannot give a result.
+struct FitError {
+  /// The parameter the data cannot determine: "wheelbase_mm", "wheel_diameter_left_mm",
+  /// "wheel_diameter_right_mm", "scale" (all three together: the overall size), or "" for other
+  /// failures (no runs, the fit diverged).
+  std::string parameter;
+  std::string message;  ///< one line, names the parameter and why
+};
+
+/// A result or the reason there is none.
+struct FitOutcome {
+  std::optional<FitResult> result;
+  FitError error;
+  explicit operator bool() const { return result.has_value(); }
+};
+
+/// Fits D_L, D_R and b to `runs` (each checked as by check_tick_log beforehand), then bootstraps
+/// over runs, and scores `holdout` (may be empty: FitResult::holdout stays empty).
+/// Fails (no exception) when the data cannot determine a parameter (e.g. straight lines alone and
+/// the wheelbase; closed loops measured only at the end and the overall scale), or the fit does
+/// not converge to a physical geometry.
+[[nodiscard]] FitOutcome fit_geometry(const std::vector<TickLog>& runs, const FitNominal& nominal,
+                                      const FitOptions& options,
+                                      const std::vector<TickLog>& holdout = {});
+
+/// Accuracy of `runs` under the nominal geometry and under `geometry`.
+[[nodiscard]] FitFigures score_runs(const std::vector<TickLog>& runs, const FitNominal& nominal,
+                                    const FitGeometry& geometry, double heading_length_mm);
+
+/// The contract JSON (DESIGN "odocal fit"): wheel_diameter_left_mm wheel_diameter_right_mm
+/// wheelbase_mm c_l c_r e_d e_b ci{...} fit holdout (null without held-out logs), plus
+/// nominal, bootstrap and relative_sd details.
+[[nodiscard]] nlohmann::json fit_result_json(const FitResult& result);
+
+/// The same for people.
+[[nodiscard]] std::string fit_result_text(const FitResult& result);
+
+}  // namespace odocal::host

@@ -1,0 +1,116 @@
+#pragma once
+/// @file
+/// `odocal session`: a whole calibration driven through the robot's console (DESIGN "Host
+/// program: sessions and fits"). For every run: `odom reset`, `run ...` (or a timed `drive`),
+/// wait for `# done`, read `trial`, take the measurement (the simulator's `measure`, a CSV file,
+/// or a person at the terminal); then compute, show, apply, and save only when allowed.
+
+#include <cstdint>
+#include <iosfwd>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "odocal/host/robot_link.hpp"
+
+namespace odocal::host {
+
+/// A pose in the start frame (x ahead, y left), mm and degrees; theta may be unknown.
+struct SessionPose {
+  double x_mm = 0.0;
+  double y_mm = 0.0;
+  std::optional<double> theta_deg;
+};
+
+/// One cumulative tick sample of `stream ticks`.
+struct TickSample {
+  double t_ms = 0.0;
+  std::int64_t count_l = 0;
+  std::int64_t count_r = 0;
+};
+
+/// One run as the robot recorded it, and where it was measured to stop.
+struct RunRecord {
+  std::string label;  ///< what the run is for: "cw", "ccw", "line", "arc", "before", "after", ...
+  std::int64_t trial = 0;
+  std::string path;
+  double duration_ms = 0.0;
+  std::int64_t count_l = 0;
+  std::int64_t count_r = 0;
+  SessionPose odom;
+  SessionPose measured;
+  std::vector<TickSample> ticks;  ///< only when the run was logged (fit)
+};
+
+/// Where the measurements come from.
+class MeasurementSource {
+ public:
+  virtual ~MeasurementSource() = default;
+  /// The measured stop pose of `run` (index: 0-based over the whole session). Throws
+  /// InputError / LinkError when there is none.
+  virtual SessionPose take(const RunRecord& run, std::size_t index, std::size_t planned) = 0;
+  /// How many runs it can still serve (SIZE_MAX: unlimited).
+  [[nodiscard]] virtual std::size_t available(std::size_t already_taken) const = 0;
+  /// "odocal-sim measure", "FILE", "terminal".
+  [[nodiscard]] virtual std::string describe() const = 0;
+};
+
+/// The simulator's tape measure: `measure` on the console.
+[[nodiscard]] std::unique_ptr<MeasurementSource> robot_measurements(RobotClient& robot);
+
+/// CSV `x_mm,y_mm` or `x_mm,y_mm,theta_deg`, one row per run, read whole now (throws InputError
+/// naming file, line and field).
+[[nodiscard]] std::unique_ptr<MeasurementSource> file_measurements(const std::string& path);
+
+/// Asks a person: prompts on `prompt`, reads lines from `in`, re-asks on bad input. With `echo`
+/// (input not from a terminal) each line read is shown after its prompt.
+[[nodiscard]] std::unique_ptr<MeasurementSource> prompt_measurements(std::istream& in,
+                                                                     std::ostream& prompt,
+                                                                     bool echo);
+
+/// Parses "x y [theta]" (spaces and/or commas); on failure `why` says what was wrong.
+[[nodiscard]] bool parse_measurement_line(const std::string& text, SessionPose& pose,
+                                          std::string& why);
+
+enum class Procedure { umbmark, lateral, fit, verify };
+
+struct SessionOptions {
+  Procedure procedure = Procedure::umbmark;
+  std::optional<double> side_m;  ///< umbmark square side (default 4) / lateral line length (1)
+  std::optional<std::size_t> runs;
+  bool yes = false;  ///< save without asking
+  bool json = false;
+  std::string out_dir;
+  /// Asks "save?" when set (a terminal is there); nullptr: not saved without --yes.
+  std::istream* confirm_in = nullptr;
+  std::ostream* log = nullptr;  ///< progress and prompts (stderr)
+  std::uint64_t seed = 1;       ///< for the bootstraps
+};
+
+/// What a session did: the JSON of DESIGN, plus a human summary.
+struct SessionReport {
+  nlohmann::json json;
+  std::string text;
+};
+
+/// Measured runs the procedure needs at least (UMBmark: its first pass), from its options.
+[[nodiscard]] std::size_t planned_runs(const SessionOptions& options);
+
+/// Runs the whole session on a connected robot. Throws LinkError / InputError /
+/// std::runtime_error with a message for the user; files written so far stay in out_dir.
+[[nodiscard]] SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
+                                        const SessionOptions& options);
+
+/// Checks `dir` for a new session (refuses one that already holds a session.json, or a path that
+/// is not a directory) and, with `create`, makes it and its parents. Throws InputError.
+void prepare_out_dir(const std::string& dir, bool create);
+
+/// The default --out: `odocal-session-<procedure>-YYYYMMDD-HHMMSS` (UTC).
+[[nodiscard]] std::string default_out_dir(Procedure procedure);
+
+[[nodiscard]] const char* to_string(Procedure procedure);
+
+}  // namespace odocal::host

@@ -1,0 +1,118 @@
+// `odocal fit`: the result as JSON (contract keys) and as text.
+
+#include <cstdio>
+#include <sstream>
+
+#include "odocal/host/fit.hpp"
+
+namespace odocal::host {
+namespace {
+
+nlohmann::json figures_json(const FitFigures& f) {
+  return {{"runs", f.runs},
+          {"end_rms_before_mm", f.end_rms_before_mm},
+          {"end_rms_after_mm", f.end_rms_after_mm},
+          {"path_rms_before_mm", f.path_rms_before_mm},
+          {"path_rms_after_mm", f.path_rms_after_mm}};
+}
+
+nlohmann::json interval_json(const std::optional<FitInterval>& i) {
+  if (!i) {
+    return nullptr;
+  }
+  return nlohmann::json::array({i->lo, i->hi});
+}
+
+std::string line(const char* fmt, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
+  char text[256];
+  std::snprintf(text, sizeof text, fmt, a, b, c, d);
+  return text;
+}
+
+std::string figures_text(const char* what, const FitFigures& f) {
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "  %-8s %3zu run(s): end RMS %8.2f -> %8.2f mm, path RMS %8.2f -> %8.2f mm\n", what,
+                f.runs, f.end_rms_before_mm, f.end_rms_after_mm, f.path_rms_before_mm,
+                f.path_rms_after_mm);
+  return text;
+}
+
+}  // namespace
+
+nlohmann::json fit_result_json(const FitResult& r) {
+  nlohmann::json j;
+  j["wheel_diameter_left_mm"] = r.geometry.wheel_diameter_left_mm;
+  j["wheel_diameter_right_mm"] = r.geometry.wheel_diameter_right_mm;
+  j["wheelbase_mm"] = r.geometry.wheelbase_mm;
+  j["c_l"] = r.c_l;
+  j["c_r"] = r.c_r;
+  j["e_d"] = r.e_d;
+  j["e_b"] = r.e_b;
+  j["ci"] = {{"wheel_diameter_left_mm", interval_json(r.ci_left_mm)},
+             {"wheel_diameter_right_mm", interval_json(r.ci_right_mm)},
+             {"wheelbase_mm", interval_json(r.ci_wheelbase_mm)},
+             {"c_l", interval_json(r.ci_c_l)},
+             {"c_r", interval_json(r.ci_c_r)}};
+  j["fit"] = figures_json(r.fit);
+  j["holdout"] = r.holdout ? figures_json(*r.holdout) : nlohmann::json(nullptr);
+  j["nominal"] = {{"wheel_diameter_mm", r.nominal.wheel_diameter_mm},
+                  {"wheelbase_mm", r.nominal.wheelbase_mm},
+                  {"counts_per_rev", r.nominal.counts_per_rev}};
+  j["bootstrap"] = {{"replicates", r.replicates},
+                    {"units", r.bootstrap_units},
+                    {"redrawn", r.redrawn},
+                    {"level", r.level},
+                    {"seed", r.seed},
+                    {"interval", "percentile"},
+                    {"widen", r.widen}};
+  j["relative_sd"] = {{"wheel_diameter_left_mm", r.relative_sd[0]},
+                      {"wheel_diameter_right_mm", r.relative_sd[1]},
+                      {"wheelbase_mm", r.relative_sd[2]}};
+  j["heading_length_mm"] = r.heading_length_mm;
+  j["iterations"] = r.iterations;
+  return j;
+}
+
+std::string fit_result_text(const FitResult& r) {
+  std::ostringstream out;
+  out << line("Geometry fitted to the logs (nominal D %.3f mm, b %.3f mm, %.6g counts/rev)\n",
+              r.nominal.wheel_diameter_mm, r.nominal.wheelbase_mm, r.nominal.counts_per_rev);
+  const auto row = [&](const char* name, double value, const std::optional<FitInterval>& ci,
+                       const char* unit) {
+    char text[128];
+    std::snprintf(text, sizeof text, "  %-24s %12.5f %-2s", name, value, unit);
+    std::string shown = text;
+    shown.erase(ci ? shown.size() : shown.find_last_not_of(' ') + 1);
+    out << shown;
+    if (ci) {
+      out << line("   %.0f %% interval [%.5f, %.5f]", 100.0 * r.level, ci->lo, ci->hi);
+    }
+    out << '\n';
+  };
+  row("wheel_diameter_left_mm", r.geometry.wheel_diameter_left_mm, r.ci_left_mm, "mm");
+  row("wheel_diameter_right_mm", r.geometry.wheel_diameter_right_mm, r.ci_right_mm, "mm");
+  row("wheelbase_mm", r.geometry.wheelbase_mm, r.ci_wheelbase_mm, "mm");
+  row("c_l", r.c_l, r.ci_c_l, "");
+  row("c_r", r.c_r, r.ci_c_r, "");
+  row("e_d", r.e_d, std::nullopt, "");
+  row("e_b", r.e_b, std::nullopt, "");
+  if (r.replicates > 0) {
+    out << "  bootstrap: B = " << r.replicates << " over " << r.bootstrap_units << " unit(s), seed "
+        << r.seed << line(", percentile intervals widened x%.3f (small sample)\n", r.widen);
+  } else {
+    out << "  no bootstrap (B = 0): no intervals\n";
+  }
+  out << "Accuracy, nominal -> fitted geometry:\n";
+  out << figures_text("fit", r.fit);
+  if (r.holdout) {
+    out << figures_text("holdout", *r.holdout);
+  } else {
+    out << "  holdout  none (give --holdout FILE... to test the fit on runs it has not seen)\n";
+  }
+  out << "Firmware: set c_l " << line("%.6f", r.c_l) << ", set c_r " << line("%.6f", r.c_r)
+      << ", set wheelbase_mm " << line("%.4f", r.geometry.wheelbase_mm) << '\n';
+  return out.str();
+}
+
+}  // namespace odocal::host

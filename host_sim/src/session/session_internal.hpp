@@ -1,0 +1,87 @@
+#pragma once
+// Shared by the session's procedures (not installed): the run loop, parameters, output files.
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "odocal/host/session.hpp"
+
+namespace odocal::host::session {
+
+/// The factors in force on the robot.
+struct Factors {
+  double c_l = 1.0;
+  double c_r = 1.0;
+  double wheelbase_mm = 0.0;
+  double f_lat = 1.0;
+  double f_lon = 1.0;
+};
+
+/// What a procedure hands back to the engine.
+struct Outcome {
+  nlohmann::json result = nlohmann::json::object();
+  std::string text;      ///< the result for people (with intervals)
+  bool applied = false;  ///< new factors are in force on the robot
+};
+
+/// The session's state and the steps every procedure uses.
+class Context {
+ public:
+  Context(RobotClient& robot, MeasurementSource& source, const SessionOptions& options,
+          std::ostream& log)
+      : robot(robot), source(source), options(options), log(log) {}
+
+  RobotClient& robot;
+  MeasurementSource& source;
+  const SessionOptions& options;
+  std::ostream& log;
+  std::vector<RunRecord> runs;
+  std::vector<std::string> files;  ///< written into out_dir, in order
+  std::size_t planned = 0;         ///< runs planned so far (for "run 3/10")
+
+  /// `get NAME` as a number.
+  double get(const std::string& name);
+  /// `set NAME VALUE`; returns the value as stored.
+  double set(const std::string& name, double value);
+  [[nodiscard]] Factors factors();
+
+  /// One measured run: `odom reset`, `command` (a `run ...` or timed `drive`), `# done` within a
+  /// timeout from `expected_s` (the run's nominal duration), `trial`, then the measurement.
+  /// With `log_ticks` the run is logged through `stream ticks`.
+  RunRecord run(const std::string& label, const std::string& command, double expected_s,
+                bool log_ticks = false);
+
+  /// Nominal duration of a path of `length_m` metres and `turn_rad` radians of turning on the
+  /// spot, in `segments` segments, at the robot's cruise speed, turn rate and settle time.
+  double path_seconds(double length_m, double turn_rad, int segments);
+
+  /// Refuses to start when the measurement source has fewer than `count` more rows.
+  void need_measurements(std::size_t count, const std::string& what);
+
+  /// Writes `content` to out_dir/name.
+  void write_file(const std::string& name, const std::string& content);
+
+  std::string format(double value, int decimals = 3);
+};
+
+/// Gentle arcs the lateral procedure drives besides its straight trials.
+inline constexpr std::size_t lateral_arcs = 4;
+
+// The procedures (one file each).
+Outcome run_umbmark(Context& context);
+Outcome run_lateral(Context& context);
+Outcome run_verify(Context& context);
+Outcome run_fit(Context& context);
+
+/// `trial,label,path,duration_ms,count_l,count_r,odom_x_mm,...,measured_theta_deg` of every run.
+std::string runs_csv(const std::vector<RunRecord>& runs);
+/// The runs' end points (odometry and measured) and, for logged runs, their odometry traces.
+std::string runs_svg(const std::vector<RunRecord>& runs, const std::string& title);
+/// The `runs` array of the session JSON.
+nlohmann::json runs_json(const std::vector<RunRecord>& runs);
+
+}  // namespace odocal::host::session

@@ -1,0 +1,216 @@
+// Where a session's measurements come from: the simulator's tape measure, a CSV file, a person.
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <istream>
+#include <limits>
+#include <ostream>
+
+#include "odocal/host/csv.hpp"
+#include "odocal/host/session.hpp"
+
+namespace odocal::host {
+namespace {
+
+/// Largest stop-point coordinate taken, mm (the robot's `umbmark add` limit): 1 km is no run.
+constexpr double max_position_mm = 1e6;
+/// Largest heading taken, degrees (ten turns: an unwrapped heading is fine, more is a typo).
+constexpr double max_theta_deg = 3600.0;
+
+std::string fixed(double value) {
+  char text[48];
+  std::snprintf(text, sizeof text, "%.1f", value);
+  return text;
+}
+
+class RobotMeasure final : public MeasurementSource {
+ public:
+  explicit RobotMeasure(RobotClient& robot) : robot_(robot) {}
+  SessionPose take(const RunRecord&, std::size_t, std::size_t) override {
+    const Reply reply = robot_.command("measure");
+    if (!reply.ok) {
+      throw LinkError("the robot has no tape measure ('measure': err " + reply.code +
+                      "): only odocal-sim has one; give --measurements FILE or type them");
+    }
+    SessionPose pose;
+    pose.x_mm = reply.number("x_mm");
+    pose.y_mm = reply.number("y_mm");
+    pose.theta_deg = reply.number("theta_deg");
+    return pose;
+  }
+  std::size_t available(std::size_t) const override {
+    return std::numeric_limits<std::size_t>::max();
+  }
+  std::string describe() const override { return "the simulator's tape measure ('measure')"; }
+
+ private:
+  RobotClient& robot_;
+};
+
+class FileMeasure final : public MeasurementSource {
+ public:
+  explicit FileMeasure(const std::string& path) : path_(path) {
+    const bool with_theta = header_has_theta(path);
+    std::vector<std::string> columns = {"x_mm", "y_mm"};
+    if (with_theta) {
+      columns.emplace_back("theta_deg");
+    }
+    const CsvTable table = read_csv(path, columns);
+    for (std::size_t r = 0; r < table.rows.size(); ++r) {
+      SessionPose pose;
+      pose.x_mm = bounded(table, r, 0, max_position_mm);
+      pose.y_mm = bounded(table, r, 1, max_position_mm);
+      if (with_theta && !table.text(r, 2).empty()) {
+        pose.theta_deg = bounded(table, r, 2, max_theta_deg);
+      }
+      rows_.push_back(pose);
+    }
+    if (rows_.empty()) {
+      throw InputError(path, 0, "", "no measurement rows after the header");
+    }
+  }
+  SessionPose take(const RunRecord&, std::size_t index, std::size_t) override {
+    if (index >= rows_.size()) {
+      throw InputError(path_, 0, "",
+                       "too few rows: run " + std::to_string(index + 1) + " has no measurement");
+    }
+    return rows_[index];
+  }
+  std::size_t available(std::size_t already_taken) const override {
+    return already_taken >= rows_.size() ? 0u : rows_.size() - already_taken;
+  }
+  std::string describe() const override { return path_; }
+
+ private:
+  static double bounded(const CsvTable& table, std::size_t row, std::size_t column, double limit) {
+    const double value = table.number(row, column);
+    if (std::fabs(value) > limit) {
+      table.fail(row, column,
+                 "absurd magnitude " + table.text(row, column) + " (at most " + fixed(limit) + ")");
+    }
+    return value;
+  }
+  /// True when the header (first line that is not blank or a '#' note) is x_mm,y_mm,theta_deg.
+  static bool header_has_theta(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::string line;
+    bool first = true;
+    while (std::getline(in, line)) {
+      if (first && line.rfind("\xEF\xBB\xBF", 0) == 0) {
+        line.erase(0, 3);
+      }
+      first = false;
+      std::string compact;
+      for (char c : line) {
+        if (c != ' ' && c != '\t' && c != '\r') {
+          compact += c;
+        }
+      }
+      if (compact.empty() || compact[0] == '#') {
+        continue;
+      }
+      return compact == "x_mm,y_mm,theta_deg";
+    }
+    return false;
+  }
+  std::string path_;
+  std::vector<SessionPose> rows_;
+};
+
+class PromptMeasure final : public MeasurementSource {
+ public:
+  PromptMeasure(std::istream& in, std::ostream& prompt, bool echo)
+      : in_(in), prompt_(prompt), echo_(echo) {}
+  SessionPose take(const RunRecord& run, std::size_t index, std::size_t planned) override {
+    prompt_ << "\nRun " << index + 1 << "/" << planned << " (" << run.label << ", trial "
+            << run.trial << ") has stopped. The robot's odometry says x=" << fixed(run.odom.x_mm)
+            << " y=" << fixed(run.odom.y_mm) << " mm, heading "
+            << fixed(run.odom.theta_deg.value_or(0.0)) << " deg.\n";
+    for (;;) {
+      prompt_ << "Measured stop point from the start mark, mm: x (ahead) y (left) [heading deg]: "
+              << std::flush;
+      std::string line;
+      if (!std::getline(in_, line)) {
+        throw InputError("terminal", 0, "",
+                         "no measurement for run " + std::to_string(index + 1) +
+                             " (end of input); nothing was saved");
+      }
+      if (echo_) {
+        prompt_ << line << "\n";  // input from a file or pipe: show what was read
+      }
+      SessionPose pose;
+      std::string why;
+      if (parse_measurement_line(line, pose, why)) {
+        return pose;
+      }
+      prompt_ << "  Not taken: " << why
+              << ". Type two numbers (x_mm y_mm) or three (x_mm y_mm theta_deg), e.g. -12.5 40\n";
+    }
+  }
+  std::size_t available(std::size_t) const override {
+    return std::numeric_limits<std::size_t>::max();
+  }
+  std::string describe() const override { return "the terminal (you type them)"; }
+
+ private:
+  std::istream& in_;
+  std::ostream& prompt_;
+  bool echo_;
+};
+
+}  // namespace
+
+bool parse_measurement_line(const std::string& text, SessionPose& pose, std::string& why) {
+  std::vector<std::string> words;
+  std::string word;
+  for (char c : text + " ") {
+    if (c == ' ' || c == '\t' || c == ',' || c == '\r' || c == ';') {
+      if (!word.empty()) {
+        words.push_back(word);
+        word.clear();
+      }
+    } else {
+      word += c;
+    }
+  }
+  if (words.size() < 2 || words.size() > 3) {
+    why = words.empty() ? "empty line"
+                        : "expected 2 or 3 numbers, got " + std::to_string(words.size()) + " word" +
+                              (words.size() == 1 ? "" : "s");
+    return false;
+  }
+  static const char* const names[3] = {"x_mm", "y_mm", "theta_deg"};
+  double values[3] = {0.0, 0.0, 0.0};
+  for (std::size_t i = 0; i < words.size(); ++i) {
+    if (!parse_finite(words[i], values[i])) {
+      why = std::string(names[i]) + " '" + words[i] + "' is not a number";
+      return false;
+    }
+    const double limit = i < 2 ? max_position_mm : max_theta_deg;
+    if (std::fabs(values[i]) > limit) {
+      why = std::string(names[i]) + " " + words[i] + " is absurd (at most " + fixed(limit) + ")";
+      return false;
+    }
+  }
+  pose = SessionPose{values[0], values[1], std::nullopt};
+  if (words.size() == 3) {
+    pose.theta_deg = values[2];
+  }
+  return true;
+}
+
+std::unique_ptr<MeasurementSource> robot_measurements(RobotClient& robot) {
+  return std::make_unique<RobotMeasure>(robot);
+}
+
+std::unique_ptr<MeasurementSource> file_measurements(const std::string& path) {
+  return std::make_unique<FileMeasure>(path);
+}
+
+std::unique_ptr<MeasurementSource> prompt_measurements(std::istream& in, std::ostream& prompt,
+                                                       bool echo) {
+  return std::make_unique<PromptMeasure>(in, prompt, echo);
+}
+
+}  // namespace odocal::host

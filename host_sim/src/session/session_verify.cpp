@@ -1,0 +1,139 @@
+// `odocal session --procedure verify`: Maddahi's unseen path driven --runs times with the
+// nominal factors ("before": c_l = c_r = f_lat = f_lon = 1, the default wheelbase) and --runs
+// times with the factors in force ("after"); the end errors in the `odocal accuracy` format.
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "odocal/drive/motion_executor.hpp"
+#include "odocal/host/calib_json.hpp"
+#include "odocal/host/sim_numbers.hpp"
+#include "odocal/host/sim_procedures.hpp"
+#include "session_internal.hpp"
+
+namespace odocal::host::session {
+namespace {
+
+/// The `default=` of `name` in the `params` listing (the target's own default).
+double parameter_default(Context& c, const std::string& name) {
+  std::vector<std::string> lines;
+  const Reply reply = c.robot.command("params", 10000, &lines);
+  if (!reply.ok) {
+    throw LinkError("robot refused 'params': err " + reply.code);
+  }
+  for (const std::string& line : lines) {
+    const auto pairs = hash_line_pairs(line);
+    if (pairs.count(name) != 0u && pairs.count("default") != 0u) {
+      const auto value = parse_real(pairs.at("default"));
+      if (value) {
+        return *value;
+      }
+    }
+  }
+  throw LinkError("'params' lists no default for " + name);
+}
+
+void set_factors(Context& c, const Factors& f) {
+  c.set("c_l", f.c_l);
+  c.set("c_r", f.c_r);
+  c.set("wheelbase_mm", f.wheelbase_mm);
+  c.set("f_lat", f.f_lat);
+  c.set("f_lon", f.f_lon);
+}
+
+}  // namespace
+
+Outcome run_verify(Context& c) {
+  const std::size_t n = c.options.runs.value_or(5);
+  c.need_measurements(
+      2 * n, "verify (" + std::to_string(n) + " runs before and " + std::to_string(n) + " after)");
+  c.planned = 2 * n;
+  const drive::Path unseen = drive::make_unseen_path();
+  const sim::WorldPose goal = path_end(unseen);
+  double length_m = 0.0;
+  double turn_rad = 0.0;
+  for (std::uint8_t i = 0; i < unseen.count; ++i) {
+    length_m += std::fabs(static_cast<double>(unseen.segments[i].distance_m));
+    if (unseen.segments[i].distance_m == 0.0f) {
+      turn_rad += std::fabs(static_cast<double>(unseen.segments[i].angle_rad));
+    }
+  }
+  const double expected_s = c.path_seconds(length_m, turn_rad, unseen.count);
+
+  const Factors in_force = c.factors();
+  Factors nominal;
+  nominal.wheelbase_mm = parameter_default(c, "wheelbase_mm");
+  const bool saved_state = c.robot.expect_ok("status").text("unsaved") == "0";
+
+  c.log << "Verify: the unseen path (100 cm square, 100 cm triangle, 80 cm semicircle; it should "
+           "end "
+        << c.format(goal.x_m * 1e3, 0) << " mm ahead and " << c.format(goal.y_m * 1e3, 0)
+        << " mm to the left of the start), " << n << " runs with the nominal factors, then " << n
+        << " with the factors in force.\n";
+  std::vector<AccuracyTrial> trials;
+  std::ostringstream csv;
+  csv << "scenario,trial,x_mm,y_mm\n";
+  const auto drive_scenario = [&](const std::string& name) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const RunRecord r = c.run(name, "run unseen", expected_s);
+      const calib::EndError e{r.measured.x_mm - goal.x_m * 1e3, r.measured.y_mm - goal.y_m * 1e3};
+      trials.push_back(AccuracyTrial{name, e});
+      char line[128];
+      std::snprintf(line, sizeof line, "%s,%zu,%.3f,%.3f\n", name.c_str(), i + 1, e.x_mm, e.y_mm);
+      csv << line;
+    }
+  };
+  set_factors(c, nominal);
+  try {
+    drive_scenario("before");
+  } catch (...) {
+    set_factors(c, in_force);
+    throw;
+  }
+  // Put the factors back exactly: `load` restores the saved set and its provenance when nothing
+  // was unsaved; otherwise `set` them (their provenance then reads manual).
+  bool restored = false;
+  if (saved_state) {
+    const Reply load = c.robot.command("load");
+    restored = load.ok;
+  }
+  if (!restored) {
+    set_factors(c, in_force);
+    if (saved_state) {
+      c.log << "(no saved set to reload: the factors were set back by hand)\n";
+    } else {
+      c.log << "Note: the factors in force were unsaved; they were set back with 'set', so "
+               "'provenance' now reads manual for them.\n";
+    }
+  }
+  drive_scenario("after");
+  c.write_file("accuracy.csv", csv.str());
+
+  const std::vector<ScenarioAccuracy> scenarios = compute_accuracy(trials, "before");
+  Outcome outcome;
+  outcome.result = accuracy_to_json(scenarios, "before");
+  outcome.result["goal"] = {{"x_mm", goal.x_m * 1e3},
+                            {"y_mm", goal.y_m * 1e3},
+                            {"theta_deg", goal.theta_rad * 180.0 / 3.14159265358979323846}};
+  std::ostringstream text;
+  text << "Verify: end error on the unseen path (measured minus where it should end)\n"
+       << "scenario     trials       rms_mm  improvement_pct\n";
+  for (const ScenarioAccuracy& s : scenarios) {
+    char line[160];
+    if (s.improvement_pct) {
+      std::snprintf(line, sizeof line, "%-10s %8zu %12.1f %16.1f\n", s.name.c_str(), s.trials,
+                    s.rms_mm, *s.improvement_pct);
+    } else {
+      std::snprintf(line, sizeof line, "%-10s %8zu %12.1f %16s\n", s.name.c_str(), s.trials,
+                    s.rms_mm, "n/a");
+    }
+    text << line;
+  }
+  text << "(improvement = 100 (1 - rms / rms before); files: accuracy.csv for odocal accuracy)\n";
+  c.log << text.str();
+  outcome.text = text.str();
+  return outcome;
+}
+
+}  // namespace odocal::host::session

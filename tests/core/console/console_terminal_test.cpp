@@ -1,0 +1,157 @@
+// What a person at a terminal and a host logging runs see: echo from the first line typed, stream
+// lines that never break the line being typed, the target's own defaults in `params`, a clipped
+// `drive` that says so, and ranges that accept the documented bounds.
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+
+#include "console_rig.hpp"
+
+namespace odocal {
+namespace {
+
+using console::ConsoleOptions;
+using console::EchoMode;
+using test::Rig;
+using test::value_of;
+
+std::string output_since(const Rig& rig, std::size_t mark) {
+  return std::string(rig.stream.output.data() + mark, rig.stream.output_size - mark);
+}
+
+ConsoleOptions automatic_echo() {
+  ConsoleOptions options = Rig::quiet();
+  options.echo = EchoMode::automatic;
+  return options;
+}
+
+TEST(ConsoleTerminal, TheFirstLineTypedWithABareCrIsEchoedAndSoIsTheNext) {
+  auto rig = std::make_unique<Rig>(automatic_echo());
+  std::size_t mark = rig->stream.output_size;
+  rig->stream.type("get c_l\r");  // Enter from picocom: a bare CR, nothing behind it
+  rig->settle();
+  EXPECT_EQ(output_since(*rig, mark), "get c_l\nok c_l=1.000000\n");
+  EXPECT_TRUE(rig->console.echo_enabled());
+  mark = rig->stream.output_size;
+  rig->stream.type("get c_r\r");  // every character of the next line, the first included
+  rig->settle();
+  EXPECT_EQ(output_since(*rig, mark), "get c_r\nok c_r=1.000000\n");
+}
+
+TEST(ConsoleTerminal, ScriptedCrLfLinesStayUnechoed) {
+  auto rig = std::make_unique<Rig>(automatic_echo());
+  const std::size_t mark = rig->stream.output_size;
+  rig->stream.type("get c_l\r\nget c_r\r\n");
+  rig->settle();
+  EXPECT_EQ(output_since(*rig, mark), "ok c_l=1.000000\nok c_r=1.000000\n");
+  EXPECT_FALSE(rig->console.echo_enabled());
+}
+
+TEST(ConsoleTerminal, StreamLinesNeverLandInsideTheLineBeingTyped) {
+  ConsoleOptions options = Rig::quiet();
+  options.echo = EchoMode::on;
+  auto rig = std::make_unique<Rig>(options);
+  const auto started = rig->send("stream ticks 100");  // the echo, then the reply
+  ASSERT_EQ(started.size(), 2u);
+  EXPECT_EQ(started[1], "ok stream=ticks hz=100.000");
+  const std::size_t mark = rig->stream.output_size;
+  rig->stream.type("sta");  // typing, not finished
+  for (int i = 0; i < 50; ++i) {
+    rig->tick(1);
+    rig->console.poll(rig->now_us);
+  }
+  const std::string out = output_since(*rig, mark);
+  // Every stream line starts on a cleared line and the typed text is shown again after it.
+  std::size_t streams = 0;
+  for (std::size_t at = out.find("# ticks"); at != std::string::npos;
+       at = out.find("# ticks", at + 1)) {
+    ++streams;
+    ASSERT_GE(at, 4u);
+    EXPECT_EQ(out.substr(at - 4, 4), "\r\x1b[K") << "stream line " << streams;
+    const std::size_t end = out.find('\n', at);
+    ASSERT_NE(end, std::string::npos);
+    EXPECT_EQ(out.substr(end + 1, 3), "sta") << "stream line " << streams;
+  }
+  EXPECT_GE(streams, 3u);
+  rig->stream.type("tus\n");  // the command still completes as typed
+  rig->settle();
+  EXPECT_NE(rig->split_lines(mark).back().find("ok mode="), std::string::npos);
+}
+
+TEST(ConsoleTerminal, ParamsShowsTheTargetsOwnDefaults) {
+  params::ParamSet own = params::default_params();
+  own.set(params::ParamId::wheel_diameter_mm, 72.5f);
+  ConsoleOptions options = Rig::quiet();
+  options.defaults = &own;
+  auto rig = std::make_unique<Rig>(options);
+  rig->console.start(rig->now_us);
+  bool seen = false;
+  for (const auto& line : rig->send("params")) {
+    if (line.rfind("# wheel_diameter_mm=", 0) == 0) {
+      seen = true;
+      EXPECT_EQ(value_of(line, "default"), "72.500000") << line;
+    }
+  }
+  EXPECT_TRUE(seen);
+  EXPECT_EQ(rig->reply("set wheel_diameter_mm 80"), "ok wheel_diameter_mm=80.000000");
+  rig->reply("defaults");
+  EXPECT_EQ(rig->reply("get wheel_diameter_mm"), "ok wheel_diameter_mm=72.500000");
+}
+
+TEST(ConsoleTerminal, ADriveBeyondTheWheelLimitSaysItIsClipped) {
+  auto rig = std::make_unique<Rig>();
+  // 0.2 m/s on 60 mm wheels is 6.67 rad/s per wheel: within max_wheel_radps (25).
+  EXPECT_EQ(value_of(rig->reply("drive 0.2 0"), "clipped"), "");
+  // 1.5 m/s is 50 rad/s: scaled by 25/50, curvature kept.
+  const std::string line = rig->reply("drive 1.5 1");
+  EXPECT_EQ(value_of(line, "clipped"), "1") << line;
+  EXPECT_NEAR(std::stod(value_of(line, "v_clipped_mps")), 1.5 * 25.0 / (1.5 / 0.03 + 0.075 / 0.03),
+              0.002)
+      << line;
+  EXPECT_NEAR(
+      std::stod(value_of(line, "w_clipped_radps")) / std::stod(value_of(line, "v_clipped_mps")),
+      1.0 / 1.5, 0.01);
+}
+
+TEST(ConsoleTerminal, TheDocumentedBoundsOfEveryParameterAreAccepted) {
+  auto rig = std::make_unique<Rig>();
+  EXPECT_EQ(rig->reply("set v_max_mps 0.001"), "ok v_max_mps=0.001000");
+  EXPECT_EQ(rig->reply("set max_wheel_radps 0.1"), "ok max_wheel_radps=0.100000");
+  EXPECT_EQ(rig->reply("set w_max_radps 0.01"), "ok w_max_radps=0.010000");
+  EXPECT_EQ(test::error_code(rig->reply("set v_max_mps 0.000999")), "out_of_range");
+  EXPECT_EQ(test::error_code(rig->reply("set c_l 2.0000001")), "out_of_range");
+}
+
+TEST(ConsoleTerminal, HelpListsTheTrialAndLateralCommands) {
+  auto rig = std::make_unique<Rig>();
+  std::string all;
+  for (const auto& line : rig->send("help")) {
+    all += line + "\n";
+  }
+  for (const char* word : {"# trial [N]", "# trials", "# trials clear", "# stream ticks <hz>",
+                           "# lateral add <x_mm> <y_mm>", "# lateral solve", "# lateral apply"}) {
+    EXPECT_NE(all.find(word), std::string::npos) << word;
+  }
+}
+
+TEST(ConsoleTerminal, TrialCommandsWithoutTrialsAnswerNoTrial) {
+  auto rig = std::make_unique<Rig>();
+  EXPECT_EQ(test::error_code(rig->reply("trial")), "no_trial");
+  EXPECT_EQ(test::error_code(rig->reply("trial 1")), "no_trial");
+  EXPECT_EQ(test::error_code(rig->reply("trial -1")), "bad_number");
+  EXPECT_EQ(test::error_code(rig->reply("trials now")), "bad_argument");
+  EXPECT_EQ(rig->reply("trials"), "ok trials=0");
+  EXPECT_EQ(test::error_code(rig->reply("lateral add 1000 0")), "no_trial");
+  EXPECT_EQ(test::error_code(rig->reply("lateral add 1000")), "wrong_arity");
+  EXPECT_EQ(test::error_code(rig->reply("lateral add x 0")), "bad_number");
+  EXPECT_EQ(test::error_code(rig->reply("lateral solve now")), "wrong_arity");
+  EXPECT_EQ(test::error_code(rig->reply("lateral apply")), "not_solved");
+  EXPECT_EQ(test::error_code(rig->reply("lateral redo")), "bad_argument");
+  EXPECT_EQ(test::error_code(rig->reply("stream ticks 0")), "out_of_range");
+  EXPECT_EQ(test::error_code(rig->reply("stream ticks")), "wrong_arity");
+}
+
+}  // namespace
+}  // namespace odocal

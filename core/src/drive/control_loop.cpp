@@ -24,6 +24,9 @@ float path_length_m(const Path& path) {
 // How long both wheels must be still after a trial's motion before it closes, ms.
 constexpr float kMinStill_ms = 50.0f;
 
+// Braking gives up after this long (a wheel held by something never reads "at rest"), ms.
+constexpr std::uint32_t kMaxBrake_us = 1000000u;
+
 // The longest tick period the loop integrates over; a longer gap (debugger halt, first tick)
 // is treated as this long so the integrators do not jump.
 constexpr std::uint32_t kMaxTickGap_us = 100000u;
@@ -69,6 +72,7 @@ void ControlLoop::take_command(const Inbox& inbox, const EncoderSnapshot& left,
   }
   switch (inbox.command) {
     case Command::stop:
+      start_braking();
       motion_.cancel();
       mode_ = Mode::idle;
       drive_twist_ = Twist{};
@@ -149,6 +153,7 @@ Twist ControlLoop::twist_for_mode(float dt_s, std::uint32_t dt_us) {
       if (expired) {
         mode_ = Mode::idle;
         drive_twist_ = Twist{};
+        start_braking();
       }
       return drive_twist_;
     }
@@ -164,6 +169,33 @@ Twist ControlLoop::twist_for_mode(float dt_s, std::uint32_t dt_us) {
       break;
   }
   return Twist{};
+}
+
+void ControlLoop::start_braking() {
+  const float left = left_speed_.speed_radps();
+  const float right = right_speed_.speed_radps();
+  left_brake_sign_ = left > 0.0f ? 1 : (left < 0.0f ? -1 : 0);
+  right_brake_sign_ = right > 0.0f ? 1 : (right < 0.0f ? -1 : 0);
+  brake_us_ = 0u;
+}
+
+float ControlLoop::brake_duty(int& sign, WheelController& controller,
+                              const VelocityEstimator& speed) {
+  // The speed loop's proportional term alone, towards zero: the duty shrinks with the speed and
+  // is 0 at rest, so braking cannot push the wheel backwards (an integral term, wound up by the
+  // angle turned while stopping, did: a few counts of reverse creep). The controller stays reset
+  // so the next motion starts bumpless.
+  controller.reset();
+  const float measured = speed.speed_radps();
+  // At rest (the estimator reads 0 once no edge came for its timeout), or turning back: release.
+  if (sign != 0 && (measured * static_cast<float>(sign) <= 0.0f || brake_us_ > kMaxBrake_us)) {
+    sign = 0;
+  }
+  if (sign == 0) {
+    return 0.0f;
+  }
+  const float duty = -config_.kp * measured;
+  return duty > 1.0f ? 1.0f : (duty < -1.0f ? -1.0f : duty);
 }
 
 void ControlLoop::drive_motors(float left_duty, float right_duty) {
@@ -246,6 +278,8 @@ void ControlLoop::tick(std::uint32_t now_us) {
   if (mode_ == Mode::fault) {
     left_controller_.reset();
     right_controller_.reset();
+    left_brake_sign_ = 0;  // a fault parks the motors: no braking either
+    right_brake_sign_ = 0;
   } else {
     const Twist twist = twist_for_mode(dt_s, dt_us);
     WheelRates rates = kinematics_.inverse(twist);
@@ -257,11 +291,17 @@ void ControlLoop::tick(std::uint32_t now_us) {
       rates.right_radps *= scale;
     }
     if (rates.left_radps == 0.0f && rates.right_radps == 0.0f) {
-      // Nothing to drive (idle, settling between segments, stop): release the motors and let
-      // them brake, instead of a velocity loop that would wind up and creep backwards.
-      left_controller_.reset();
-      right_controller_.reset();
+      // Nothing to drive. After a drive or a `stop`, brake each wheel to rest under proportional
+      // speed control to zero (a robot told to stop stops: about a third of the distance it would
+      // roll out on its shorted windings); then, and otherwise (idle, settling between path
+      // segments), release the motors, instead of a velocity loop that would wind up and creep
+      // backwards.
+      brake_us_ += dt_us;
+      left_duty = brake_duty(left_brake_sign_, left_controller_, left_speed_);
+      right_duty = brake_duty(right_brake_sign_, right_controller_, right_speed_);
     } else {
+      left_brake_sign_ = 0;
+      right_brake_sign_ = 0;
       left_duty = left_controller_.update(rates.left_radps, left_speed_.speed_radps(), dt_s);
       right_duty = right_controller_.update(rates.right_radps, right_speed_.speed_radps(), dt_s);
     }

@@ -137,6 +137,12 @@ class ControlLoop {
   MotorChannel right_;
   hal::CriticalSection& critical_;
 
+  /// Starts braking the wheels that are turning (a drive ended, or `stop`).
+  void start_braking();
+  /// One wheel's duty while braking: −kp·speed until the wheel is at rest (or turns the other
+  /// way), then 0 and `sign` cleared. Keeps `controller` reset.
+  float brake_duty(int& sign, WheelController& controller, const VelocityEstimator& speed);
+
   // Tick-owned state (only the tick touches it).
   DriveConfig config_;
   DiffDriveKinematics kinematics_;
@@ -165,6 +171,11 @@ class ControlLoop {
   float left_duty_ = 0.0f;
   float right_duty_ = 0.0f;
   bool started_ = false;
+  // Braking after a drive ends or `stop`: each wheel's speed loop holds a zero set-point until
+  // that wheel is at rest (direction of travel at the start: +1, -1; 0 = released).
+  int left_brake_sign_ = 0;
+  int right_brake_sign_ = 0;
+  std::uint32_t brake_us_ = 0u;
 
   // Edge-owned state (the edge contexts write, the tick snapshots under the critical section).
   QuadratureDecoder left_decoder_;

@@ -1,0 +1,110 @@
+// `odocal ros2`: see docs/calibration.md.
+
+#include "calib_cli.hpp"
+
+namespace odocal::host::calib_cli {
+namespace {
+
+double multiplier_key(const json& object, const std::string& file, const char* key) {
+  if (!object.contains(key)) {
+    throw InputError(file, 0, key, "missing key (expected the JSON of `odocal umbmark --json`)");
+  }
+  const json& value = object.at(key);
+  if (!value.is_number() || !std::isfinite(value.get<double>()) || !(value.get<double>() > 0.0) ||
+      value.get<double>() > ros2_max_multiplier) {
+    throw InputError(file, 0, key,
+                     "must be " + multiplier_allowed() + ", got " +
+                         value.dump(-1, ' ', false, json::error_handler_t::replace));
+  }
+  return value.get<double>();
+}
+
+/// A ROS 2 node / controller name: a letter or '_', then letters, digits or '_'
+/// (rmw_validate_node_name), at most 255 characters.
+bool ros2_name(const std::string& name) {
+  static const std::regex pattern("[A-Za-z_][A-Za-z0-9_]*");
+  return name.size() <= 255 && std::regex_match(name, pattern);
+}
+
+/// The shortest text that reads back as exactly `value`, always with a '.' so that YAML (and
+/// rcl_yaml_param_parser) reads a double, never an integer: 1 -> "1.0", 1e-05 -> "1.0e-05".
+std::string yaml_double(double value) {
+  char text[64];
+  const auto [end, error] = std::to_chars(text, text + sizeof text, value);
+  std::string out = error == std::errc{} ? std::string(text, end) : std::string("0");
+  if (out.find('.') == std::string::npos) {
+    const auto exponent = out.find_first_of("eE");
+    out.insert(exponent == std::string::npos ? out.size() : exponent, ".0");
+  }
+  return out;
+}
+
+/// Text from a JSON file that goes into a YAML comment: printable ASCII only, so that a newline
+/// in it cannot start a YAML line of its own.
+std::string comment_text(const json& value) {
+  std::string text = value.is_string() ? value.get<std::string>()
+                                       : value.dump(-1, ' ', false, json::error_handler_t::replace);
+  for (char& c : text) {
+    if (c < 0x20 || c > 0x7e) {
+      c = '?';
+    }
+  }
+  return text;
+}
+
+}  // namespace
+
+void run_ros2(const Ros2Options& o) {
+  if (!ros2_name(o.controller)) {
+    throw InputError("(command line)", 0, "--controller",
+                     "must be a ROS 2 controller name: a letter or '_', then letters, digits or "
+                     "'_' (at most 255), got '" +
+                         comment_text(json(o.controller)) + "'");
+  }
+  double c_l = 0.0, c_r = 0.0, e_b = 0.0;
+  std::string source;
+  if (!o.from_file.empty()) {
+    const std::string text = read_text_file(o.from_file);
+    json doc;
+    JsonProblem problem;
+    if (!parse_json_strict(text, doc, problem)) {
+      throw InputError(o.from_file, problem.line, problem.key, problem.message);
+    }
+    if (!doc.is_object()) {
+      throw InputError(o.from_file, 1, "", "expected a JSON object");
+    }
+    c_l = multiplier_key(doc, o.from_file, "c_l");
+    c_r = multiplier_key(doc, o.from_file, "c_r");
+    e_b = multiplier_key(doc, o.from_file, "e_b");
+    source = comment_text(json(o.from_file));
+    if (doc.contains("provenance") && doc["provenance"].is_object()) {
+      const auto& p = doc["provenance"];
+      const auto field = [&p](const char* key) {
+        return p.contains(key) ? comment_text(p[key]) : std::string("?");
+      };
+      source += " (" + field("method") + ", " + field("runs") + " runs, " + field("date") + ")";
+    }
+  } else {
+    if (!o.c_l || !o.c_r || !o.e_b) {
+      throw InputError("(command line)", 0,
+                       !o.c_l   ? "--c-l"
+                       : !o.c_r ? "--c-r"
+                                : "--e-b",
+                       "give --from FILE, or all of --c-l, --c-r and --e-b");
+    }
+    c_l = *o.c_l;
+    c_r = *o.c_r;
+    e_b = *o.e_b;
+    source = "command line";
+  }
+  // diff_drive_controller multiplies the wheel separation and each wheel radius it is given:
+  // E_b scales the wheelbase, c_L and c_R scale each wheel's distance per radian. ROS 2 declares
+  // them as doubles and refuses an integer, so each value is written as a float literal.
+  std::printf("# ROS 2 diff_drive_controller parameters from odocal (%s)\n", source.c_str());
+  std::printf("%s:\n  ros__parameters:\n", o.controller.c_str());
+  std::printf("    wheel_separation_multiplier: %s\n", yaml_double(e_b).c_str());
+  std::printf("    left_wheel_radius_multiplier: %s\n", yaml_double(c_l).c_str());
+  std::printf("    right_wheel_radius_multiplier: %s\n", yaml_double(c_r).c_str());
+}
+
+}  // namespace odocal::host::calib_cli

@@ -1,4 +1,5 @@
-# Checks a firmware image: no heap, no exception machinery, no printf family, within budget.
+# Checks a firmware image: no heap, no exception machinery, no printf family, within budget; the
+# robot image (-DNO_DOUBLE=ON) also links no double-precision arithmetic (libgcc's soft double).
 # cmake -DELF=… -DNM=… -DSIZE=… -DFLASH_BUDGET=bytes -DRAM_BUDGET=bytes -P check_image.cmake
 # RAM_BUDGET bounds static RAM (.data + .bss) plus the stack the linker script reserves.
 execute_process(COMMAND ${NM} --defined-only ${ELF} OUTPUT_VARIABLE symbols RESULT_VARIABLE rc)
@@ -19,6 +20,21 @@ foreach(sym ${forbidden})
 endforeach()
 if(found)
   message(FATAL_ERROR "${ELF}: links ${found} (no heap, no exceptions, no printf in the image)")
+endif()
+set(double_note "")
+if(NO_DOUBLE)
+  foreach(sym __aeabi_dadd __aeabi_dsub __aeabi_dmul __aeabi_ddiv __aeabi_f2d __aeabi_d2f
+              __aeabi_dcmplt __aeabi_i2d __aeabi_d2iz __aeabi_uldivmod __aeabi_ldivmod)
+    string(REGEX MATCH "[0-9a-fA-F]+ [A-Za-z] ${sym}\n" hit "${symbols}")
+    if(hit)
+      list(APPEND found ${sym})
+    endif()
+  endforeach()
+  if(found)
+    message(FATAL_ERROR "${ELF}: links ${found} (the robot image does no double arithmetic and "
+                        "no 64-bit division: see core/include/odocal/drive/numeric.hpp)")
+  endif()
+  set(double_note "/double/64-bit division")
 endif()
 
 # Flash = everything loaded from flash (vectors, code, constants, .data's initial values);
@@ -51,7 +67,7 @@ get_filename_component(image ${ELF} NAME)
 math(EXPR ram_total "${ram} + ${stack}")
 message(STATUS "${image}: flash ${flash} B of budget ${FLASH_BUDGET}; RAM ${ram_total} B "
                "(static ${ram} + stack ${stack}) of budget ${RAM_BUDGET}; "
-               "no malloc/exceptions/printf linked")
+               "no malloc/exceptions/printf${double_note} linked")
 if(flash GREATER FLASH_BUDGET)
   message(FATAL_ERROR "${image}: flash ${flash} B is over its budget of ${FLASH_BUDGET} B")
 endif()

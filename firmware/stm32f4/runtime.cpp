@@ -82,7 +82,7 @@ void report_fault_and_stop(FaultKind kind, std::uint32_t pc, std::uint32_t lr) {
   board_exit(3);
 }
 
-extern "C" void fault_report(const std::uint32_t* frame, std::uint32_t exception) {
+extern "C" [[gnu::used]] void fault_report(const std::uint32_t* frame, std::uint32_t exception) {
   // Stacked frame: r0 r1 r2 r3 r12 lr pc xpsr.
   FaultKind kind = FaultKind::hard_fault;
   switch (exception) {

@@ -5,8 +5,17 @@
 namespace odocal::calib {
 namespace {
 
-bool positive(double v) {
-  return std::isfinite(v) && v > 0.0;
+template <typename Real>
+bool positive(Real v) {
+  return std::isfinite(v) && v > 0;
+}
+
+/// |(x, y)|: float without libm's hypotf (stop points are far from overflow).
+float norm_of(float x, float y) {
+  return std::sqrt(x * x + y * y);
+}
+double norm_of(double x, double y) {
+  return std::hypot(x, y);
 }
 
 }  // namespace
@@ -30,52 +39,56 @@ const char* to_string(LateralStatus status) {
   return "unknown status";
 }
 
-LateralStatus solve_lateral(const LateralInput& input, LateralResult& result) {
+template <typename Real>
+LateralStatus solve_lateral(const LateralInputOf<Real>& input, LateralResultOf<Real>& result) {
   if (input.trials == nullptr || input.trial_count < 2 || input.trial_count > lateral_max_trials) {
     return LateralStatus::too_few_trials;
   }
-  const double length = input.length_mm;
-  const double l = input.wheelbase_mm;
-  const double d_l = input.left_diameter_mm;
-  const double d_r = input.right_diameter_mm;
+  const Real length = input.length_mm;
+  const Real l = input.wheelbase_mm;
+  const Real d_l = input.left_diameter_mm;
+  const Real d_r = input.right_diameter_mm;
   if (!positive(length) || !positive(l) || !positive(d_l) || !positive(d_r) ||
-      !std::isfinite(input.theta_l_rad) || input.theta_l_rad < 0.0) {
+      !std::isfinite(input.theta_l_rad) || input.theta_l_rad < 0) {
     return LateralStatus::bad_geometry;
   }
   // θ_L: left-wheel rotation over the trial; nominally the wheel rolls L with radius D_L/2.
-  const double theta_l = input.theta_l_rad > 0.0 ? input.theta_l_rad : 2.0 * length / d_l;
+  const Real theta_l = input.theta_l_rad > 0 ? input.theta_l_rad : 2 * length / d_l;
 
-  double chord_angle_sum = 0.0;
-  double x_sum = 0.0;
-  double y_sum = 0.0;
+  Real chord_angle_sum = 0;
+  Real x_sum = 0;
+  Real y_sum = 0;
   for (std::size_t i = 0; i < input.trial_count; ++i) {
-    const StopPoint& p = input.trials[i];
+    const StopPointOf<Real>& p = input.trials[i];
     if (!std::isfinite(p.x_mm) || !std::isfinite(p.y_mm)) {
       return LateralStatus::non_finite;
     }
-    if (p.x_mm <= 0.0 || std::hypot(length - p.x_mm, p.y_mm) > length) {
+    if (p.x_mm <= 0 || norm_of(length - p.x_mm, p.y_mm) > length) {
       return LateralStatus::error_too_large;
     }
     chord_angle_sum += std::atan(p.y_mm / p.x_mm);  // chord angle of trial i (eq. 4)
     x_sum += p.x_mm;
     y_sum += p.y_mm;
   }
-  const double n = static_cast<double>(input.trial_count);
+  const Real n = static_cast<Real>(input.trial_count);
   // Maddahi eq. 4: a chord leaning by φ means the heading turned 2φ; 4lφ/(D·θ_L) is the share of
   // extra left-wheel rotation that cancels it.
-  const double f_lat = d_l / d_r + 4.0 * l / (n * d_r * theta_l) * chord_angle_sum;
+  const Real f_lat = d_l / d_r + 4 * l / (n * d_r * theta_l) * chord_angle_sum;
   // Maddahi eq. 5 with x_e = L − x: the denominator is the distance to the mean stop point.
-  const double reach = std::hypot(x_sum / n, y_sum / n);
-  if (!(reach > 0.0)) {
+  const Real reach = norm_of(x_sum / n, y_sum / n);
+  if (!(reach > 0)) {
     return LateralStatus::degenerate;
   }
-  const double f_lon = length / reach;
+  const Real f_lon = length / reach;
   if (!positive(f_lat) || !positive(f_lon)) {
     return LateralStatus::degenerate;
   }
-  result = LateralResult{f_lat, f_lon, theta_l};
+  result = LateralResultOf<Real>{f_lat, f_lon, theta_l};
   return LateralStatus::ok;
 }
+
+template LateralStatus solve_lateral(const LateralInputOf<float>&, LateralResultOf<float>&);
+template LateralStatus solve_lateral(const LateralInputOf<double>&, LateralResultOf<double>&);
 
 LateralStatus factors_from_wheel_rates(const WheelRateSample& sample, const WheelGeometry& geometry,
                                        LateralResult& result) {

@@ -6,22 +6,22 @@ namespace odocal::calib {
 
 void LateralSession::clear() {
   count_ = 0u;
-  length_mm_ = 0.0;
-  theta_l_sum_rad_ = 0.0;
+  length_mm_ = 0.0f;
+  theta_l_sum_rad_ = 0.0f;
   solved_ = false;
 }
 
-LateralSession::AddStatus LateralSession::add(const StopPoint& stop, double length_mm,
-                                              double theta_l_rad) {
-  if (!std::isfinite(length_mm) || !(length_mm > 0.0) || !std::isfinite(theta_l_rad) ||
-      !(theta_l_rad > 0.0)) {
+LateralSession::AddStatus LateralSession::add(const Stop& stop, float length_mm,
+                                              float theta_l_rad) {
+  if (!std::isfinite(length_mm) || !(length_mm > 0.0f) || !std::isfinite(theta_l_rad) ||
+      !(theta_l_rad > 0.0f)) {
     return AddStatus::bad_trial;
   }
   if (count_ >= capacity) {
     return AddStatus::full;
   }
   // Eq. 4-5 assume one commanded length L for every trial (1 µm tolerance for float lengths).
-  if (count_ > 0u && std::fabs(length_mm - length_mm_) > 1e-3) {
+  if (count_ > 0u && std::fabs(length_mm - length_mm_) > 1e-3f) {
     return AddStatus::length_mismatch;
   }
   stops_[count_++] = stop;
@@ -31,17 +31,17 @@ LateralSession::AddStatus LateralSession::add(const StopPoint& stop, double leng
   return AddStatus::ok;
 }
 
-LateralStatus LateralSession::solve(double wheelbase_mm, double left_diameter_mm,
-                                    double right_diameter_mm) {
-  LateralInput input;
+LateralStatus LateralSession::solve(float wheelbase_mm, float left_diameter_mm,
+                                    float right_diameter_mm) {
+  LateralInputOf<float> input;
   input.trials = stops_.data();
   input.trial_count = count_;
   input.length_mm = length_mm_;
   input.wheelbase_mm = wheelbase_mm;
   input.left_diameter_mm = left_diameter_mm;
   input.right_diameter_mm = right_diameter_mm;
-  input.theta_l_rad = count_ > 0u ? theta_l_sum_rad_ / static_cast<double>(count_) : 0.0;
-  LateralResult result;
+  input.theta_l_rad = count_ > 0u ? theta_l_sum_rad_ / static_cast<float>(count_) : 0.0f;
+  Result result;
   const LateralStatus status = solve_lateral(input, result);
   if (status == LateralStatus::ok) {
     result_ = result;

@@ -1,97 +1,124 @@
 #include "odocal/calib/umbmark.hpp"
 
 #include <cmath>
+#include <initializer_list>
 #include <limits>
-
-#include <Eigen/Core>
-#include <Eigen/LU>
 
 #include "odocal/drive/bounded_trig.hpp"
 
 namespace odocal::calib {
 namespace {
 
-// The solver's angles stay within a few turns. On the bare-metal image the bounded sin/cos
-// replaces newlib's full-range double sin/cos (~4.5 KB of flash; a few roundings of difference,
-// far inside every tolerance); the host keeps libm, so `odocal umbmark` output is unchanged.
-#if defined(__arm__) && !defined(__linux__)
-double sin_of(double a) {
+// The solver's angles stay within a few turns. Float (the robot's console) uses the bounded
+// sin/cos of the tick: newlib's full-range reduction is ~3.6 KB (float) / ~4.5 KB (double) of
+// flash. The host's double solve keeps libm, so `odocal umbmark` output is unchanged.
+float sin_of(float a) {
   return drive::sin_cos(a).sin;
 }
-double cos_of(double a) {
+float cos_of(float a) {
   return drive::sin_cos(a).cos;
 }
-#else
 double sin_of(double a) {
   return std::sin(a);
 }
 double cos_of(double a) {
   return std::cos(a);
 }
-#endif
+float root_of(float v) {
+  return std::sqrt(v);
+}
+double root_of(double v) {
+  return std::sqrt(v);
+}
+/// |(x, y)|: float without libm's hypotf (magnitudes here are far from overflow).
+float norm_of(float x, float y) {
+  return std::sqrt(x * x + y * y);
+}
+double norm_of(double x, double y) {
+  return std::hypot(x, y);
+}
 
-constexpr double pi = 3.14159265358979323846;
-constexpr double quarter_turn_rad = pi / 2.0;
-constexpr double rad_to_deg = 180.0 / pi;
+template <typename Real>
+constexpr Real pi = Real(3.14159265358979323846);
+template <typename Real>
+constexpr Real quarter_turn_rad = pi<Real> / 2;
+template <typename Real>
+constexpr Real rad_to_deg = 180 / pi<Real>;
 
 /// A value with its derivatives with respect to (E_d, E_b): forward-mode differentiation, so the
 /// Gauss-Newton Jacobian of the square geometry is exact and costs one model evaluation.
+template <typename Real>
 struct Dual {
-  double v = 0.0;
-  double d0 = 0.0;  ///< ∂/∂E_d
-  double d1 = 0.0;  ///< ∂/∂E_b
+  Real v = 0;
+  Real d0 = 0;  ///< ∂/∂E_d
+  Real d1 = 0;  ///< ∂/∂E_b
 };
 
-Dual operator+(Dual a, Dual b) {
+template <typename Real>
+Dual<Real> operator+(Dual<Real> a, Dual<Real> b) {
   return {a.v + b.v, a.d0 + b.d0, a.d1 + b.d1};
 }
-Dual operator-(Dual a, Dual b) {
+template <typename Real>
+Dual<Real> operator-(Dual<Real> a, Dual<Real> b) {
   return {a.v - b.v, a.d0 - b.d0, a.d1 - b.d1};
 }
-Dual operator*(Dual a, Dual b) {
+template <typename Real>
+Dual<Real> operator*(Dual<Real> a, Dual<Real> b) {
   return {a.v * b.v, a.d0 * b.v + a.v * b.d0, a.d1 * b.v + a.v * b.d1};
 }
-Dual operator*(double k, Dual a) {
+template <typename Real>
+Dual<Real> operator*(Real k, Dual<Real> a) {
   return {k * a.v, k * a.d0, k * a.d1};
 }
-Dual operator/(Dual a, Dual b) {
-  const double inv = 1.0 / b.v;
-  const double q = a.v * inv;
+template <typename Real>
+Dual<Real> operator/(Dual<Real> a, Dual<Real> b) {
+  const Real inv = 1 / b.v;
+  const Real q = a.v * inv;
   return {q, (a.d0 - q * b.d0) * inv, (a.d1 - q * b.d1) * inv};
 }
 // g(a) with g' known: chain rule.
-Dual chain(Dual a, double value, double slope) {
+template <typename Real>
+Dual<Real> chain(Dual<Real> a, Real value, Real slope) {
   return {value, slope * a.d0, slope * a.d1};
 }
-Dual sin_of(Dual a) {
+template <typename Real>
+Dual<Real> sin_of(Dual<Real> a) {
   return chain(a, sin_of(a.v), cos_of(a.v));
 }
-Dual cos_of(Dual a) {
+template <typename Real>
+Dual<Real> cos_of(Dual<Real> a) {
   return chain(a, cos_of(a.v), -sin_of(a.v));
 }
 
-double scalar_sinc(double u, double& slope) {
-  if (std::fabs(u) < 1e-4) {  // series: the closed form loses digits near 0
-    const double u2 = u * u;
-    slope = u * (-1.0 / 3.0 + u2 / 30.0);
-    return 1.0 - u2 / 6.0 + u2 * u2 / 120.0;
+template <typename Real>
+Real scalar_sinc(Real u, Real& slope) {
+  // Series where the closed form's slope loses digits near 0 (its cancellation error grows as
+  // eps/u^2); the dropped terms (u^6/5040 in the value, u^5/840 in the slope) stay below the
+  // scalar's rounding up to the limit.
+  const Real series_limit = sizeof(Real) == sizeof(float) ? Real(0.25) : Real(1e-4);
+  if (std::fabs(u) < series_limit) {
+    const Real u2 = u * u;
+    slope = u * (Real(-1) / 3 + u2 / 30);
+    return 1 - u2 / 6 + u2 * u2 / 120;
   }
-  const double s = sin_of(u);
+  const Real s = sin_of(u);
   slope = (u * cos_of(u) - s) / (u * u);
   return s / u;
 }
-double sinc(double u) {
-  double slope = 0.0;
+template <typename Real>
+Real sinc(Real u) {
+  Real slope = 0;
   return scalar_sinc(u, slope);
 }
-Dual sinc(Dual a) {
-  double slope = 0.0;
-  const double value = scalar_sinc(a.v, slope);
+template <typename Real>
+Dual<Real> sinc(Dual<Real> a) {
+  Real slope = 0;
+  const Real value = scalar_sinc(a.v, slope);
   return chain(a, value, slope);
 }
 
 /// Planar pose integrated by exact arcs.
-template <typename T>
+template <typename T, typename Real>
 struct ArcPose {
   T x{};
   T y{};
@@ -100,8 +127,8 @@ struct ArcPose {
   /// One segment with real wheel travels s_l, s_r (mm) and real wheelbase b (mm).
   void move(T s_l, T s_r, T b) {
     const T dtheta = (s_r - s_l) / b;
-    const T ds = 0.5 * (s_l + s_r);
-    const T half = 0.5 * dtheta;
+    const T ds = Real(0.5) * (s_l + s_r);
+    const T half = Real(0.5) * dtheta;
     const T chord = ds * sinc(half);  // chord length of the arc
     const T mid = theta + half;
     x = x + chord * cos_of(mid);
@@ -110,21 +137,22 @@ struct ArcPose {
   }
 };
 
-/// The bidirectional-square model of `square_return_error`, generic in the scalar so that the
-/// exact solve gets its Jacobian from the same code.
-template <typename T>
-void square_end(double side_mm, double wheelbase_mm, T e_d, T e_b, bool clockwise, T& x, T& y) {
-  const T one{1.0};
+/// The bidirectional-square model of `square_return_error`, generic in the scalar (Real or
+/// Dual<Real>) so that the exact solve gets its Jacobian from the same code.
+template <typename T, typename Real>
+void square_end(Real side_mm, Real wheelbase_mm, T e_d, T e_b, bool clockwise, T& x, T& y) {
+  const T one{1};
+  const T two{2};
   // Real wheel travel per perceived wheel travel; the mean diameter stays D_a (UMBmark eq. 6.30).
-  const T k_l = T{2.0} / (e_d + one);
-  const T k_r = (T{2.0} * e_d) / (e_d + one);
+  const T k_l = two / (e_d + one);
+  const T k_r = (two * e_d) / (e_d + one);
   const T b_real = wheelbase_mm * e_b;
   const T leg{side_mm};
   // Odometry sees a turn of 90° when each wheel has moved a quarter of the b-circle.
-  const double turn_travel = quarter_turn_rad * wheelbase_mm / 2.0;
+  const Real turn_travel = quarter_turn_rad<Real> * wheelbase_mm / 2;
   const T turn_l{clockwise ? turn_travel : -turn_travel};
   const T turn_r{clockwise ? -turn_travel : turn_travel};
-  ArcPose<T> pose;
+  ArcPose<T, Real> pose;
   for (int corner = 0; corner < 4; ++corner) {
     pose.move(k_l * leg, k_r * leg, b_real);
     pose.move(k_l * turn_l, k_r * turn_r, b_real);
@@ -133,39 +161,44 @@ void square_end(double side_mm, double wheelbase_mm, T e_d, T e_b, bool clockwis
   y = pose.y;
 }
 
-bool finite(double v) {
+template <typename Real>
+bool finite(Real v) {
   return std::isfinite(v);
 }
 
 /// −0 as +0, so that no figure reads "-0.0" (e.g. β of error-free runs is 0/(−4L) = −0).
-double unsigned_zero(double v) {
-  return v == 0.0 ? 0.0 : v;
+template <typename Real>
+Real unsigned_zero(Real v) {
+  return v == 0 ? Real(0) : v;
 }
 
+template <typename Real>
 struct Centroid {
-  double x = 0.0;
-  double y = 0.0;
-  double scatter_sq = 0.0;  ///< Σ |e − c|²
+  Real x = 0;
+  Real y = 0;
+  Real scatter_sq = 0;  ///< Σ |e − c|²
 };
 
-Centroid centroid(const ReturnError* runs, std::size_t count) {
-  Centroid c;
+template <typename Real>
+Centroid<Real> centroid(const ReturnErrorOf<Real>* runs, std::size_t count) {
+  Centroid<Real> c;
   for (std::size_t i = 0; i < count; ++i) {
     c.x += runs[i].x_mm;
     c.y += runs[i].y_mm;
   }
-  const double n = static_cast<double>(count);
+  const Real n = static_cast<Real>(count);
   c.x /= n;
   c.y /= n;
   for (std::size_t i = 0; i < count; ++i) {
-    const double dx = runs[i].x_mm - c.x;
-    const double dy = runs[i].y_mm - c.y;
+    const Real dx = runs[i].x_mm - c.x;
+    const Real dy = runs[i].y_mm - c.y;
     c.scatter_sq += dx * dx + dy * dy;
   }
   return c;
 }
 
-UmbmarkStatus check_runs(const ReturnError* runs, std::size_t count, double limit_mm) {
+template <typename Real>
+UmbmarkStatus check_runs(const ReturnErrorOf<Real>* runs, std::size_t count, Real limit_mm) {
   if (runs == nullptr || count < 2 || count > umbmark_max_runs) {
     return UmbmarkStatus::too_few_runs;
   }
@@ -173,7 +206,7 @@ UmbmarkStatus check_runs(const ReturnError* runs, std::size_t count, double limi
     if (!finite(runs[i].x_mm) || !finite(runs[i].y_mm)) {
       return UmbmarkStatus::non_finite;
     }
-    if (std::hypot(runs[i].x_mm, runs[i].y_mm) > limit_mm) {
+    if (norm_of(runs[i].x_mm, runs[i].y_mm) > limit_mm) {
       return UmbmarkStatus::error_too_large;
     }
   }
@@ -181,35 +214,46 @@ UmbmarkStatus check_runs(const ReturnError* runs, std::size_t count, double limi
 }
 
 /// Gauss-Newton on the exact square geometry: (E_d, E_b) such that the modelled cw and ccw
-/// return errors match the two centres of gravity in the least-squares sense.
-bool solve_exact(const UmbmarkInput& input, const Eigen::Vector4d& observed, double& e_d,
-                 double& e_b, std::uint8_t& iterations) {
+/// return errors match the two centres of gravity in the least-squares sense. The 2x2 normal
+/// equations are solved by Cramer's rule.
+template <typename Real>
+bool solve_exact(const UmbmarkInputOf<Real>& input, const Real (&observed)[4], Real& e_d, Real& e_b,
+                 std::uint8_t& iterations) {
   constexpr int max_iterations = 30;
+  // Relative step that ends the iteration: a few roundings of the scalar.
+  constexpr bool single = sizeof(Real) == sizeof(float);
+  const Real tolerance = single ? Real(5e-7) : Real(1e-13);
+  // Normal matrix this close to singular (relative to its size) cannot give a meaningful step;
+  // float's cancellation in det is ~1e-7 of the size.
+  const Real singular = single ? Real(1e-5) : Real(1e-30);
   for (int it = 1; it <= max_iterations; ++it) {
-    Dual ed{e_d, 1.0, 0.0};
-    Dual eb{e_b, 0.0, 1.0};
-    Dual model[4];
+    const Dual<Real> ed{e_d, 1, 0};
+    const Dual<Real> eb{e_b, 0, 1};
+    Dual<Real> model[4];
     square_end(input.side_mm, input.wheelbase_mm, ed, eb, true, model[0], model[1]);
     square_end(input.side_mm, input.wheelbase_mm, ed, eb, false, model[2], model[3]);
-    Eigen::Vector4d residual;
-    Eigen::Matrix<double, 4, 2> jacobian;
+    Real n00 = 0, n01 = 0, n11 = 0, g0 = 0, g1 = 0;  // JᵀJ and Jᵀr
     for (int i = 0; i < 4; ++i) {
-      residual(i) = model[i].v - observed(i);
-      jacobian(i, 0) = model[i].d0;
-      jacobian(i, 1) = model[i].d1;
+      const Real r = model[i].v - observed[i];
+      n00 += model[i].d0 * model[i].d0;
+      n01 += model[i].d0 * model[i].d1;
+      n11 += model[i].d1 * model[i].d1;
+      g0 += model[i].d0 * r;
+      g1 += model[i].d1 * r;
     }
-    const Eigen::Matrix2d normal = jacobian.transpose() * jacobian;
-    const double det = normal.determinant();
-    if (!finite(det) || std::fabs(det) <= 1e-30 * normal.squaredNorm()) {
+    const Real det = n00 * n11 - n01 * n01;
+    const Real size = n00 * n00 + 2 * n01 * n01 + n11 * n11;
+    if (!finite(det) || std::fabs(det) <= singular * size) {
       return false;
     }
-    const Eigen::Vector2d step = -normal.inverse() * (jacobian.transpose() * residual);
-    e_d += step(0);
-    e_b += step(1);
-    if (!finite(e_d) || !finite(e_b) || e_d <= 0.0 || e_b <= 0.0) {
+    const Real step0 = -(n11 * g0 - n01 * g1) / det;
+    const Real step1 = -(n00 * g1 - n01 * g0) / det;
+    e_d += step0;
+    e_b += step1;
+    if (!finite(e_d) || !finite(e_b) || e_d <= 0 || e_b <= 0) {
       return false;
     }
-    if (std::fabs(step(0)) < 1e-13 * e_d && std::fabs(step(1)) < 1e-13 * e_b) {
+    if (std::fabs(step0) < tolerance * e_d && std::fabs(step1) < tolerance * e_b) {
       iterations = static_cast<std::uint8_t>(it);
       return true;
     }
@@ -243,24 +287,27 @@ const char* to_string(UmbmarkStatus status) {
   return "unknown status";
 }
 
-ReturnError square_return_error(double side_mm, double wheelbase_mm, double e_d, double e_b,
-                                bool clockwise) {
-  double x = 0.0;
-  double y = 0.0;
+template <typename Real>
+ReturnErrorOf<Real> square_return_error(Real side_mm, Real wheelbase_mm, Real e_d, Real e_b,
+                                        bool clockwise) {
+  Real x = 0;
+  Real y = 0;
   square_end(side_mm, wheelbase_mm, e_d, e_b, clockwise, x, y);
-  return ReturnError{x, y};
+  return ReturnErrorOf<Real>{x, y};
 }
 
-UmbmarkStatus solve_umbmark(const UmbmarkInput& input, UmbmarkResult& result) {
-  const double side = input.side_mm;
-  const double b = input.wheelbase_mm;
-  if (!finite(side) || side <= 0.0) {
+template <typename Real>
+UmbmarkStatus solve_umbmark(const UmbmarkInputOf<Real>& input, UmbmarkResultOf<Real>& result) {
+  constexpr Real quarter = quarter_turn_rad<Real>;
+  const Real side = input.side_mm;
+  const Real b = input.wheelbase_mm;
+  if (!finite(side) || side <= 0) {
     return UmbmarkStatus::bad_side;
   }
-  if (!finite(b) || b <= 0.0) {
+  if (!finite(b) || b <= 0) {
     return UmbmarkStatus::bad_wheelbase;
   }
-  const double path_mm = 4.0 * side;
+  const Real path_mm = 4 * side;
   for (const auto status : {check_runs(input.cw, input.cw_count, path_mm),
                             check_runs(input.ccw, input.ccw_count, path_mm)}) {
     if (status != UmbmarkStatus::ok) {
@@ -268,84 +315,94 @@ UmbmarkStatus solve_umbmark(const UmbmarkInput& input, UmbmarkResult& result) {
     }
   }
 
-  UmbmarkResult out;
-  const Centroid cw = centroid(input.cw, input.cw_count);
-  const Centroid ccw = centroid(input.ccw, input.ccw_count);
+  UmbmarkResultOf<Real> out;
+  const Centroid<Real> cw = centroid(input.cw, input.cw_count);
+  const Centroid<Real> ccw = centroid(input.ccw, input.ccw_count);
   out.x_cg_cw = cw.x;
   out.y_cg_cw = cw.y;
   out.x_cg_ccw = ccw.x;
   out.y_cg_ccw = ccw.y;
-  out.r_cg_cw = std::hypot(cw.x, cw.y);  // UMBmark eq. 3.3
-  out.r_cg_ccw = std::hypot(ccw.x, ccw.y);
+  out.r_cg_cw = norm_of(cw.x, cw.y);  // UMBmark eq. 3.3
+  out.r_cg_ccw = norm_of(ccw.x, ccw.y);
   out.e_max_syst_mm = out.r_cg_cw > out.r_cg_ccw ? out.r_cg_cw : out.r_cg_ccw;
 
   // Approximate solution. UMBmark eq. 6.22a/b and 6.26a/b, averaged (footnote 2), in rad.
-  const double beta_x = (cw.x - ccw.x) / (-4.0 * side);
-  const double beta_y = (cw.y + ccw.y) / (-4.0 * side);
-  const double alpha_x = (cw.x + ccw.x) / (-4.0 * side);
-  const double alpha_y = (cw.y - ccw.y) / (-4.0 * side);
-  double beta = 0.5 * (beta_x + beta_y);
-  double alpha = 0.5 * (alpha_x + alpha_y);
+  const Real beta_x = (cw.x - ccw.x) / (-4 * side);
+  const Real beta_y = (cw.y + ccw.y) / (-4 * side);
+  const Real alpha_x = (cw.x + ccw.x) / (-4 * side);
+  const Real alpha_y = (cw.y - ccw.y) / (-4 * side);
+  Real beta = Real(0.5) * (beta_x + beta_y);
+  Real alpha = Real(0.5) * (alpha_x + alpha_y);
   // UMBmark eq. 6.23 and 6.24, written with b/(2R) = b·sin(β/2)/L so that β = 0 is regular.
-  const double half_b_over_r = b * sin_of(beta / 2.0) / side;
-  if (std::fabs(half_b_over_r) >= 1.0 || alpha >= quarter_turn_rad) {
+  const Real half_b_over_r = b * sin_of(beta / 2) / side;
+  if (std::fabs(half_b_over_r) >= 1 || alpha >= quarter) {
     return UmbmarkStatus::degenerate;
   }
-  double e_d = (1.0 + half_b_over_r) / (1.0 - half_b_over_r);
-  double e_b = quarter_turn_rad / (quarter_turn_rad - alpha);  // UMBmark eq. 6.29
+  Real e_d = (1 + half_b_over_r) / (1 - half_b_over_r);
+  Real e_b = quarter / (quarter - alpha);  // UMBmark eq. 6.29
   // UMBmark eq. 6.22: a straight leg (β = 0) has an infinite radius.
-  const double straight = std::numeric_limits<double>::infinity();
-  double radius = beta == 0.0 ? straight : (side / 2.0) / sin_of(beta / 2.0);
+  const Real straight = std::numeric_limits<Real>::infinity();
+  Real radius = beta == 0 ? straight : (side / 2) / sin_of(beta / 2);
 
   if (input.exact) {
-    Eigen::Vector4d observed(cw.x, cw.y, ccw.x, ccw.y);
+    const Real observed[4] = {cw.x, cw.y, ccw.x, ccw.y};
     if (!solve_exact(input, observed, e_d, e_b, out.iterations)) {
       return UmbmarkStatus::degenerate;
     }
     // The same figures, read off the exact model: a real corner turns 90°/E_b, a leg turns
     // (k_R − k_L)·L/(E_b·b) along an arc of length L.
-    alpha = quarter_turn_rad - quarter_turn_rad / e_b;
-    beta = 2.0 * (e_d - 1.0) / (e_d + 1.0) * side / (e_b * b);
-    radius = beta == 0.0 ? straight : side / beta;
+    alpha = quarter - quarter / e_b;
+    beta = 2 * (e_d - 1) / (e_d + 1) * side / (e_b * b);
+    radius = beta == 0 ? straight : side / beta;
     out.exact = true;
   }
-  if (!finite(e_d) || !finite(e_b) || e_d <= 0.0 || e_b <= 0.0) {
+  if (!finite(e_d) || !finite(e_b) || e_d <= 0 || e_b <= 0) {
     return UmbmarkStatus::degenerate;
   }
   out.x_cg_cw = unsigned_zero(out.x_cg_cw);
   out.y_cg_cw = unsigned_zero(out.y_cg_cw);
   out.x_cg_ccw = unsigned_zero(out.x_cg_ccw);
   out.y_cg_ccw = unsigned_zero(out.y_cg_ccw);
-  out.alpha_deg = unsigned_zero(alpha * rad_to_deg);
-  out.beta_deg = unsigned_zero(beta * rad_to_deg);
+  out.alpha_deg = unsigned_zero(alpha * rad_to_deg<Real>);
+  out.beta_deg = unsigned_zero(beta * rad_to_deg<Real>);
   out.radius_mm = radius;
   out.e_d = e_d;
   out.e_b = e_b;
-  out.c_l = 2.0 / (e_d + 1.0);        // UMBmark eq. 6.33
-  out.c_r = 2.0 / (1.0 / e_d + 1.0);  // UMBmark eq. 6.34
-  out.wheelbase_new_mm = e_b * b;     // UMBmark eq. 6.28
+  out.c_l = 2 / (e_d + 1);         // UMBmark eq. 6.33
+  out.c_r = 2 / (1 / e_d + 1);     // UMBmark eq. 6.34
+  out.wheelbase_new_mm = e_b * b;  // UMBmark eq. 6.28
 
   // Scatter: radial deviation of each run from its own direction's centre, pooled over both
   // directions (two centres estimated). SEM of a centre = σ/√n, with the smaller n (section 6.3).
   const std::size_t runs = input.cw_count + input.ccw_count;
-  out.sigma_mm = std::sqrt((cw.scatter_sq + ccw.scatter_sq) / static_cast<double>(runs - 2));
+  out.sigma_mm = root_of((cw.scatter_sq + ccw.scatter_sq) / static_cast<Real>(runs - 2));
   const std::size_t n = input.cw_count < input.ccw_count ? input.cw_count : input.ccw_count;
-  out.sem_mm = out.sigma_mm / std::sqrt(static_cast<double>(n));
+  out.sem_mm = out.sigma_mm / root_of(static_cast<Real>(n));
   // 3·SEM rule; no error at all needs no pass even when the runs have no scatter.
-  out.second_pass_recommended = out.e_max_syst_mm > 0.0 && out.e_max_syst_mm >= 3.0 * out.sem_mm;
+  out.second_pass_recommended = out.e_max_syst_mm > 0 && out.e_max_syst_mm >= 3 * out.sem_mm;
   result = out;
   return UmbmarkStatus::ok;
 }
 
-WheelFactors compose(const WheelFactors& current, const UmbmarkResult& result) {
-  double c_l = current.c_l * result.c_l;
-  double c_r = current.c_r * result.c_r;
-  const double mean = 0.5 * (c_l + c_r);
-  if (finite(mean) && mean > 0.0) {
+template <typename Real>
+WheelFactorsOf<Real> compose(const WheelFactorsOf<Real>& current,
+                             const UmbmarkResultOf<Real>& result) {
+  Real c_l = current.c_l * result.c_l;
+  Real c_r = current.c_r * result.c_r;
+  const Real mean = Real(0.5) * (c_l + c_r);
+  if (finite(mean) && mean > 0) {
     c_l /= mean;
     c_r /= mean;
   }
-  return WheelFactors{c_l, c_r, result.wheelbase_new_mm};
+  return WheelFactorsOf<Real>{c_l, c_r, result.wheelbase_new_mm};
 }
+
+template UmbmarkStatus solve_umbmark(const UmbmarkInputOf<float>&, UmbmarkResultOf<float>&);
+template UmbmarkStatus solve_umbmark(const UmbmarkInputOf<double>&, UmbmarkResultOf<double>&);
+template WheelFactorsOf<float> compose(const WheelFactorsOf<float>&, const UmbmarkResultOf<float>&);
+template WheelFactorsOf<double> compose(const WheelFactorsOf<double>&,
+                                        const UmbmarkResultOf<double>&);
+template ReturnErrorOf<float> square_return_error(float, float, float, float, bool);
+template ReturnErrorOf<double> square_return_error(double, double, double, double, bool);
 
 }  // namespace odocal::calib

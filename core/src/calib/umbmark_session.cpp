@@ -8,7 +8,7 @@ void UmbmarkSession::clear() {
   solved_ = false;
 }
 
-bool UmbmarkSession::add(bool clockwise, const ReturnError& error) {
+bool UmbmarkSession::add(bool clockwise, const Error& error) {
   std::size_t& count = clockwise ? cw_count_ : ccw_count_;
   if (count >= capacity) {
     return false;
@@ -19,13 +19,13 @@ bool UmbmarkSession::add(bool clockwise, const ReturnError& error) {
   return true;
 }
 
-void UmbmarkSession::set_side_mm(double side_mm) {
+void UmbmarkSession::set_side_mm(float side_mm) {
   side_mm_ = side_mm;
   solved_ = false;
 }
 
-UmbmarkStatus UmbmarkSession::solve(double wheelbase_mm, bool exact) {
-  UmbmarkInput input;
+UmbmarkStatus UmbmarkSession::solve(float wheelbase_mm, bool exact) {
+  UmbmarkInputOf<float> input;
   input.cw = cw_.data();
   input.cw_count = cw_count_;
   input.ccw = ccw_.data();
@@ -33,7 +33,7 @@ UmbmarkStatus UmbmarkSession::solve(double wheelbase_mm, bool exact) {
   input.side_mm = side_mm_;
   input.wheelbase_mm = wheelbase_mm;
   input.exact = exact;
-  UmbmarkResult result;
+  Result result;
   const UmbmarkStatus status = solve_umbmark(input, result);
   if (status == UmbmarkStatus::ok) {
     result_ = result;

@@ -2,13 +2,14 @@
 // lateral (Maddahi eq. 4-5).
 
 #include "odocal/console/console.hpp"
+#include "odocal/drive/numeric.hpp"
 
 namespace odocal::console {
 namespace {
 
 constexpr int kFactorDecimals = 6;
 constexpr int kLengthDecimals = 3;
-constexpr double kTwoPi = 6.28318530717958647692;
+constexpr float kTwoPi = 6.28318530717958647692f;
 
 bool parse_date(const Token* words, std::size_t count, std::uint32_t& date) {
   date = 0u;
@@ -38,12 +39,12 @@ void Console::cmd_umbmark(const Token* words, std::size_t count) {
       send_error(ErrorCode::bad_argument, "direction is cw or ccw");
       return;
     }
-    double x = 0.0;
-    double y = 0.0;
-    if (!number_arg(words[3], -1.0e6, 1.0e6, x) || !number_arg(words[4], -1.0e6, 1.0e6, y)) {
+    float x = 0.0f;
+    float y = 0.0f;
+    if (!number_arg(words[3], -1.0e6f, 1.0e6f, x) || !number_arg(words[4], -1.0e6f, 1.0e6f, y)) {
       return;
     }
-    if (!umbmark_.add(cw, calib::ReturnError{x, y})) {
+    if (!umbmark_.add(cw, calib::UmbmarkSession::Error{x, y})) {
       send_error(ErrorCode::umbmark_full, "16 runs per direction at most");
       return;
     }
@@ -55,11 +56,11 @@ void Console::cmd_umbmark(const Token* words, std::size_t count) {
       send_error(ErrorCode::wrong_arity, "usage: umbmark side <side_m>");
       return;
     }
-    double side_m = 0.0;
-    if (!number_arg(words[2], 0.01, 20.0, side_m)) {
+    float side_m = 0.0f;
+    if (!number_arg(words[2], 0.01f, 20.0f, side_m)) {
       return;
     }
-    umbmark_.set_side_mm(side_m * 1000.0);
+    umbmark_.set_side_mm(side_m * 1000.0f);
     Reply reply;
     reply.text("ok").pair("side_mm", umbmark_.side_mm(), kLengthDecimals);
     send(reply);
@@ -71,12 +72,12 @@ void Console::cmd_umbmark(const Token* words, std::size_t count) {
     }
     const bool exact = count == 3u;
     const calib::UmbmarkStatus status =
-        umbmark_.solve(static_cast<double>(settings_.get(params::ParamId::wheelbase_mm)), exact);
+        umbmark_.solve(settings_.get(params::ParamId::wheelbase_mm), exact);
     if (status != calib::UmbmarkStatus::ok) {
       send_error(ErrorCode::umbmark_failed, calib::to_string(status));
       return;
     }
-    const calib::UmbmarkResult& result = umbmark_.result();
+    const calib::UmbmarkSession::Result& result = umbmark_.result();
     Reply reply;
     reply.text("ok")
         .pair("e_d", result.e_d, kFactorDecimals)
@@ -111,20 +112,20 @@ void Console::cmd_umbmark(const Token* words, std::size_t count) {
       send_error(ErrorCode::busy, "the robot is moving; stop first");
       return;
     }
-    calib::WheelFactors current;
-    current.c_l = static_cast<double>(settings_.get(params::ParamId::c_l));
-    current.c_r = static_cast<double>(settings_.get(params::ParamId::c_r));
-    current.wheelbase_mm = static_cast<double>(settings_.get(params::ParamId::wheelbase_mm));
-    const calib::WheelFactors next = umbmark_.next_factors(current);
+    calib::UmbmarkSession::Factors current;
+    current.c_l = settings_.get(params::ParamId::c_l);
+    current.c_r = settings_.get(params::ParamId::c_r);
+    current.wheelbase_mm = settings_.get(params::ParamId::wheelbase_mm);
+    const calib::UmbmarkSession::Factors next = umbmark_.next_factors(current);
     params::ParamSet candidate = settings_.values();
-    candidate.set(params::ParamId::c_l, static_cast<float>(next.c_l));
-    candidate.set(params::ParamId::c_r, static_cast<float>(next.c_r));
-    candidate.set(params::ParamId::wheelbase_mm, static_cast<float>(next.wheelbase_mm));
+    candidate.set(params::ParamId::c_l, next.c_l);
+    candidate.set(params::ParamId::c_r, next.c_r);
+    candidate.set(params::ParamId::wheelbase_mm, next.wheelbase_mm);
     if (!params::all_in_range(candidate)) {
       send_error(ErrorCode::out_of_range, "the factors fall outside their ranges; not applied");
       return;
     }
-    const calib::UmbmarkResult& result = umbmark_.result();
+    const calib::UmbmarkSession::Result& result = umbmark_.result();
     candidate.wheel.method =
         result.exact ? params::FactorMethod::umbmark_exact : params::FactorMethod::umbmark;
     candidate.wheel.runs = static_cast<std::uint16_t>(umbmark_.cw_count() + umbmark_.ccw_count());
@@ -165,9 +166,9 @@ void Console::cmd_lateral(const Token* words, std::size_t count) {
       send_error(ErrorCode::wrong_arity, "usage: lateral add <x_mm> <y_mm>");
       return;
     }
-    double x = 0.0;
-    double y = 0.0;
-    if (!number_arg(words[2], -1.0e6, 1.0e6, x) || !number_arg(words[3], -1.0e6, 1.0e6, y)) {
+    float x = 0.0f;
+    float y = 0.0f;
+    if (!number_arg(words[2], -1.0e6f, 1.0e6f, x) || !number_arg(words[3], -1.0e6f, 1.0e6f, y)) {
       return;
     }
     // The stop point belongs to the latest trial, which must be a straight line not used yet:
@@ -181,11 +182,10 @@ void Console::cmd_lateral(const Token* words, std::size_t count) {
       send_error(ErrorCode::no_trial, "the latest line trial was added already");
       return;
     }
-    const double counts_per_rev =
-        static_cast<double>(settings_.get(params::ParamId::counts_per_rev));
-    const double theta_l = kTwoPi * static_cast<double>(trial->count_l) / counts_per_rev;
-    const calib::LateralSession::AddStatus added = lateral_.add(
-        calib::StopPoint{x, y}, static_cast<double>(trial->length_m) * 1000.0, theta_l);
+    const float counts_per_rev = settings_.get(params::ParamId::counts_per_rev);
+    const float theta_l = kTwoPi * drive::to_float(trial->count_l) / counts_per_rev;
+    const calib::LateralSession::AddStatus added =
+        lateral_.add(calib::LateralSession::Stop{x, y}, trial->length_m * 1000.0f, theta_l);
     switch (added) {
       case calib::LateralSession::AddStatus::ok:
         break;
@@ -214,14 +214,14 @@ void Console::cmd_lateral(const Token* words, std::size_t count) {
     }
     // The drive's kinematics already use c_l, c_r and f_lat: eq. 4 is solved for what remains,
     // with equal diameters, and `apply` composes the result with the factors in force.
-    const double diameter = static_cast<double>(settings_.get(params::ParamId::wheel_diameter_mm));
-    const calib::LateralStatus status = lateral_.solve(
-        static_cast<double>(settings_.get(params::ParamId::wheelbase_mm)), diameter, diameter);
+    const float diameter = settings_.get(params::ParamId::wheel_diameter_mm);
+    const calib::LateralStatus status =
+        lateral_.solve(settings_.get(params::ParamId::wheelbase_mm), diameter, diameter);
     if (status != calib::LateralStatus::ok) {
       send_error(ErrorCode::lateral_failed, calib::to_string(status));
       return;
     }
-    const calib::LateralResult& result = lateral_.result();
+    const calib::LateralSession::Result& result = lateral_.result();
     Reply reply;
     reply.text("ok")
         .pair("f_lat", result.f_lat, kFactorDecimals)
@@ -249,14 +249,10 @@ void Console::cmd_lateral(const Token* words, std::size_t count) {
       send_error(ErrorCode::busy, "the robot is moving; stop first");
       return;
     }
-    const calib::LateralResult& result = lateral_.result();
+    const calib::LateralSession::Result& result = lateral_.result();
     params::ParamSet candidate = settings_.values();
-    candidate.set(params::ParamId::f_lat,
-                  static_cast<float>(static_cast<double>(candidate.get(params::ParamId::f_lat)) *
-                                     result.f_lat));
-    candidate.set(params::ParamId::f_lon,
-                  static_cast<float>(static_cast<double>(candidate.get(params::ParamId::f_lon)) *
-                                     result.f_lon));
+    candidate.set(params::ParamId::f_lat, candidate.get(params::ParamId::f_lat) * result.f_lat);
+    candidate.set(params::ParamId::f_lon, candidate.get(params::ParamId::f_lon) * result.f_lon);
     if (!params::all_in_range(candidate)) {
       send_error(ErrorCode::out_of_range, "the factors fall outside their ranges; not applied");
       return;
@@ -307,12 +303,11 @@ void Console::apply_host_factors(const Token* words, std::size_t count, std::siz
   params::ParamSet candidate = settings_.values();
   for (std::size_t i = 0; i < id_count; ++i) {
     const params::ParamInfo& info = params::param_info(ids[i]);
-    double value = 0.0;
-    if (!number_arg(words[first + i], static_cast<double>(info.min), static_cast<double>(info.max),
-                    value)) {
+    float value = 0.0f;
+    if (!number_arg(words[first + i], info.min, info.max, value)) {
       return;
     }
-    candidate.set(ids[i], static_cast<float>(value));
+    candidate.set(ids[i], value);
   }
   std::uint32_t date = 0u;
   if (count > first + id_count && !parse_unsigned(words[first + id_count], date)) {

@@ -6,17 +6,18 @@
 #include "odocal/console/console.hpp"
 #include "odocal/drive/diff_drive_kinematics.hpp"
 #include "odocal/drive/motion_executor.hpp"
+#include "odocal/drive/numeric.hpp"
 
 namespace odocal::console {
 namespace {
 
 constexpr int kPoseDecimals = 3;
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+constexpr float kRadToDeg = 180.0f / 3.14159265358979323846f;
 
 Reply& pose_pairs(Reply& reply, const drive::Pose& pose) {
-  return reply.pair("x_mm", static_cast<double>(pose.x_m) * 1000.0, kPoseDecimals)
-      .pair("y_mm", static_cast<double>(pose.y_m) * 1000.0, kPoseDecimals)
-      .pair("theta_deg", static_cast<double>(pose.theta_rad) * kRadToDeg, kPoseDecimals);
+  return reply.pair("x_mm", pose.x_m * 1000.0f, kPoseDecimals)
+      .pair("y_mm", pose.y_m * 1000.0f, kPoseDecimals)
+      .pair("theta_deg", pose.theta_rad * kRadToDeg, kPoseDecimals);
 }
 
 }  // namespace
@@ -41,26 +42,26 @@ void Console::cmd_odom(const Token* words, std::size_t count) {
 }
 
 void Console::cmd_drive(const Token* words, std::size_t count) {
-  double v = 0.0;
-  double w = 0.0;
-  if (!number_arg(words[1], -5.0, 5.0, v) || !number_arg(words[2], -50.0, 50.0, w)) {
+  float v = 0.0f;
+  float w = 0.0f;
+  if (!number_arg(words[1], -5.0f, 5.0f, v) || !number_arg(words[2], -50.0f, 50.0f, w)) {
     return;
   }
   std::uint32_t ms = 0u;
   if (count == 4u) {
-    double parsed = 0.0;
-    if (!number_arg(words[3], 0.0, 600000.0, parsed)) {
+    float parsed = 0.0f;
+    if (!number_arg(words[3], 0.0f, 600000.0f, parsed)) {
       return;
     }
-    if (std::floor(parsed) != parsed) {
+    if (!drive::is_whole(parsed)) {
       send_error(ErrorCode::bad_number, "ms must be a whole number");
       return;
     }
     ms = static_cast<std::uint32_t>(parsed);
   }
   drive::Twist twist;
-  twist.v_mps = static_cast<float>(v);
-  twist.w_radps = static_cast<float>(w);
+  twist.v_mps = v;
+  twist.w_radps = w;
   if (!loop_.drive(twist, ms)) {
     send_error(ErrorCode::fault, "drive faulted; stop acknowledges");
     return;
@@ -78,7 +79,7 @@ void Console::cmd_drive(const Token* words, std::size_t count) {
   const drive::WheelRates rates = kinematics.inverse(twist);
   const float peak = std::fmax(std::fabs(rates.left_radps), std::fabs(rates.right_radps));
   if (peak > config.max_wheel_radps) {
-    const double scale = static_cast<double>(config.max_wheel_radps / peak);
+    const float scale = config.max_wheel_radps / peak;
     reply.pair_u("clipped", 1u)
         .pair("v_clipped_mps", v * scale, kPoseDecimals)
         .pair("w_clipped_radps", w * scale, kPoseDecimals);
@@ -107,8 +108,8 @@ void Console::cmd_run(const Token* words, std::size_t count) {
     send_error(ErrorCode::wrong_arity, unseen ? "usage: run unseen" : "usage: run <path> <m>");
     return;
   }
-  double length_m = 0.0;
-  if (!unseen && !number_arg(words[2], 0.01, 20.0, length_m)) {
+  float length_m = 0.0f;
+  if (!unseen && !number_arg(words[2], 0.01f, 20.0f, length_m)) {
     return;
   }
   if (path_running(loop_.status())) {
@@ -117,9 +118,9 @@ void Console::cmd_run(const Token* words, std::size_t count) {
   }
   drive::Path path;
   if (square) {
-    path = drive::make_umbmark_square(name.is("umbmark-cw"), static_cast<float>(length_m));
+    path = drive::make_umbmark_square(name.is("umbmark-cw"), length_m);
   } else if (line) {
-    path = drive::make_line(static_cast<float>(length_m));
+    path = drive::make_line(length_m);
   } else {
     path = drive::make_unseen_path();
   }
@@ -129,7 +130,7 @@ void Console::cmd_run(const Token* words, std::size_t count) {
   }
   note_pending(Pending::run);
   if (square) {
-    umbmark_.note_driven_side_mm(length_m * 1000.0);
+    umbmark_.note_driven_side_mm(length_m * 1000.0f);
   }
   Reply reply;
   reply.text("ok").pair_s("path", drive::path_name(path.id)).pair_u("segments", path.count);
@@ -159,11 +160,11 @@ void Console::cmd_stream(const Token* words, std::size_t count) {
     return;
   }
   // Tick logs want the control rate's detail; odometry is for watching.
-  double hz = 0.0;
-  if (!number_arg(words[2], 0.1, ticks ? 1000.0 : 100.0, hz)) {
+  float hz = 0.0f;
+  if (!number_arg(words[2], 0.1f, ticks ? 1000.0f : 100.0f, hz)) {
     return;
   }
-  const auto period_us = static_cast<std::uint32_t>(1.0e6 / hz + 0.5);
+  const auto period_us = static_cast<std::uint32_t>(1.0e6f / hz + 0.5f);
   if (odom) {
     stream_odom_ = true;
     odom_period_us_ = period_us;

@@ -3,18 +3,12 @@
 #include <cmath>
 
 #include "odocal/console/console.hpp"
+#include "odocal/drive/numeric.hpp"
 
 namespace odocal::console {
 namespace {
 
 constexpr int kParamDecimals = 6;
-
-// A range bound as `params` prints it (6 decimals): what a user reads and types. The table holds
-// the nearest float (0.001f is a little above 0.001), so the check is made on the printed value
-// and the stored float is kept inside the table's range.
-double documented(float bound) {
-  return std::round(static_cast<double>(bound) * 1e6) / 1e6;
-}
 
 }  // namespace
 
@@ -40,26 +34,15 @@ void Console::cmd_set(const Token* words, std::size_t) {
     return;
   }
   const params::ParamInfo& info = params::param_info(id);
-  double parsed = 0.0;
-  if (!parse_number(words[2], parsed)) {
-    send_error(ErrorCode::bad_number, "not a finite decimal number");
+  // number_arg accepts the bounds as `params` prints them and keeps the value inside the table's.
+  float stored = 0.0f;
+  if (!number_arg(words[2], info.min, info.max, stored)) {
     return;
   }
-  if (!(parsed >= documented(info.min) && parsed <= documented(info.max))) {
-    Reply reply;
-    reply.text("err ").text(error_code_name(ErrorCode::out_of_range)).text(" allowed");
-    reply.pair("min", documented(info.min), kParamDecimals)
-        .pair("max", documented(info.max), kParamDecimals);
-    ++errors_;
-    send(reply);
-    return;
-  }
-  if (info.integer && std::floor(parsed) != parsed) {
+  if (info.integer && !drive::is_whole(stored)) {
     send_error(ErrorCode::bad_number, "a whole number is required");
     return;
   }
-  auto stored = static_cast<float>(parsed);
-  stored = stored < info.min ? info.min : (stored > info.max ? info.max : stored);
   if (path_running(loop_.status())) {
     send_error(ErrorCode::busy, "a path is running; stop first");
     return;

@@ -1,4 +1,5 @@
 #include "odocal/console/console.hpp"
+#include "odocal/drive/numeric.hpp"
 
 #include <cstring>
 
@@ -9,7 +10,7 @@ namespace {
 
 constexpr std::size_t kMaxWords = 6u;
 constexpr int kPoseDecimals = 3;
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+constexpr float kRadToDeg = 180.0f / 3.14159265358979323846f;
 
 }  // namespace
 
@@ -350,31 +351,33 @@ void Console::emit_streams(std::uint32_t now_us) {
     const drive::Pose pose = loop_.pose();
     Reply line;
     line.text("# odom")
-        .pair_u("t_ms", clock_us_ / 1000u)
-        .pair("x_mm", static_cast<double>(pose.x_m) * 1000.0, kPoseDecimals)
-        .pair("y_mm", static_cast<double>(pose.y_m) * 1000.0, kPoseDecimals)
-        .pair("theta_deg", static_cast<double>(pose.theta_rad) * kRadToDeg, kPoseDecimals);
+        .pair_u("t_ms", drive::divide_u64(clock_us_, 1000u))
+        .pair("x_mm", pose.x_m * 1000.0f, kPoseDecimals)
+        .pair("y_mm", pose.y_m * 1000.0f, kPoseDecimals)
+        .pair("theta_deg", pose.theta_rad * kRadToDeg, kPoseDecimals);
     send_async(line);
   }
   if (stream_ticks_ && due(now_us, ticks_period_us_, ticks_next_us_)) {
     const drive::WheelCounts counts = loop_.wheel_counts();
     Reply line;
     line.text("# ticks")
-        .pair_u("t_ms", counts.t_us / 1000u)
+        .pair_u("t_ms", drive::divide_u64(counts.t_us, 1000u))
         .pair_i("count_l", counts.left)
         .pair_i("count_r", counts.right);
     send_async(line);
   }
 }
 
-bool Console::number_arg(const Token& token, double lo, double hi, double& value) {
-  double parsed = 0.0;
-  if (!parse_number(token, parsed)) {
+bool Console::number_arg(const Token& token, float lo, float hi, float& value) {
+  constexpr int decimals = 6;  // bounds as `params` and the refusal print them
+  Decimal typed;
+  if (!parse_decimal(token, typed)) {
     send_error(ErrorCode::bad_number, "not a finite decimal number");
     return false;
   }
-  if (parsed < lo || parsed > hi) {
-    constexpr int decimals = 6;
+  // The typed decimal against the printed bounds, exactly: `set v_max_mps 0.001` is the minimum
+  // although the table's float is 0.0010000000475, and 2.0000001 is above 2 though not as a float.
+  if (compare(typed, lo, decimals) < 0 || compare(typed, hi, decimals) > 0) {
     Reply reply;
     reply.text("err ").text(error_code_name(ErrorCode::out_of_range)).text(" allowed");
     reply.pair("min", lo, decimals).pair("max", hi, decimals);
@@ -382,7 +385,8 @@ bool Console::number_arg(const Token& token, double lo, double hi, double& value
     send(reply);
     return false;
   }
-  value = parsed;
+  const float parsed = to_float(typed);
+  value = parsed < lo ? lo : (parsed > hi ? hi : parsed);
   return true;
 }
 

@@ -59,7 +59,7 @@ Reply& Reply::bytes(const char* s, std::size_t n) {
   return *this;
 }
 
-Reply& Reply::number(double value, int decimals) {
+Reply& Reply::number(float value, int decimals) {
   length_ += format_fixed(value, decimals, buffer_.data() + length_, max_reply - length_);
   return *this;
 }

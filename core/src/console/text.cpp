@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace odocal::console {
 namespace {
@@ -10,18 +11,91 @@ bool is_digit(char c) {
   return c >= '0' && c <= '9';
 }
 
-double power_of_ten(int exponent) {
-  double result = 1.0;
-  double base = 10.0;
-  unsigned n = static_cast<unsigned>(exponent < 0 ? -exponent : exponent);
-  while (n != 0u) {  // square-and-multiply: at most 9 steps for |exponent| < 512
-    if ((n & 1u) != 0u) {
-      result *= base;
-    }
-    base *= base;
-    n >>= 1u;
+/// 10^n for 0 <= n <= 38 in float: exact up to 10^10 (5^10 < 2^24), then one rounding per step.
+float power_of_ten(int n) {
+  float result = 1.0f;
+  for (; n >= 10; n -= 10) {
+    result *= 1e10f;
   }
-  return exponent < 0 ? 1.0 / result : result;
+  constexpr float small[10] = {1e0f, 1e1f, 1e2f, 1e3f, 1e4f, 1e5f, 1e6f, 1e7f, 1e8f, 1e9f};
+  return result * small[n];
+}
+
+/// Decimal powers for the division-free conversion of 64-bit integers.
+constexpr std::uint64_t kPowers[20] = {10000000000000000000ull,
+                                       1000000000000000000ull,
+                                       100000000000000000ull,
+                                       10000000000000000ull,
+                                       1000000000000000ull,
+                                       100000000000000ull,
+                                       10000000000000ull,
+                                       1000000000000ull,
+                                       100000000000ull,
+                                       10000000000ull,
+                                       1000000000ull,
+                                       100000000ull,
+                                       10000000ull,
+                                       1000000ull,
+                                       100000ull,
+                                       10000ull,
+                                       1000ull,
+                                       100ull,
+                                       10ull,
+                                       1ull};
+
+/// Writes `value` as exactly `width` digits (leading zeros) when width > 0, else as few as it
+/// needs. Repeated subtraction: the Cortex-M4 has no 64-bit divide, and libgcc's costs ~0.7 KB.
+std::size_t put_decimal(std::uint64_t value, std::size_t width, char* out) {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < 20u; ++i) {
+    char digit = '0';
+    while (value >= kPowers[i]) {
+      value -= kPowers[i];
+      ++digit;
+    }
+    if (n > 0u || digit != '0' || 20u - i <= (width > 0u ? width : 1u)) {
+      out[n++] = digit;
+    }
+  }
+  return n;
+}
+
+/// Exact digits of a non-negative float below 2^40: magnitude = m · 2^e with a 24-bit integer m,
+/// so the integer part and the fraction rounded to `decimals` (0..9) digits follow from integer
+/// arithmetic on m, correctly rounded (half up) on the float's exact binary value.
+/// @return 10^decimals (the unit of `digits`).
+std::uint64_t fixed_digits(float magnitude, int decimals, std::uint64_t& whole,
+                           std::uint64_t& digits) {
+  std::uint32_t bits = 0u;
+  std::memcpy(&bits, &magnitude, sizeof bits);
+  const std::uint32_t biased = (bits >> 23u) & 0xFFu;
+  const std::uint64_t m = biased == 0u ? (bits & 0x7FFFFFu) : ((bits & 0x7FFFFFu) | 0x800000u);
+  const int k = biased == 0u ? 149 : 150 - static_cast<int>(biased);  // fraction bits
+  std::uint64_t fraction = 0u;                                        // numerator over 2^k
+  whole = 0u;
+  if (k <= 0) {
+    whole = m << static_cast<unsigned>(-k);  // < 2^40: fits
+  } else if (k < 64) {
+    whole = m >> static_cast<unsigned>(k);
+    fraction = m - (whole << static_cast<unsigned>(k));
+  } else {
+    fraction = m;
+  }
+  std::uint64_t scale = 1u;
+  for (int i = 0; i < decimals; ++i) {
+    scale *= 10u;
+  }
+  digits = 0u;
+  if (k > 0 && k < 64) {
+    // fraction < 2^24 and scale <= 10^9 < 2^30: the product fits in 54 bits.
+    digits =
+        (fraction * scale + (1ull << static_cast<unsigned>(k - 1))) >> static_cast<unsigned>(k);
+  }  // k >= 64: below 2^-40, rounds to 0 at 9 decimals or fewer
+  if (digits >= scale) {
+    digits -= scale;
+    ++whole;
+  }
+  return scale;
 }
 
 }  // namespace
@@ -31,7 +105,7 @@ bool Token::is(const char* word) const {
   return n == length && std::memcmp(text, word, n) == 0;
 }
 
-bool parse_number(const Token& token, double& value) {
+bool parse_decimal(const Token& token, Decimal& value) {
   const char* p = token.text;
   const char* end = token.text + token.length;
   if (p == nullptr || p == end) {
@@ -42,20 +116,26 @@ bool parse_number(const Token& token, double& value) {
     negative = *p == '-';
     ++p;
   }
-  std::uint64_t mantissa = 0u;
+  // At most 9 significant digits are kept (the rest truncated): a float has 24 bits (7.2
+  // digits), so what is dropped is below 1e-9 relative, far under half a unit of its last bit.
+  std::uint32_t mantissa = 0u;
   int exponent10 = 0;  // value = mantissa * 10^exponent10
   int digits = 0;
   bool point = false;
+  bool inexact = false;
   for (; p != end; ++p) {
     if (is_digit(*p)) {
       ++digits;
-      if (mantissa < 100000000000000000ull) {  // 17 significant digits: more than a double has
-        mantissa = mantissa * 10u + static_cast<std::uint64_t>(*p - '0');
+      if (mantissa < 100000000u) {
+        mantissa = mantissa * 10u + static_cast<std::uint32_t>(*p - '0');
         if (point) {
           --exponent10;
         }
-      } else if (!point) {
-        ++exponent10;  // a dropped integer digit still scales the value
+      } else {
+        inexact = inexact || *p != '0';
+        if (!point) {
+          ++exponent10;  // a dropped integer digit still scales the value
+        }
       }
     } else if (*p == '.' && !point) {
       point = true;
@@ -90,24 +170,100 @@ bool parse_number(const Token& token, double& value) {
     }
     exponent10 += exponent_negative ? -written : written;
   }
-  double result = static_cast<double>(mantissa);
   if (mantissa != 0u) {
-    if (exponent10 > 400) {
-      return false;  // overflows a double
+    int places = 0;  // decimal digits of the mantissa
+    for (std::uint32_t m = mantissa; m != 0u; m /= 10u) {
+      ++places;
     }
-    if (exponent10 < -400) {
-      result = 0.0;
-    } else if (exponent10 < -300) {
-      result = result * power_of_ten(-300) * power_of_ten(exponent10 + 300);
+    if (places - 1 + exponent10 > 308) {
+      return false;  // not a finite number in any usual reading (a double overflows too)
+    }
+  } else {
+    exponent10 = 0;
+  }
+  value = Decimal{mantissa, exponent10, negative, inexact};
+  return true;
+}
+
+float to_float(const Decimal& decimal) {
+  const std::uint32_t mantissa = decimal.mantissa;
+  const int exponent10 = decimal.exp10;
+  float result = 0.0f;
+  if (mantissa != 0u) {
+    int places = 0;
+    for (std::uint32_t m = mantissa; m != 0u; m /= 10u) {
+      ++places;
+    }
+    const int magnitude = places - 1 + exponent10;  // value = d.ddd × 10^magnitude
+    if (magnitude > 38) {
+      // Finite as written but beyond float: the largest float, so that range checks name it as
+      // out of range rather than as not a number.
+      result = std::numeric_limits<float>::max();
+    } else if (magnitude < -46) {
+      result = 0.0f;  // below float's smallest denormal
     } else {
-      result *= power_of_ten(exponent10);
+      result = static_cast<float>(mantissa);
+      if (exponent10 >= 0) {
+        result *= power_of_ten(exponent10);
+        if (!std::isfinite(result)) {
+          result = std::numeric_limits<float>::max();
+        }
+      } else if (exponent10 >= -38) {
+        result /= power_of_ten(-exponent10);
+      } else {
+        result = result / power_of_ten(38) / power_of_ten(-exponent10 - 38);
+      }
     }
   }
-  if (!std::isfinite(result)) {
+  return decimal.negative ? -result : result;
+}
+
+bool parse_number(const Token& token, float& value) {
+  Decimal decimal;
+  if (!parse_decimal(token, decimal)) {
     return false;
   }
-  value = negative ? -result : result;
+  value = to_float(decimal);
   return true;
+}
+
+int compare(const Decimal& value, float bound, int decimals) {
+  // The bound as printed: an integer B of 10^-decimals units (exact digits, correctly rounded).
+  std::uint64_t whole = 0u;
+  std::uint64_t digits = 0u;
+  const std::uint64_t scale = fixed_digits(bound < 0.0f ? -bound : bound, decimals, whole, digits);
+  const std::int64_t units = static_cast<std::int64_t>(whole * scale + digits);
+  const std::int64_t b = bound < 0.0f ? -units : units;
+  // The value in the same units: q + f with q whole and f in [0, 1) (f > 0 when `fraction`).
+  std::int64_t q = 0;
+  bool fraction = value.inexact;
+  const int k = value.exp10 + decimals;
+  if (value.mantissa == 0u) {
+    fraction = false;
+  } else if (k >= 0) {
+    std::int64_t scaled = value.mantissa;
+    for (int i = 0; i < k; ++i) {
+      if (scaled > 922337203685477580) {  // beyond any printed bound: compare by sign only
+        return value.negative ? -1 : 1;
+      }
+      scaled *= 10;
+    }
+    q = scaled;
+  } else if (k >= -9) {
+    std::uint32_t divisor = 1u;
+    for (int i = 0; i < -k; ++i) {
+      divisor *= 10u;
+    }
+    q = value.mantissa / divisor;
+    fraction = fraction || value.mantissa % divisor != 0u;
+  } else {
+    fraction = true;  // below one unit
+  }
+  if (!value.negative) {
+    return q < b ? -1 : ((q > b || (q == b && fraction)) ? 1 : 0);
+  }
+  // value = −(q + f)
+  return (q > -b || (q == -b && fraction)) ? -1 : (q < -b ? 1 : 0);
 }
 
 bool parse_unsigned(const Token& token, std::uint32_t& value) {
@@ -130,21 +286,15 @@ bool parse_unsigned(const Token& token, std::uint32_t& value) {
 
 std::size_t format_unsigned(std::uint64_t value, char* out, std::size_t capacity) {
   char digits[20];
-  std::size_t n = 0;
-  do {
-    digits[n++] = static_cast<char>('0' + value % 10u);
-    value /= 10u;
-  } while (value != 0u);
+  const std::size_t n = put_decimal(value, 0u, digits);
   if (out == nullptr || n > capacity) {
     return 0u;
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    out[i] = digits[n - 1 - i];
-  }
+  std::memcpy(out, digits, n);
   return n;
 }
 
-std::size_t format_fixed(double value, int decimals, char* out, std::size_t capacity) {
+std::size_t format_fixed(float value, int decimals, char* out, std::size_t capacity) {
   if (out == nullptr) {
     return 0u;
   }
@@ -159,60 +309,53 @@ std::size_t format_fixed(double value, int decimals, char* out, std::size_t capa
     std::memcpy(text, "nan", 3);
     n = 3;
   } else if (std::isinf(value)) {
-    if (value < 0.0) {
+    if (value < 0.0f) {
       text[n++] = '-';
     }
     std::memcpy(text + n, "inf", 3);
     n += 3;
   } else {
-    const bool negative = value < 0.0;
-    double magnitude = negative ? -value : value;
-    if (magnitude >= 1.0e12) {
+    const bool negative = std::signbit(value);
+    float magnitude = negative ? -value : value;
+    if (magnitude >= 1.0e12f) {
       // Exponent form with 6 decimals in the mantissa: never reached by a parameter or a pose
       // on a working robot, but a value must never be printed as garbage.
-      int exponent = 0;
-      while (magnitude >= 10.0) {
-        magnitude /= 10.0;
+      // One division by the (once-rounded) power of ten: repeated /10 would compound roundings.
+      int exponent = 12;
+      while (exponent < 38 && magnitude >= power_of_ten(exponent + 1)) {
         ++exponent;
       }
-      std::uint64_t scaled = static_cast<std::uint64_t>(magnitude * 1.0e6 + 0.5);
+      std::uint32_t scaled =
+          static_cast<std::uint32_t>(magnitude / power_of_ten(exponent) * 1.0e6f + 0.5f);
       if (scaled >= 10000000u) {
         scaled /= 10u;
         ++exponent;
+      } else if (scaled < 1000000u) {  // the power of ten rounded up past the value
+        scaled = 1000000u;
       }
       if (negative) {
         text[n++] = '-';
       }
       text[n++] = static_cast<char>('0' + scaled / 1000000u);
       text[n++] = '.';
-      std::uint64_t fraction = scaled % 1000000u;
-      for (int i = 5; i >= 0; --i) {
-        text[n + static_cast<std::size_t>(i)] = static_cast<char>('0' + fraction % 10u);
-        fraction /= 10u;
-      }
-      n += 6;
+      n += put_decimal(scaled % 1000000u, 6u, text + n);
       text[n++] = 'e';
       text[n++] = '+';
-      n += format_unsigned(static_cast<std::uint64_t>(exponent), text + n, sizeof text - n);
+      n += put_decimal(static_cast<std::uint64_t>(exponent), 0u, text + n);
     } else {
-      std::uint64_t scale = 1u;
-      for (int i = 0; i < decimals; ++i) {
-        scale *= 10u;
-      }
-      const std::uint64_t scaled =
-          static_cast<std::uint64_t>(magnitude * static_cast<double>(scale) + 0.5);
-      if (negative && scaled != 0u) {
+      // Exact: magnitude = m · 2^e with a 24-bit integer m; the integer part and the rounded
+      // `decimals` digits of the fraction follow from integer arithmetic on m, correctly rounded
+      // (half away from zero) on the float's exact binary value.
+      std::uint64_t whole = 0u;
+      std::uint64_t digits = 0u;
+      fixed_digits(magnitude, decimals, whole, digits);
+      if (negative && (whole != 0u || digits != 0u)) {
         text[n++] = '-';
       }
-      n += format_unsigned(scaled / scale, text + n, sizeof text - n);
+      n += put_decimal(whole, 0u, text + n);
       if (decimals > 0) {
         text[n++] = '.';
-        std::uint64_t fraction = scaled % scale;
-        for (int i = decimals - 1; i >= 0; --i) {
-          text[n + static_cast<std::size_t>(i)] = static_cast<char>('0' + fraction % 10u);
-          fraction /= 10u;
-        }
-        n += static_cast<std::size_t>(decimals);
+        n += put_decimal(digits, static_cast<std::size_t>(decimals), text + n);
       }
     }
   }

@@ -1,5 +1,7 @@
 #include "odocal/drive/drive_config.hpp"
 
+#include "odocal/drive/numeric.hpp"
+
 #include <cmath>
 
 namespace odocal::drive {
@@ -12,7 +14,7 @@ bool field_accepts(std::size_t index, float value) {
   if (value < field.min || value > field.max) {
     return false;
   }
-  return !field.integer() || std::floor(value) == value;
+  return !field.integer() || is_whole(value);
 }
 
 ConfigCheck check(const DriveConfig& config) {

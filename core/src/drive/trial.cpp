@@ -1,5 +1,7 @@
 #include "odocal/drive/trial.hpp"
 
+#include "odocal/drive/numeric.hpp"
+
 namespace odocal::drive {
 
 void TrialRecorder::begin(PathId path, float length_m, std::int64_t counts_l,
@@ -44,7 +46,7 @@ bool TrialRecorder::update(bool moving, std::int64_t counts_l, std::int64_t coun
     return false;
   }
   current_.number = next_number_++;
-  current_.duration_ms = static_cast<std::uint32_t>((elapsed_us_ + 500u) / 1000u);
+  current_.duration_ms = static_cast<std::uint32_t>(divide_u64(elapsed_us_ + 500u, 1000u));
   current_.count_l = counts_l - start_l_;
   current_.count_r = counts_r - start_r_;
   current_.end = pose;

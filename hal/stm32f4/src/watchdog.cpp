@@ -12,13 +12,15 @@ void Watchdog::start(std::uint32_t timeout_ms) {
   constexpr std::uint32_t lsi_hz = 32'000u;
   if (timeout_ms < 1u) {
     timeout_ms = 1u;
+  } else if (timeout_ms > 100'000u) {
+    timeout_ms = 100'000u;  // beyond the longest the IWDG counts (32.8 s); keeps t·8 in 32 bits
   }
   std::uint32_t code = 0u;
   std::uint32_t counts = 0u;
   for (; code <= 6u; ++code) {
-    const std::uint32_t divider = 4u << code;
-    counts = static_cast<std::uint32_t>((static_cast<std::uint64_t>(timeout_ms) * lsi_hz) /
-                                        (1000u * divider));
+    // t·lsi_hz / (1000·divider) = t·8 / 2^code exactly (32 kHz / 1000 / 4 = 8).
+    static_assert(lsi_hz / 1000u / 4u == 8u, "the shift below assumes LSI = 32 kHz");
+    counts = (timeout_ms * 8u) >> code;
     if (counts <= 4096u) {
       break;
     }

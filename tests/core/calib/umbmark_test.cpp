@@ -1,5 +1,6 @@
 // UMBmark (Borenstein & Feng 1994, section 6): formulas against hand-computed values, the exact
-// square model against the paper's first-order expressions, round trips through the drive
+// square model against the paper's first-order expressions, the robot's float solve against the
+// host's double one, round trips through the drive
 // stack's odometry, the exact solve, composition of passes and the 3·SEM rule.
 #include "odocal/calib/umbmark.hpp"
 
@@ -319,6 +320,73 @@ TEST(Umbmark, SolveAllocatesNothing) {
   (void)compose({}, r);
   (void)square_return_error(4000.0, 340.0, 1.001, 1.01, true);
   EXPECT_EQ(watch.allocations(), 0u);
+}
+
+}  // namespace
+}  // namespace odocal::calib
+
+namespace odocal::calib {
+namespace {
+
+// The robot's console solves in float. Over random robots and noisy runs, the float solve must
+// agree with the double one far inside what the measurement itself resolves: a tenth of the
+// change that moving every cw stop point by 1 mm (a careful tape measurement) makes.
+TEST(Umbmark, FloatSolveAgreesWithDoubleWithinATenthOfOneMillimetreOfMeasurement) {
+  std::uint64_t state = 12345u;
+  auto uniform = [&state](double lo, double hi) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return lo + (hi - lo) * static_cast<double>(state >> 11) / 9007199254740992.0;
+  };
+  for (int robot = 0; robot < 200; ++robot) {
+    const double side = uniform(1000.0, 4000.0);
+    const double b = uniform(100.0, 400.0);
+    const double e_d = uniform(0.99, 1.01);
+    const double e_b = uniform(0.97, 1.03);
+    std::vector<ReturnError> cw;
+    std::vector<ReturnError> ccw;
+    std::vector<ReturnErrorOf<float>> cw_f;
+    std::vector<ReturnErrorOf<float>> ccw_f;
+    for (int run = 0; run < 5; ++run) {
+      for (const bool clockwise : {true, false}) {
+        ReturnError e = square_return_error(side, b, e_d, e_b, clockwise);
+        e.x_mm += uniform(-5.0, 5.0);
+        e.y_mm += uniform(-5.0, 5.0);
+        (clockwise ? cw : ccw).push_back(e);
+        (clockwise ? cw_f : ccw_f)
+            .push_back({static_cast<float>(e.x_mm), static_cast<float>(e.y_mm)});
+      }
+    }
+    for (const bool exact : {false, true}) {
+      UmbmarkResult ref;
+      ASSERT_EQ(solve(cw, ccw, side, b, exact, ref), UmbmarkStatus::ok);
+      std::vector<ReturnError> moved = cw;
+      for (ReturnError& e : moved) {
+        e.x_mm += 1.0;
+        e.y_mm += 1.0;
+      }
+      UmbmarkResult shifted;
+      ASSERT_EQ(solve(moved, ccw, side, b, exact, shifted), UmbmarkStatus::ok);
+      // Plus two units of float's last bit: a float result cannot be closer than half of one.
+      constexpr double ulp = 1.1920928955078125e-7;
+      const double tol_d = 0.1 * std::fabs(shifted.e_d - ref.e_d) + 2.0 * ulp * ref.e_d;
+      const double tol_b = 0.1 * std::fabs(shifted.e_b - ref.e_b) + 2.0 * ulp * ref.e_b;
+      UmbmarkInputOf<float> in;
+      in.cw = cw_f.data();
+      in.cw_count = cw_f.size();
+      in.ccw = ccw_f.data();
+      in.ccw_count = ccw_f.size();
+      in.side_mm = static_cast<float>(side);
+      in.wheelbase_mm = static_cast<float>(b);
+      in.exact = exact;
+      UmbmarkResultOf<float> r;
+      ASSERT_EQ(solve_umbmark(in, r), UmbmarkStatus::ok);
+      EXPECT_NEAR(r.e_d, ref.e_d, tol_d) << "robot " << robot << " exact " << exact;
+      EXPECT_NEAR(r.e_b, ref.e_b, tol_b) << "robot " << robot << " exact " << exact;
+      EXPECT_NEAR(r.c_l, ref.c_l, tol_d);
+      EXPECT_NEAR(r.wheelbase_new_mm, ref.wheelbase_new_mm, tol_b * b);
+      EXPECT_EQ(r.second_pass_recommended, ref.second_pass_recommended);
+    }
+  }
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 /// Maddahi & Zareinia corrective factors (IEEE Access 8, 2020): the lateral factor F_lat (eq. 4)
 /// and the longitudinal factor F_lon (eq. 5) from straight-line trials, and the same factors from
 /// estimated wheel velocities through the inverse kinematics (eq. 7). Hardware-free, no heap.
+/// eq. 4-5 are generic in the scalar: double on the host, float in the robot's console.
 
 #include <cstddef>
 #include <cstdint>
@@ -11,32 +12,38 @@ namespace odocal::calib {
 
 /// Where one straight trial stopped, mm, in the start frame: x along the commanded line,
 /// y to the left.
-struct StopPoint {
-  double x_mm = 0.0;
-  double y_mm = 0.0;
+template <typename Real>
+struct StopPointOf {
+  Real x_mm = 0;
+  Real y_mm = 0;
 };
+using StopPoint = StopPointOf<double>;
 
 /// Most trials `solve_lateral` accepts.
 inline constexpr std::size_t lateral_max_trials = 1024;
 
 /// What eq. 4 and eq. 5 need.
-struct LateralInput {
-  const StopPoint* trials = nullptr;
+template <typename Real>
+struct LateralInputOf {
+  const StopPointOf<Real>* trials = nullptr;
   std::size_t trial_count = 0;
-  double length_mm = 0.0;          ///< commanded length L of each straight trial, > 0
-  double wheelbase_mm = 0.0;       ///< wheelbase l, > 0
-  double left_diameter_mm = 0.0;   ///< nominal D_L, > 0
-  double right_diameter_mm = 0.0;  ///< nominal D_R, > 0
+  Real length_mm = 0;          ///< commanded length L of each straight trial, > 0
+  Real wheelbase_mm = 0;       ///< wheelbase l, > 0
+  Real left_diameter_mm = 0;   ///< nominal D_L, > 0
+  Real right_diameter_mm = 0;  ///< nominal D_R, > 0
   /// Left-wheel rotation over one trial, rad; 0 means the nominal 2L/D_L.
-  double theta_l_rad = 0.0;
+  Real theta_l_rad = 0;
 };
+using LateralInput = LateralInputOf<double>;
 
 /// The two corrective factors (dimensionless; 1 = no correction).
-struct LateralResult {
-  double f_lat = 1.0;        ///< scales the left wheel (eq. 7)
-  double f_lon = 1.0;        ///< scales both wheels (eq. 7)
-  double theta_l_rad = 0.0;  ///< the θ_L used in eq. 4
+template <typename Real>
+struct LateralResultOf {
+  Real f_lat = 1;        ///< scales the left wheel (eq. 7)
+  Real f_lon = 1;        ///< scales both wheels (eq. 7)
+  Real theta_l_rad = 0;  ///< the θ_L used in eq. 4
 };
+using LateralResult = LateralResultOf<double>;
 
 /// Why a lateral solve was refused. Nothing is written to the result unless `ok`.
 enum class LateralStatus : std::uint8_t {
@@ -54,7 +61,12 @@ enum class LateralStatus : std::uint8_t {
 /// F_lat by eq. 4 (read as DESIGN says: D_L/D_R, chord angle atan(y_i/x_i)) and F_lon by eq. 5
 /// (shortfall x_e = L − x, so F_lon = L / |mean stop point|). A drift to the left (y > 0) gives
 /// F_lat > 1; stopping short gives F_lon > 1.
-[[nodiscard]] LateralStatus solve_lateral(const LateralInput& input, LateralResult& result);
+template <typename Real>
+[[nodiscard]] LateralStatus solve_lateral(const LateralInputOf<Real>& input,
+                                          LateralResultOf<Real>& result);
+extern template LateralStatus solve_lateral(const LateralInputOf<float>&, LateralResultOf<float>&);
+extern template LateralStatus solve_lateral(const LateralInputOf<double>&,
+                                            LateralResultOf<double>&);
 
 /// Body velocity and wheel velocities of one trial (Maddahi eq. 6-7 variables).
 struct WheelRateSample {

@@ -2,7 +2,7 @@
 /// @file
 /// The on-robot Maddahi procedure (eq. 4-5): the stop points of straight trials entered one by
 /// one, each with the left-wheel rotation the robot measured during it, and the last solution.
-/// Hardware-free, no heap.
+/// Hardware-free, no heap; single precision (the robot links no double arithmetic).
 
 #include <array>
 #include <cstddef>
@@ -14,6 +14,8 @@ namespace odocal::calib {
 
 class LateralSession {
  public:
+  using Stop = StopPointOf<float>;
+  using Result = LateralResultOf<float>;
   static constexpr std::size_t capacity = 32u;  ///< trials kept
 
   /// Why a trial was not added.
@@ -28,26 +30,26 @@ class LateralSession {
   void clear();
   /// Adds one straight trial: where it stopped (start frame, mm), its commanded length L (mm),
   /// and the left wheel's measured rotation over it, θ_L (rad, > 0).
-  [[nodiscard]] AddStatus add(const StopPoint& stop, double length_mm, double theta_l_rad);
+  [[nodiscard]] AddStatus add(const Stop& stop, float length_mm, float theta_l_rad);
 
   /// Eq. 4-5 over the entered trials with θ_L their mean; on `ok` the result is kept.
   /// @param left_diameter_mm, right_diameter_mm the diameters the trials were driven with.
-  [[nodiscard]] LateralStatus solve(double wheelbase_mm, double left_diameter_mm,
-                                    double right_diameter_mm);
+  [[nodiscard]] LateralStatus solve(float wheelbase_mm, float left_diameter_mm,
+                                    float right_diameter_mm);
   [[nodiscard]] bool solved() const { return solved_; }
-  [[nodiscard]] const LateralResult& result() const { return result_; }
+  [[nodiscard]] const Result& result() const { return result_; }
   /// The solution was applied: later trials run with the new factors.
   void applied() { clear(); }
 
   [[nodiscard]] std::size_t count() const { return count_; }
-  [[nodiscard]] double length_mm() const { return length_mm_; }
+  [[nodiscard]] float length_mm() const { return length_mm_; }
 
  private:
-  std::array<StopPoint, capacity> stops_{};
+  std::array<Stop, capacity> stops_{};
   std::size_t count_ = 0u;
-  double length_mm_ = 0.0;
-  double theta_l_sum_rad_ = 0.0;
-  LateralResult result_{};
+  float length_mm_ = 0.0f;
+  float theta_l_sum_rad_ = 0.0f;
+  Result result_{};
   bool solved_ = false;
 };
 

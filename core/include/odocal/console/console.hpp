@@ -147,7 +147,7 @@ class Console {
   void send_usage(const Command& command);
   void send_newline();
   /// Parses `token` into [lo, hi]; sends the error and returns false otherwise.
-  bool number_arg(const Token& token, double lo, double hi, double& value);
+  bool number_arg(const Token& token, float lo, float hi, float& value);
   /// Sends the reason a configuration was refused; @return check.ok().
   bool config_accepted(const drive::ConfigCheck& check);
   [[nodiscard]] bool path_running(const drive::LoopStatus& status) const;

@@ -51,12 +51,8 @@ class Reply {
   Reply& bytes(const char* s, std::size_t n);
   /// " k=" (the value follows).
   Reply& key(const char* k) { return text(" ").text(k).text("="); }
-  Reply& number(double value, int decimals);
-  Reply& number(float value, int decimals) { return number(static_cast<double>(value), decimals); }
-  Reply& pair(const char* k, double value, int decimals) { return key(k).number(value, decimals); }
-  Reply& pair(const char* k, float value, int decimals) {
-    return pair(k, static_cast<double>(value), decimals);
-  }
+  Reply& number(float value, int decimals);
+  Reply& pair(const char* k, float value, int decimals) { return key(k).number(value, decimals); }
   Reply& pair_u(const char* k, std::uint64_t value);
   Reply& pair_i(const char* k, std::int64_t value);
   Reply& pair_s(const char* k, const char* value) { return key(k).text(value); }

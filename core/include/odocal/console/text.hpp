@@ -17,21 +17,42 @@ struct Token {
   [[nodiscard]] bool is(const char* word) const;
 };
 
+/// A decimal number as typed: ±mantissa · 10^exp10, with at most 9 significant digits kept.
+struct Decimal {
+  std::uint32_t mantissa = 0u;
+  int exp10 = 0;
+  bool negative = false;
+  bool inexact = false;  ///< nonzero digits beyond the 9 kept (the value is a little larger)
+};
+
+/// Parses a whole token with the grammar of `parse_number`, keeping the decimal digits.
+[[nodiscard]] bool parse_decimal(const Token& token, Decimal& value);
+/// The float nearest `value` or one unit of its last bit away (see parse_number).
+[[nodiscard]] float to_float(const Decimal& value);
+/// Compares a typed decimal with `bound` as it prints with `decimals` (0..9) digits after the
+/// point (`params` prints 6): −1, 0 or 1 for less, equal, greater. Exact: no float rounding of
+/// the typed value, so 2.0000001 is above a bound printed 2.000000 although both are the float 2.
+[[nodiscard]] int compare(const Decimal& value, float bound, int decimals);
+
 /// Parses a whole token as a decimal number, strictly: an optional sign, digits with at most one
 /// decimal point (at least one digit in all), and an optional exponent `e`/`E` with an optional
 /// sign and at least one digit. Nothing else: no spaces, no trailing junk, no hex, no `inf`/`nan`.
-/// @return false (value untouched) when the text is not such a number or the result is not
-/// finite (e.g. `1e999`).
-[[nodiscard]] bool parse_number(const Token& token, double& value);
+/// The result is the nearest float or within one unit of its last bit (at most 9 significant digits
+/// are used); a value finite as written but beyond float's range reads as ±FLT_MAX (so that range
+/// checks call it out of range), one below float's smallest as 0.
+/// @return false (value untouched) when the text is not such a number or its magnitude is beyond
+/// 1e308 (e.g. `1e999`).
+[[nodiscard]] bool parse_number(const Token& token, float& value);
 
 /// Parses a whole token as an unsigned decimal integer in [0, 2^32 - 1] (digits only).
 [[nodiscard]] bool parse_unsigned(const Token& token, std::uint32_t& value);
 
 /// Writes `value` with exactly `decimals` (0..9) digits after the point, rounded half away from
 /// zero ("-1.500000"; "nan", "inf", "-inf" for non-finite values; magnitudes of 1e12 and more in
-/// exponent form "1.234567e+15"). Never writes a "-" before an all-zero result.
+/// exponent form "1.234567e+15"). Never writes a "-" before an all-zero result. Below 1e12 the
+/// digits are exact: the float's binary value correctly rounded, in integer arithmetic.
 /// @return characters written (no terminator), 0 when `capacity` is too small (nothing usable).
-std::size_t format_fixed(double value, int decimals, char* out, std::size_t capacity);
+std::size_t format_fixed(float value, int decimals, char* out, std::size_t capacity);
 
 /// Writes an unsigned decimal integer; @return characters written, 0 when it does not fit.
 std::size_t format_unsigned(std::uint64_t value, char* out, std::size_t capacity);

@@ -64,7 +64,7 @@ void ControlLoop::apply_config(const DriveConfig& config) {
   right_controller_.set_gains(gains_of(config_));
 }
 
-void ControlLoop::take_command(const Inbox& inbox, const EncoderSnapshot& left,
+void ControlLoop::take_command(const Taken& inbox, const EncoderSnapshot& left,
                                const EncoderSnapshot& right) {
   if (inbox.reset_pose) {
     odometry_.reset();
@@ -100,11 +100,11 @@ void ControlLoop::take_command(const Inbox& inbox, const EncoderSnapshot& left,
       break;
     case Command::run:
       if (mode_ != Mode::fault) {
-        motion_.start(inbox.path, odometry_);
+        motion_.start_loaded(odometry_);  // the tick loaded it from the mailbox
         mode_ = motion_.busy() ? Mode::path : Mode::idle;
         drive_twist_ = Twist{};
-        trial_.begin(inbox.path.id, path_length_m(inbox.path), left_speed_.position_counts(),
-                     right_speed_.position_counts());
+        trial_.begin(motion_.path().id, path_length_m(motion_.path()),
+                     left_speed_.position_counts(), right_speed_.position_counts());
       }
       break;
     case Command::none:
@@ -211,21 +211,21 @@ void ControlLoop::tick(std::uint32_t now_us) {
   // 1. Snapshot the encoders and take the main loop's requests, in one short critical section.
   EncoderSnapshot left_snap;
   EncoderSnapshot right_snap;
-  Inbox inbox;
+  Taken inbox;
   {
     hal::CriticalGuard guard(critical_);
     left_snap = left_decoder_.snapshot();
     right_snap = right_decoder_.snapshot();
     inbox.config_pending = inbox_.config_pending;
     if (inbox_.config_pending) {
-      inbox.config = inbox_.config;
+      staged_config_ = inbox_.config;
       inbox_.config_pending = false;
     }
     inbox.command = inbox_.command;
     inbox.twist = inbox_.twist;
     inbox.duration_ms = inbox_.duration_ms;
-    if (inbox_.command == Command::run) {
-      inbox.path = inbox_.path;
+    if (inbox_.command == Command::run && mode_ != Mode::fault) {
+      motion_.load(inbox_.path);  // one copy, straight where it runs
     }
     inbox.reset_pose = inbox_.reset_pose;
     inbox_.command = Command::none;
@@ -250,7 +250,7 @@ void ControlLoop::tick(std::uint32_t now_us) {
   ++ticks_;
 
   if (inbox.config_pending) {
-    apply_config(inbox.config);
+    apply_config(staged_config_);
   }
   take_command(inbox, left_snap, right_snap);
 

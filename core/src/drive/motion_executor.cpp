@@ -100,7 +100,16 @@ Path make_unseen_path() {
 }
 
 void MotionExecutor::start(const Path& path, const Odometry& odometry) {
+  load(path);
+  start_loaded(odometry);
+}
+
+void MotionExecutor::load(const Path& path) {
+  cancel();
   path_ = path;
+}
+
+void MotionExecutor::start_loaded(const Odometry& odometry) {
   index_ = 0u;
   busy_ = path_.count > 0u;
   settling_ = false;

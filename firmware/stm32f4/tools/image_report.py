@@ -2,7 +2,9 @@
 """What an odocal firmware image costs: flash and RAM by component, worst-case stack per
 interrupt and for the main loop, and the instruction counts of the edge interrupt.
 
-Sizes come from the linker map (every input section is attributed to its object or library).
+Sizes come from the linker map (every input section is attributed to its object or library; the
+images are linked with LTO, so code from the link-time objects is attributed by the namespace of
+the function it ended up in: code inlined into a caller counts for the caller's component).
 Stack frames come from each function's prologue in the linked image (push / vpush / sub sp) --
 the same figure -fstack-usage reports for our own functions, and it also covers libgcc/libm/libc.
 The call graph comes from bl / b.w; indirect calls are resolved by a table below (virtual HAL
@@ -24,8 +26,8 @@ COMPONENTS = [
     (r"libodocal_hal_stm32f4\.a", "hal/stm32f4 (register-level backends)"),
     (r"libodocal_hal_sim\.a", "hal/sim (plant, RAM store: QEMU only)"),
     (r"odocal_fw_app\.dir|odocal-fw(-qemu)?\.dir", "firmware/stm32f4 (startup, boards, main)"),
-    (r"libm\.a|libm_nano\.a", "libm (atan2f; double atan/hypot/sqrt; QEMU: the plant's double sin/cos/exp)"),
-    (r"libgcc\.a", "libgcc (soft double arithmetic, 64-bit division)"),
+    (r"libm\.a|libm_nano\.a", "libm (atan2f, atanf; QEMU: the plant's double sin/cos/exp)"),
+    (r"libgcc\.a", "libgcc (QEMU: soft double for the plant)"),
     (r"libc_nano\.a|libc\.a|libg_nano\.a", "libc (memcpy, memset, strlen, errno)"),
     (r"libstdc\+\+|libsupc\+\+", "libstdc++"),
 ]
@@ -67,7 +69,27 @@ def run(*command):
     return subprocess.run(command, check=True, capture_output=True, text=True).stdout
 
 
-def component_of(path):
+# With link-time optimisation the code comes out of the linker's own objects (ccXXXX.ltrans0.o):
+# those input sections are attributed by the (mangled) namespace in their section name instead.
+LTO_COMPONENTS = [
+    (r"odocal7console", "core/console (console, text, line editor)"),
+    (r"odocal6params", "core/params (table, A/B store, CRC)"),
+    (r"odocal5calib", "core/calib (UMBmark solver)"),
+    (r"odocal5drive", "core/drive (control loop, odometry, paths)"),
+    (r"odocal3hal7stm32f4", "hal/stm32f4 (register-level backends)"),
+    (r"odocal3sim", "hal/sim (plant, RAM store: QEMU only)"),
+    (r"odocal3hal|odocal8firmware|reset_handler|fault_|dispatch_interrupt|vector_table|main$",
+     "firmware/stm32f4 (startup, boards, main)"),
+    (r"\.rodata(\.str|\.cst|$)", "constants merged across files by LTO (strings, tables)"),
+]
+
+
+def component_of(path, section_name=""):
+    if re.search(r"ltrans[0-9]*\.ltrans\.o|\.ltrans\.o", path):
+        for pattern, name in LTO_COMPONENTS:
+            if re.search(pattern, section_name):
+                return name
+        return "other (LTO: unattributed)"
     for pattern, name in COMPONENTS:
         if re.search(pattern, path):
             return name
@@ -92,11 +114,12 @@ def sizes_from_map(map_path):
             if m is None and pending_name is not None:
                 m2 = re.match(r"^\s+0x([0-9a-f]+)\s+0x([0-9a-f]+)\s+(\S+)", line)
                 if m2:
-                    totals[(section, component_of(m2.group(3)))] += int(m2.group(2), 16)
+                    totals[(section, component_of(m2.group(3), pending_name))] += int(
+                        m2.group(2), 16)
                 pending_name = None
                 continue
             if m:
-                totals[(section, component_of(m.group(4)))] += int(m.group(3), 16)
+                totals[(section, component_of(m.group(4), m.group(1)))] += int(m.group(3), 16)
                 pending_name = None
                 continue
             if re.match(r"^ \.\S+\s*$", line):

@@ -107,7 +107,7 @@ def main():
     parser.add_argument("--elf", required=True)
     parser.add_argument("--timeout", type=int, default=240, help="whole session, s")
     parser.add_argument("--no-icount", action="store_true", help="real-time virtual clock")
-    parser.add_argument("--tick-budget", type=int, default=2000,
+    parser.add_argument("--tick-budget", type=int, default=1500,
                         help="max instructions of the control tick (with -icount)")
     args = parser.parse_args()
     if not os.path.exists(args.elf):

@@ -119,6 +119,15 @@ class ControlLoop {
     Path path{};
     bool reset_pose = false;
   };
+  /// The part of the mailbox the tick takes each time (small: the path and the configuration
+  /// are copied only when they come, straight to where they are used).
+  struct Taken {
+    bool config_pending = false;
+    Command command = Command::none;
+    Twist twist{};
+    std::uint32_t duration_ms = 0u;
+    bool reset_pose = false;
+  };
   /// What the tick shows the main loop; written and read only under the critical section.
   struct Published {
     Odometry odometry{};
@@ -128,7 +137,7 @@ class ControlLoop {
   };
 
   void apply_config(const DriveConfig& config);
-  void take_command(const Inbox& inbox, const EncoderSnapshot& left, const EncoderSnapshot& right);
+  void take_command(const Taken& inbox, const EncoderSnapshot& left, const EncoderSnapshot& right);
   [[nodiscard]] Twist twist_for_mode(float dt_s, std::uint32_t dt_us);
   void check_faults(const EncoderSnapshot& left, const EncoderSnapshot& right, std::uint32_t dt_us);
   void drive_motors(float left_duty, float right_duty);
@@ -183,6 +192,7 @@ class ControlLoop {
 
   // Shared with the main loop under the critical section.
   Inbox inbox_{};
+  DriveConfig staged_config_{};  ///< a new configuration, taken from the mailbox this tick
   Published published_{};
 };
 

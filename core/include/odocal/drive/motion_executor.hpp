@@ -58,6 +58,13 @@ class MotionExecutor {
  public:
   /// Loads a path and starts it from the current odometry.
   void start(const Path& path, const Odometry& odometry);
+  /// Loads a path without starting it (what is running is cancelled): the tick copies a new path
+  /// straight from the main loop's mailbox, once.
+  void load(const Path& path);
+  /// Starts the loaded path from the current odometry.
+  void start_loaded(const Odometry& odometry);
+  /// The loaded path.
+  [[nodiscard]] const Path& path() const { return path_; }
   /// Abandons the path (the twist drops to zero at once).
   void cancel();
 

@@ -49,8 +49,10 @@ class UsartStream final : public hal::ByteStream {
   static void on_interrupt(void* self);
 
   UsartConfig config_;
-  SpscRing<256> rx_;
-  SpscRing<1024> tx_;
+  // Small: the console drains rx into its own line buffer every main-loop pass (~11.5 B/ms
+  // arrive at 115200 baud) and keeps its replies in its own output queue until tx has room.
+  SpscRing<128> rx_;
+  SpscRing<256> tx_;
   std::atomic<std::uint32_t> rx_dropped_{0u};
 };
 

@@ -209,11 +209,10 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
   r.odom.theta_deg = trial.number("theta_deg");
   planned = std::max(planned, runs.size() + 1);
   r.measured = source.take(r, runs.size(), planned);
-  log << "  run " << runs.size() + 1 << " " << label << " (trial " << r.trial << ", "
-      << fmt::format("{:.1f}", r.duration_ms / 1000.0) << " s): odometry "
-      << fmt::format("{:.1f}", r.odom.x_mm) << ", " << fmt::format("{:.1f}", r.odom.y_mm)
-      << " mm; measured " << fmt::format("{:.1f}", r.measured.x_mm) << ", "
-      << fmt::format("{:.1f}", r.measured.y_mm) << " mm\n";
+  log << fmt::format(
+      "  run {} {} (trial {}, {:.1f} s): odometry {:.1f}, {:.1f} mm; measured {:.1f}, {:.1f} mm\n",
+      runs.size() + 1, label, r.trial, r.duration_ms / 1000.0, r.odom.x_mm, r.odom.y_mm,
+      r.measured.x_mm, r.measured.y_mm);
   runs.push_back(r);
   return r;
 }
@@ -396,10 +395,11 @@ SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
                                                                      to_string(options.procedure)));
   context.write_file("session.json", report.json.dump(2) + "\n");
   std::ostringstream text;
-  text << outcome.text << "Factors in force: c_l=" << fmt::format("{:.6f}", f.c_l)
-       << " c_r=" << fmt::format("{:.6f}", f.c_r)
-       << " wheelbase_mm=" << fmt::format("{:.3f}", f.wheelbase_mm)
-       << " f_lat=" << fmt::format("{:.6f}", f.f_lat) << " f_lon=" << fmt::format("{:.6f}", f.f_lon)
+  text << outcome.text
+       << fmt::format(
+              "Factors in force: c_l={:.6f} c_r={:.6f} wheelbase_mm={:.3f} f_lat={:.6f} "
+              "f_lon={:.6f}",
+              f.c_l, f.c_r, f.wheelbase_mm, f.f_lat, f.f_lon)
        << (outcome.applied ? (saved ? " (applied, saved)" : " (applied, NOT saved)")
                            : " (unchanged)")
        << "\nFiles: " << options.out_dir << "/ (session.json, runs.csv, runs.svg, ...)\n";

@@ -1,10 +1,12 @@
 #include "config.hpp"
 
 #include <cerrno>
-#include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <sstream>
+
+#include "odocal/toolkit/numbers.hpp"
 
 namespace odocal::linux_target {
 namespace {
@@ -12,22 +14,18 @@ namespace {
 using hal::linux_gpiod::LinePin;
 
 std::string trim(const std::string& text) {
-  const char* blanks = " \t\r";
-  const std::size_t first = text.find_first_not_of(blanks);
-  if (first == std::string::npos) {
-    return std::string();
-  }
-  return text.substr(first, text.find_last_not_of(blanks) - first + 1u);
+  return std::string(toolkit::trim(text));
 }
 
+// A whole number in [lo, hi], digits only (the host toolkit's rule for every host program).
 bool parse_unsigned(const std::string& text, unsigned long lo, unsigned long hi,
                     unsigned long& value) {
-  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos ||
-      text.size() > 9u) {
+  const std::optional<std::uint64_t> parsed = toolkit::parse_whole_in(text, lo, hi);
+  if (!parsed) {
     return false;
   }
-  value = std::strtoul(text.c_str(), nullptr, 10);
-  return value >= lo && value <= hi;
+  value = static_cast<unsigned long>(*parsed);
+  return true;
 }
 
 // "[chip:]offset"; the chip may itself contain ':' only as a path, so split at the last one.

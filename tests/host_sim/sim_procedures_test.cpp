@@ -11,7 +11,6 @@
 #include <string>
 #include <vector>
 
-#include "odocal/host/sim_numbers.hpp"
 #include "odocal/host/sim_procedures.hpp"
 #include "odocal/host/sim_robot.hpp"
 
@@ -214,18 +213,6 @@ TEST(RobotFile, RangeErrorsNameTheKeyThatIsWrong) {
                               "true_wheelbase_mm": 4000})",
                           "r.json", spec, error))
       << error;
-}
-
-TEST(SimNumbers, OnlyPlainFiniteDecimalsAreNumbers) {
-  EXPECT_EQ(parse_real("4000"), 4000.0);
-  EXPECT_EQ(parse_real("-2.5e3"), -2500.0);
-  for (const char* bad : {"", "abc", "4000x", " 400", "0x10", "nan", "inf", "1e400", "1e"}) {
-    EXPECT_FALSE(parse_real(bad).has_value()) << bad;
-  }
-  EXPECT_EQ(parse_whole("18446744073709551615"), UINT64_MAX);
-  for (const char* bad : {"", "-1", "+1", "1.0", "1e3", "0x2", "3x", "18446744073709551616"}) {
-    EXPECT_FALSE(parse_whole(bad).has_value()) << bad;
-  }
 }
 
 TEST(SimUmbmark, AFailedRunSaysWhereAndKeepsTheTimeSimulated) {

@@ -59,6 +59,18 @@ expect "line used twice named" 2 "left_a and right_dir both use gpiochip0 line 1
 sed 's/^chip = gpiochip0/chip = gpiochip7/' "${good}" > "${work}/chip.conf"
 expect "missing chip named" 1 'GPIO chip "gpiochip7" not found' --config "${work}/chip.conf"
 
+# Numbers in the file: digits only, inside the documented range, both bounds included.
+{ cat "${work}/chip.conf"; echo "event_priority = 99   # the highest SCHED_FIFO priority"; } > "${work}/top.conf"
+expect "priority 99 taken (then the chip is missing)" 1 'GPIO chip "gpiochip7" not found' --config "${work}/top.conf"
+{ cat "${good}"; echo "event_priority = 100"; } > "${work}/prio.conf"
+expect "priority 100 refused" 2 'prio.conf:13: bad value "100" for "event_priority"' --config "${work}/prio.conf"
+{ cat "${good}"; echo "pwm_hz = 18446744073709551616"; } > "${work}/wrap.conf"
+expect "2^64 Hz refused, not wrapped" 2 'bad value "18446744073709551616" for "pwm_hz"' --config "${work}/wrap.conf"
+{ cat "${good}"; echo "soft_pwm_hz = +200"; } > "${work}/sign.conf"
+expect "a sign refused" 2 'bad value "+200" for "soft_pwm_hz"' --config "${work}/sign.conf"
+{ cat "${good}"; echo "event_holdback_us = 1e3"; } > "${work}/exp.conf"
+expect "an exponent refused" 2 'bad value "1e3" for "event_holdback_us"' --config "${work}/exp.conf"
+
 if [ "${failures}" -ne 0 ]; then
   echo "FAIL: ${failures} case(s)"
   exit 1

@@ -80,7 +80,7 @@ void run_bootstrap(const BootstrapOptions& o) {
                      unknowns_table.rows[fit < unknowns_table.rows.size() ? fit : 0].line, "xdot",
                      std::to_string(unknowns_table.rows.size()) +
                          " unknowns x B = " + std::to_string(o.replicates) + " is more than " +
-                         bound(bootstrap_max_predictions) + " predictions: at most " +
+                         bound_text(bootstrap_max_predictions) + " predictions: at most " +
                          std::to_string(fit) + " unknowns with this --b (split the file)");
   }
   std::vector<calib::TrainingRow> training;

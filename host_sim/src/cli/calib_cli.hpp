@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -26,10 +27,16 @@
 #include "odocal/calib/umbmark.hpp"
 #include "odocal/host/calib_json.hpp"
 #include "odocal/host/csv.hpp"
+#include "odocal/toolkit/cli_checks.hpp"
+#include "odocal/toolkit/numbers.hpp"
 
 namespace odocal::host::calib_cli {
 
 using nlohmann::json;
+using toolkit::bound_text;
+using toolkit::number_check;
+using toolkit::range_check;
+using toolkit::whole_check;
 
 /// Runs a handler; bad input (any exception) becomes exit status 2 and one line on stderr.
 inline void guarded(const char* command, int& exit_code, const std::function<void()>& body) {
@@ -44,56 +51,6 @@ inline void guarded(const char* command, int& exit_code, const std::function<voi
 
 inline std::string date_or_today(const std::string& date) {
   return date.empty() ? today_utc() : date;
-}
-
-/// Bounds as a person writes them: 1000000, 0.5 (no exponent for the bounds used here).
-inline std::string bound(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.15g", value);
-  return text;
-}
-
-/// A CLI11 check on a command-line number: the whole argument is a finite decimal number (no
-/// nan, inf, hex or trailing junk) for which `ok` holds; otherwise CLI11 reports
-/// "--FLAG: must be ALLOWED, got 'TEXT'" and `odocal` exits with status 2.
-inline CLI::Validator number_check(const std::string& allowed,
-                                   const std::function<bool(double)>& ok) {
-  return CLI::Validator(
-      [allowed, ok](std::string& text) {
-        double value = 0.0;
-        if (parse_finite(text, value) && ok(value)) {
-          return std::string{};
-        }
-        return "must be " + allowed + ", got '" + text + "'";
-      },
-      "NUMBER");
-}
-
-/// A finite number in [low, high], with its unit in the message.
-inline CLI::Validator range_check(double low, double high, const std::string& unit) {
-  return number_check("a finite number from " + bound(low) + " to " + bound(high) + " " + unit,
-                      [low, high](double v) { return v >= low && v <= high; });
-}
-
-/// A whole number in [low, high] (digits only: no sign, so -1 cannot wrap to 2^64 - 1).
-inline CLI::Validator whole_check(std::uint64_t low, std::uint64_t high, const std::string& what) {
-  return CLI::Validator(
-      [low, high, what](std::string& text) {
-        const std::string allowed = "a whole number " + what + (what.empty() ? "" : " ") + "from " +
-                                    std::to_string(low) + " to " + std::to_string(high) +
-                                    ", got '" + text + "'";
-        if (text.empty() || text.size() > 20 ||
-            text.find_first_not_of("0123456789") != std::string::npos) {
-          return "must be " + allowed;
-        }
-        errno = 0;
-        const unsigned long long value = std::strtoull(text.c_str(), nullptr, 10);
-        if (errno == ERANGE || value < low || value > high) {
-          return "must be " + allowed;
-        }
-        return std::string{};
-      },
-      "UINT");
 }
 
 inline bool leap_year(int year) {
@@ -112,9 +69,13 @@ inline void add_date_option(CLI::App* cmd, std::string& date) {
             if (!std::regex_match(value, iso)) {
               return error;
             }
-            const int year = std::stoi(value.substr(0, 4));
-            const int month = std::stoi(value.substr(5, 2));
-            const int day = std::stoi(value.substr(8, 2));
+            // Digits only (the pattern above): parse_whole cannot fail here.
+            const auto part = [&value](std::size_t at, std::size_t size) {
+              return static_cast<int>(toolkit::parse_whole(value.substr(at, size)).value_or(0));
+            };
+            const int year = part(0, 4);
+            const int month = part(5, 2);
+            const int day = part(8, 2);
             const int days[12] = {31, leap_year(year) ? 29 : 28, 31, 30, 31, 30, 31, 31, 30, 31, 30,
                                   31};
             if (year < 1970 || month < 1 || month > 12 || day < 1 || day > days[month - 1]) {
@@ -168,11 +129,9 @@ inline double bounded_number(const CsvTable& table, std::size_t row, std::size_t
                              double limit, const char* unit) {
   const double value = table.number(row, column);
   if (std::fabs(value) > limit) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", value);
     table.fail(row, column,
-               "absurd magnitude " + std::string(text) + ": must be at most " + bound(limit) + " " +
-                   unit + " in size");
+               fmt::format("absurd magnitude {:g}: must be at most {} {} in size", value,
+                           bound_text(limit), unit));
   }
   return value;
 }
@@ -191,12 +150,6 @@ inline std::string line_span(const CsvTable& table) {
   throw InputError(table.file, line, table.columns.front(),
                    "too few " + what + ": " + std::to_string(table.rows.size()) +
                        ", need at least " + std::to_string(need));
-}
-
-inline std::string mm(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.1f mm", value);
-  return text;
 }
 
 inline void print_number(const char* name, double value, const char* unit = "") {
@@ -243,7 +196,7 @@ struct Ros2Options {
 constexpr double ros2_max_multiplier = 10.0;
 /// What `odocal ros2` accepts as a multiplier, for messages.
 inline std::string multiplier_allowed() {
-  return "a finite number > 0 and at most " + bound(ros2_max_multiplier);
+  return toolkit::range_text(0.0, ros2_max_multiplier, "", toolkit::LowBound::open);
 }
 
 // One file per command (host_sim/src/cli/<name>_command.cpp).

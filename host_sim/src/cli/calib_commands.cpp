@@ -107,8 +107,7 @@ void register_calib_commands(CLI::App& app, int& exit_code) {
     auto* cmd = app.add_subcommand("ros2", "ROS 2 diff_drive_controller parameter file");
     auto* from = cmd->add_option("--from", o->from_file, "JSON of `odocal umbmark --json`");
     const auto multiplier = [] {
-      return number_check(multiplier_allowed(),
-                          [](double v) { return v > 0.0 && v <= ros2_max_multiplier; });
+      return range_check(0.0, ros2_max_multiplier, "", toolkit::LowBound::open);
     };
     auto* c_l = cmd->add_option("--c-l", o->c_l, "left wheel factor c_L")->check(multiplier());
     auto* c_r = cmd->add_option("--c-r", o->c_r, "right wheel factor c_R")->check(multiplier());

@@ -5,13 +5,9 @@
 
 #include <unistd.h>
 
-#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
-#include <functional>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -19,6 +15,7 @@
 
 #include "odocal/host/csv.hpp"
 #include "odocal/host/fit.hpp"
+#include "odocal/toolkit/cli_checks.hpp"
 
 namespace odocal::host {
 namespace {
@@ -34,45 +31,6 @@ struct FitCommandOptions {
   double level = 0.95;
   bool json = false;
 };
-
-std::string bound(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.15g", value);
-  return text;
-}
-
-/// A finite plain decimal in [low, high]; CLI11 reports "--FLAG: must be ..., got 'TEXT'".
-CLI::Validator range_check(double low, double high, const std::string& unit, bool open_low) {
-  const std::string allowed = "a finite number " + std::string(open_low ? "> " : "from ") +
-                              bound(low) + (open_low ? " and at most " : " to ") + bound(high) +
-                              (unit.empty() ? "" : " " + unit);
-  return CLI::Validator(
-      [=](std::string& text) {
-        double value = 0.0;
-        if (parse_finite(text, value) && (open_low ? value > low : value >= low) && value <= high) {
-          return std::string{};
-        }
-        return "must be " + allowed + ", got '" + text + "'";
-      },
-      "NUMBER");
-}
-
-/// A whole number in [low, high], digits only.
-CLI::Validator whole_check(std::uint64_t low, std::uint64_t high) {
-  return CLI::Validator(
-      [=](std::string& text) {
-        const std::string allowed = "must be a whole number from " + std::to_string(low) + " to " +
-                                    std::to_string(high) + ", got '" + text + "'";
-        if (text.empty() || text.size() > 20 ||
-            text.find_first_not_of("0123456789") != std::string::npos) {
-          return allowed;
-        }
-        errno = 0;
-        const unsigned long long value = std::strtoull(text.c_str(), nullptr, 10);
-        return errno == ERANGE || value < low || value > high ? allowed : std::string{};
-      },
-      "UINT");
-}
 
 /// Bootstrap progress on stderr after the first second, at most every 2 s (4 Hz on a terminal).
 FitProgressFn progress_printer() {
@@ -153,30 +111,23 @@ void register_fit_command(CLI::App& app, int& exit_code) {
       ->expected(1, -1);
   cmd->add_option("--wheel-diameter-mm", o->wheel_diameter_mm, "nominal wheel diameter D, mm")
       ->required()
-      ->check(range_check(1.0, 1e4, "mm", false));
+      ->check(toolkit::range_check(1.0, 1e4, "mm"));
   cmd->add_option("--wheelbase-mm", o->wheelbase_mm, "nominal wheelbase b, mm")
       ->required()
-      ->check(range_check(1.0, 1e4, "mm", false));
+      ->check(toolkit::range_check(1.0, 1e4, "mm"));
   cmd->add_option("--counts-per-rev", o->counts_per_rev,
                   "encoder counts per wheel turn after x4 decoding (fractions allowed)")
       ->required()
-      ->check(range_check(0.0, 1e7, "", true));
+      ->check(toolkit::range_check(0.0, 1e7, "", toolkit::LowBound::open));
   cmd->add_option("--b", o->replicates, "bootstrap replicates B (0: no intervals)")
-      ->check(whole_check(0, 100000))
+      ->check(toolkit::whole_check(0, 100000))
       ->capture_default_str();
   cmd->add_option("--seed", o->seed, "bootstrap seed (same seed, same intervals)")
-      ->check(whole_check(0, UINT64_MAX))
+      ->check(toolkit::whole_check(0, UINT64_MAX))
       ->capture_default_str();
   cmd->add_option("--level", o->level, "interval level")
-      ->check(CLI::Validator(
-          [](std::string& text) {
-            double v = 0.0;
-            return parse_finite(text, v) && v > 0.0 && v < 1.0
-                       ? std::string{}
-                       : "must be a finite number strictly between 0 and 1 (e.g. 0.95), got '" +
-                             text + "'";
-          },
-          "NUMBER"))
+      ->check(toolkit::number_check("a finite number strictly between 0 and 1 (e.g. 0.95)",
+                                    [](double v) { return v > 0.0 && v < 1.0; }))
       ->capture_default_str();
   cmd->add_flag("--json", o->json, "print one JSON object");
   cmd->callback([o, &exit_code] { exit_code = run_fit(*o); });

@@ -16,13 +16,11 @@ void run_lateral(const LateralOptions& o) {
     const double nominal = 2.0 * o.length_mm / o.dl_mm;
     if (!(o.theta_l_rad >= nominal / theta_l_max_factor &&
           o.theta_l_rad <= nominal * theta_l_max_factor)) {
-      char allowed[160];
-      std::snprintf(allowed, sizeof allowed,
-                    "must be within a factor of %g of the nominal 2L/D_L = %.6g rad (%.6g to "
-                    "%.6g rad), got %g",
-                    theta_l_max_factor, nominal, nominal / theta_l_max_factor,
-                    nominal * theta_l_max_factor, o.theta_l_rad);
-      throw InputError("(command line)", 0, "--theta-l-rad", allowed);
+      throw InputError("(command line)", 0, "--theta-l-rad",
+                       fmt::format("must be within a factor of {:g} of the nominal 2L/D_L = "
+                                   "{:.6g} rad ({:.6g} to {:.6g} rad), got {:g}",
+                                   theta_l_max_factor, nominal, nominal / theta_l_max_factor,
+                                   nominal * theta_l_max_factor, o.theta_l_rad));
     }
   }
   CsvTable table = read_csv(o.file, {"x_mm", "y_mm"});
@@ -43,8 +41,9 @@ void run_lateral(const LateralOptions& o) {
     }
     if (std::hypot(o.length_mm - x, y) > o.length_mm) {
       table.fail(r, std::fabs(o.length_mm - x) >= std::fabs(y) ? 0 : 1,
-                 "stop point is " + mm(std::hypot(o.length_mm - x, y)) +
-                     " from the commanded end, more than the path length " + mm(o.length_mm));
+                 fmt::format("stop point is {:.1f} mm from the commanded end, more than the path "
+                             "length {:.1f} mm",
+                             std::hypot(o.length_mm - x, y), o.length_mm));
     }
     trials.push_back({x, y});
   }

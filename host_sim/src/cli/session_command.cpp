@@ -14,7 +14,7 @@
 #include "odocal/host/csv.hpp"
 #include "odocal/host/robot_link.hpp"
 #include "odocal/host/session.hpp"
-#include "odocal/host/sim_numbers.hpp"
+#include "odocal/toolkit/cli_checks.hpp"
 
 namespace odocal::host {
 namespace {
@@ -172,14 +172,14 @@ void register_session_command(CLI::App& app, int& exit_code) {
       "session", "run a whole calibration through the robot's console (or odocal-sim)");
   auto* port = cmd->add_option("--port", flags->port, "serial port of the robot's console");
   cmd->add_option("--baud", flags->baud, "baud rate (default 115200)")
-      ->check(whole_in(9600, 921600))
+      ->check(toolkit::whole_check(9600, 921600))
       ->needs(port);
   auto* sim = cmd->add_option("--sim", flags->sim_robot,
                               "rehearse on odocal-sim with this robot file (JSON; {} for the "
                               "default robot)");
   port->excludes(sim);
   cmd->add_option("--seed", flags->seed, "seed of the simulated robot and the bootstrap")
-      ->check(whole_in(0u, UINT64_MAX));
+      ->check(toolkit::whole_check(0u, UINT64_MAX));
   cmd->add_option("--store", flags->store, "odocal-sim's parameter store file (with --sim)");
   cmd->add_option("--procedure", flags->procedure, "umbmark, lateral, fit or verify")
       ->required()
@@ -188,11 +188,11 @@ void register_session_command(CLI::App& app, int& exit_code) {
          "--side-m", flags->side_m,
          "UMBmark square side (default 4), lateral line length (1) or fit line length (1.5), "
          "metres")
-      ->check(real_in(0.1, 20.0, "m"));
+      ->check(toolkit::range_check(0.1, 20.0, "m"));
   cmd->add_option("--runs", flags->runs,
                   "runs per direction (umbmark, default 5), straight trials (lateral, 10), runs "
                   "(fit, 6), runs per scenario (verify, 5)")
-      ->check(whole_in(0u, 1000u));
+      ->check(toolkit::whole_check(0u, 1000u));
   cmd->add_option("--measurements", flags->measurements,
                   "CSV x_mm,y_mm[,theta_deg]: the measured stop point of each run, in order "
                   "(default: --sim measures, else you are asked)");

@@ -21,9 +21,9 @@ std::vector<calib::ReturnError> read_return_errors(const std::string& file, doub
     const double y = table.number(r, 1);
     if (std::hypot(x, y) > path_mm) {
       table.fail(r, std::fabs(x) >= std::fabs(y) ? 0 : 1,
-                 "return error of " + mm(std::hypot(x, y)) +
-                     " is larger than the whole path (4 sides = " + mm(path_mm) +
-                     "): not a return error");
+                 fmt::format("return error of {:.1f} mm is larger than the whole path (4 sides = "
+                             "{:.1f} mm): not a return error",
+                             std::hypot(x, y), path_mm));
     }
     runs.push_back({x, y});
   }

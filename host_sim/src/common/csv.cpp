@@ -2,14 +2,13 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string_view>
+
+#include "odocal/toolkit/numbers.hpp"
 
 namespace odocal::host {
 namespace {
@@ -43,12 +42,7 @@ std::string describe(const std::string& file, std::size_t line, const std::strin
 }
 
 std::string trim(const std::string& text) {
-  const auto first = text.find_first_not_of(" \t\r");
-  if (first == std::string::npos) {
-    return {};
-  }
-  const auto last = text.find_last_not_of(" \t\r");
-  return text.substr(first, last - first + 1);
+  return std::string(toolkit::trim(text));
 }
 
 std::vector<std::string> split(const std::string& line) {
@@ -81,35 +75,6 @@ InputError::InputError(std::string file, std::size_t line, std::string field,
       line_(line),
       field_(std::move(field)) {}
 
-NumberText read_number(const std::string& text, double& value) {
-  if (text.empty() || std::isspace(static_cast<unsigned char>(text.front())) != 0) {
-    return NumberText::not_a_number;
-  }
-  // Only plain decimal notation: strtod alone would also take "nan", "inf" and hex floats.
-  for (const char c : text) {
-    if (std::string_view("0123456789+-.eE").find(c) == std::string_view::npos) {
-      return NumberText::not_a_number;
-    }
-  }
-  errno = 0;
-  char* end = nullptr;
-  const double parsed = std::strtod(text.c_str(), &end);
-  if (end != text.c_str() + text.size()) {
-    return NumberText::not_a_number;
-  }
-  if (!std::isfinite(parsed)) {
-    return NumberText::out_of_range;  // beyond the largest double (strtod gives +-HUGE_VAL)
-  }
-  // ERANGE with a finite result is an underflow: 1e-310 is a subnormal double, 1e-400 rounds to
-  // zero. Both are numbers (and far below any measurement's resolution): taken as they round.
-  value = parsed;
-  return NumberText::ok;
-}
-
-bool parse_finite(const std::string& text, double& value) {
-  return read_number(text, value) == NumberText::ok;
-}
-
 std::string read_text_file(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
@@ -133,8 +98,9 @@ const std::string& CsvTable::text(std::size_t row, std::size_t column) const {
 
 double CsvTable::number(std::size_t row, std::size_t column) const {
   const std::string& field = text(row, column);
+  using toolkit::NumberText;
   double value = 0.0;
-  const NumberText kind = read_number(field, value);
+  const NumberText kind = toolkit::read_number(field, value);
   if (kind == NumberText::out_of_range) {
     fail(row, column, "number out of range (beyond +-1.8e308): '" + field + "'");
   }

@@ -17,13 +17,13 @@
 #include <thread>
 
 #include "odocal/console/console.hpp"
-#include "odocal/host/sim_numbers.hpp"
 #include "odocal/host/sim_robot.hpp"
 #include "odocal/params/param_store.hpp"
 #include "odocal/params/param_table.hpp"
 #include "odocal/posix/fd_byte_stream.hpp"
 #include "odocal/posix/file_block_store.hpp"
 #include "odocal/sim/ram_block_store.hpp"
+#include "odocal/toolkit/cli_checks.hpp"
 
 namespace {
 
@@ -187,9 +187,9 @@ int main(int argc, char** argv) {
   app.add_option("--speed", speed,
                  "simulated time per real time: 0 = as fast as possible, else 0.01 to 1000000 "
                  "(default 1)")
-      ->check(host::real_in(0.01, 1.0e6, "", true));
+      ->check(toolkit::zero_or_range_check(0.01, 1.0e6, ""));
   app.add_option("--seed", seed, "seed of the simulated robot's random terms")
-      ->check(host::whole_in(0u, UINT64_MAX));
+      ->check(toolkit::whole_check(0u, UINT64_MAX));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

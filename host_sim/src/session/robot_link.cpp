@@ -1,4 +1,5 @@
 #include "odocal/host/robot_link.hpp"
+#include "odocal/toolkit/numbers.hpp"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -15,8 +16,6 @@
 #include <chrono>
 #include <cstring>
 #include <thread>
-
-#include "odocal/host/sim_numbers.hpp"
 
 namespace odocal::host {
 namespace {
@@ -333,7 +332,7 @@ const std::string& Reply::text(const std::string& key) const {
 
 double Reply::number(const std::string& key) const {
   const std::string& value = text(key);
-  const auto parsed = parse_real(value);
+  const auto parsed = toolkit::parse_real(value);
   if (!parsed) {
     throw LinkError("robot reply '" + line + "': " + key + "=" + value + " is not a number");
   }

@@ -11,10 +11,13 @@
 #include <ctime>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include "odocal/host/csv.hpp"
-#include "odocal/host/sim_numbers.hpp"
+#include "odocal/toolkit/numbers.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host {
@@ -98,12 +101,6 @@ void prepare_out_dir(const std::string& dir, bool create) {
 
 namespace session {
 
-std::string Context::format(double value, int decimals) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.*f", decimals, value);
-  return text;
-}
-
 double Context::get(const std::string& name) {
   return robot.expect_ok("get " + name).number(name);
 }
@@ -144,11 +141,11 @@ void Context::need_measurements(std::size_t count, const std::string& what) {
 namespace {
 
 std::int64_t whole(const Reply& reply, const std::string& key) {
-  const double value = reply.number(key);
-  if (value != std::floor(value)) {
+  const std::optional<std::int64_t> value = toolkit::parse_integer(reply.text(key));
+  if (!value) {
     throw LinkError("robot reply '" + reply.line + "': " + key + " is not a whole number");
   }
-  return static_cast<std::int64_t>(value);
+  return *value;
 }
 
 /// Waits until `samples` has grown past `count` (a `# ticks` line arrived).
@@ -178,10 +175,10 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
       if (t == pairs.end() || l == pairs.end() || c == pairs.end()) {
         return;
       }
-      const auto tv = parse_real(t->second), lv = parse_real(l->second), cv = parse_real(c->second);
+      const auto tv = toolkit::parse_real(t->second);
+      const auto lv = toolkit::parse_integer(l->second), cv = toolkit::parse_integer(c->second);
       if (tv && lv && cv) {
-        r.ticks.push_back(
-            TickSample{*tv, static_cast<std::int64_t>(*lv), static_cast<std::int64_t>(*cv)});
+        r.ticks.push_back(TickSample{*tv, *lv, *cv});
       }
     });
     robot.expect_ok("stream ticks 50");
@@ -212,10 +209,10 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
   r.odom.theta_deg = trial.number("theta_deg");
   planned = std::max(planned, runs.size() + 1);
   r.measured = source.take(r, runs.size(), planned);
-  log << "  run " << runs.size() + 1 << " " << label << " (trial " << r.trial << ", "
-      << format(r.duration_ms / 1000.0, 1) << " s): odometry " << format(r.odom.x_mm, 1) << ", "
-      << format(r.odom.y_mm, 1) << " mm; measured " << format(r.measured.x_mm, 1) << ", "
-      << format(r.measured.y_mm, 1) << " mm\n";
+  log << fmt::format(
+      "  run {} {} (trial {}, {:.1f} s): odometry {:.1f}, {:.1f} mm; measured {:.1f}, {:.1f} mm\n",
+      runs.size() + 1, label, r.trial, r.duration_ms / 1000.0, r.odom.x_mm, r.odom.y_mm,
+      r.measured.x_mm, r.measured.y_mm);
   runs.push_back(r);
   return r;
 }
@@ -398,10 +395,11 @@ SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
                                                                      to_string(options.procedure)));
   context.write_file("session.json", report.json.dump(2) + "\n");
   std::ostringstream text;
-  text << outcome.text << "Factors in force: c_l=" << context.format(f.c_l, 6)
-       << " c_r=" << context.format(f.c_r, 6)
-       << " wheelbase_mm=" << context.format(f.wheelbase_mm, 3)
-       << " f_lat=" << context.format(f.f_lat, 6) << " f_lon=" << context.format(f.f_lon, 6)
+  text << outcome.text
+       << fmt::format(
+              "Factors in force: c_l={:.6f} c_r={:.6f} wheelbase_mm={:.3f} f_lat={:.6f} "
+              "f_lon={:.6f}",
+              f.c_l, f.c_r, f.wheelbase_mm, f.f_lat, f.f_lon)
        << (outcome.applied ? (saved ? " (applied, saved)" : " (applied, NOT saved)")
                            : " (unchanged)")
        << "\nFiles: " << options.out_dir << "/ (session.json, runs.csv, runs.svg, ...)\n";

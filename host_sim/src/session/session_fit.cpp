@@ -10,6 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
 #include "odocal/host/fit.hpp"
 #include "session_internal.hpp"
 
@@ -55,7 +57,7 @@ Outcome run_fit(Context& c) {
   nominal.wheelbase_mm = c.get("wheelbase_mm");
   nominal.counts_per_rev = c.get("counts_per_rev");
   const double cruise = c.get("v_max_mps");
-  c.log << "Fit: " << n << " runs logged with 'stream ticks' (a " << c.format(length_m, 2)
+  c.log << "Fit: " << n << " runs logged with 'stream ticks' (a " << fmt::format("{:.2f}", length_m)
         << " m line, a left arc, a right arc, repeated); measure the stop point of each, with "
            "its heading if you can.\n";
   std::vector<TickLog> logs;

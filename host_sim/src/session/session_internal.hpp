@@ -64,8 +64,6 @@ class Context {
 
   /// Writes `content` to out_dir/name.
   void write_file(const std::string& name, const std::string& content);
-
-  std::string format(double value, int decimals = 3);
 };
 
 /// Gentle arcs the lateral procedure drives besides its straight trials.

@@ -10,6 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
 #include "odocal/calib/bootstrap.hpp"
 #include "odocal/calib/lateral.hpp"
 #include "odocal/host/calib_json.hpp"
@@ -53,12 +55,6 @@ bool in_range(const calib::LateralResult& f) {
   return f.f_lat >= 0.5 && f.f_lat <= 2.0 && f.f_lon >= 0.5 && f.f_lon <= 2.0;
 }
 
-std::string number(double v, int digits = 6) {
-  char text[48];
-  std::snprintf(text, sizeof text, "%.*f", digits, v);
-  return text;
-}
-
 }  // namespace
 
 Outcome run_lateral(Context& c) {
@@ -72,9 +68,9 @@ Outcome run_lateral(Context& c) {
   const double diameter = c.get("wheel_diameter_mm");
   const double counts_per_rev = c.get("counts_per_rev");
   const double cruise = c.get("v_max_mps");
-  c.log << "Lateral: " << n << " straight trials of " << number(length_m, 3)
-        << " m at cruise speeds from " << number(0.5 * cruise, 3) << " to "
-        << number(1.5 * cruise, 3) << " m/s, then " << lateral_arcs
+  c.log << "Lateral: " << n << " straight trials of " << fmt::format("{:.3f}", length_m)
+        << " m at cruise speeds from " << fmt::format("{:.3f}", 0.5 * cruise) << " to "
+        << fmt::format("{:.3f}", 1.5 * cruise) << " m/s, then " << lateral_arcs
         << " gentle arcs (timed drives).\nPlace the robot on the start mark, aligned with the "
            "line, before each run; measure where its reference point stopped.\n";
 
@@ -95,7 +91,7 @@ Outcome run_lateral(Context& c) {
       theta_l_sum += static_cast<double>(r.count_l) * 2.0 * pi / counts_per_rev;
     }
   } catch (...) {
-    static_cast<void>(c.robot.command("set v_max_mps " + number(cruise)));
+    static_cast<void>(c.robot.command("set v_max_mps " + fmt::format("{:.6f}", cruise)));
     throw;
   }
   c.set("v_max_mps", cruise);
@@ -109,14 +105,15 @@ Outcome run_lateral(Context& c) {
   std::ostringstream lateral_csv, training_csv;
   lateral_csv << "# stop points of the straight trials, mm, start frame\nx_mm,y_mm\n";
   for (const auto& s : stops) {
-    lateral_csv << number(s.x_mm, 3) << "," << number(s.y_mm, 3) << "\n";
+    lateral_csv << fmt::format("{:.3f}", s.x_mm) << "," << fmt::format("{:.3f}", s.y_mm) << "\n";
   }
   training_csv << "# body frame of each trial's mean motion (see docs/calibration.md)\n"
                   "xdot,ydot,thetadot,omega_l,omega_r\n";
   for (const auto& t : training) {
-    training_csv << number(t.xdot_mps) << "," << number(t.ydot_mps) << ","
-                 << number(t.thetadot_radps) << "," << number(t.omega_l_radps) << ","
-                 << number(t.omega_r_radps) << "\n";
+    training_csv << fmt::format("{:.6f}", t.xdot_mps) << "," << fmt::format("{:.6f}", t.ydot_mps)
+                 << "," << fmt::format("{:.6f}", t.thetadot_radps) << ","
+                 << fmt::format("{:.6f}", t.omega_l_radps) << ","
+                 << fmt::format("{:.6f}", t.omega_r_radps) << "\n";
   }
   c.write_file("lateral.csv", lateral_csv.str());
   c.write_file("training.csv", training_csv.str());
@@ -142,9 +139,10 @@ Outcome run_lateral(Context& c) {
     outcome.result["eq45"] = lateral_to_json(eq45);
     outcome.result["eq45"]["f_lat_in_force"] = eq45_total.f_lat;
     outcome.result["eq45"]["f_lon_in_force"] = eq45_total.f_lon;
-    text << "Maddahi eq. 4-5 (" << n << " straight trials): correction f_lat " << number(eq45.f_lat)
-         << ", f_lon " << number(eq45.f_lon) << " -> in force f_lat " << number(eq45_total.f_lat)
-         << ", f_lon " << number(eq45_total.f_lon) << "\n";
+    text << "Maddahi eq. 4-5 (" << n << " straight trials): correction f_lat "
+         << fmt::format("{:.6f}", eq45.f_lat) << ", f_lon " << fmt::format("{:.6f}", eq45.f_lon)
+         << " -> in force f_lat " << fmt::format("{:.6f}", eq45_total.f_lat) << ", f_lon "
+         << fmt::format("{:.6f}", eq45_total.f_lon) << "\n";
   } else {
     outcome.result["eq45"] = nullptr;
     text << "Maddahi eq. 4-5: no answer (" << calib::to_string(eq45_status) << ")\n";
@@ -204,10 +202,12 @@ Outcome run_lateral(Context& c) {
                                      {"seed", c.options.seed}};
       outcome.result["estimate"] = bootstrap_to_json({estimate}, fit);
       text << "Linear regression (eq. 10, " << training.size() << " trials): f_lat "
-           << number(cl.f_lat) << ", f_lon " << number(cl.f_lon) << "\n"
-           << "Bootstrap (B = " << replicates << "): f_lat " << number(cb.f_lat) << " (95% "
-           << number(lat_lo) << " .. " << number(lat_hi) << "), f_lon " << number(cb.f_lon)
-           << " (95% " << number(lon_lo) << " .. " << number(lon_hi)
+           << fmt::format("{:.6f}", cl.f_lat) << ", f_lon " << fmt::format("{:.6f}", cl.f_lon)
+           << "\n"
+           << "Bootstrap (B = " << replicates << "): f_lat " << fmt::format("{:.6f}", cb.f_lat)
+           << " (95% " << fmt::format("{:.6f}", lat_lo) << " .. " << fmt::format("{:.6f}", lat_hi)
+           << "), f_lon " << fmt::format("{:.6f}", cb.f_lon) << " (95% "
+           << fmt::format("{:.6f}", lon_lo) << " .. " << fmt::format("{:.6f}", lon_hi)
            << ")\n  (prediction intervals: where one trial's factor would fall)\n";
       boot = cb;
     } else {
@@ -216,7 +216,8 @@ Outcome run_lateral(Context& c) {
     }
   }
   std::ostringstream unknowns_csv;
-  unknowns_csv << "xdot,ydot,thetadot\n" << number(xdot_sum / static_cast<double>(n)) << ",0,0\n";
+  unknowns_csv << "xdot,ydot,thetadot\n"
+               << fmt::format("{:.6f}", xdot_sum / static_cast<double>(n)) << ",0,0\n";
   c.write_file("unknowns.csv", unknowns_csv.str());
 
   std::optional<calib::LateralResult> chosen;
@@ -245,8 +246,8 @@ Outcome run_lateral(Context& c) {
     outcome.result["applied_from"] = from;
     outcome.result["f_lat"] = chosen->f_lat;
     outcome.result["f_lon"] = chosen->f_lon;
-    text << "Applied (" << from << "): f_lat " << number(chosen->f_lat) << ", f_lon "
-         << number(chosen->f_lon) << "\n";
+    text << "Applied (" << from << "): f_lat " << fmt::format("{:.6f}", chosen->f_lat) << ", f_lon "
+         << fmt::format("{:.6f}", chosen->f_lon) << "\n";
   }
   c.log << text.str();
   outcome.text = text.str();

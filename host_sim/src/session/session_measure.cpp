@@ -5,10 +5,14 @@
 #include <fstream>
 #include <istream>
 #include <limits>
+#include <optional>
 #include <ostream>
+
+#include <fmt/format.h>
 
 #include "odocal/host/csv.hpp"
 #include "odocal/host/session.hpp"
+#include "odocal/toolkit/numbers.hpp"
 
 namespace odocal::host {
 namespace {
@@ -17,12 +21,6 @@ namespace {
 constexpr double max_position_mm = 1e6;
 /// Largest heading taken, degrees (ten turns: an unwrapped heading is fine, more is a typo).
 constexpr double max_theta_deg = 3600.0;
-
-std::string fixed(double value) {
-  char text[48];
-  std::snprintf(text, sizeof text, "%.1f", value);
-  return text;
-}
 
 class RobotMeasure final : public MeasurementSource {
  public:
@@ -87,7 +85,8 @@ class FileMeasure final : public MeasurementSource {
     const double value = table.number(row, column);
     if (std::fabs(value) > limit) {
       table.fail(row, column,
-                 "absurd magnitude " + table.text(row, column) + " (at most " + fixed(limit) + ")");
+                 "absurd magnitude " + table.text(row, column) + " (at most " +
+                     fmt::format("{:.1f}", limit) + ")");
     }
     return value;
   }
@@ -124,9 +123,10 @@ class PromptMeasure final : public MeasurementSource {
       : in_(in), prompt_(prompt), echo_(echo) {}
   SessionPose take(const RunRecord& run, std::size_t index, std::size_t planned) override {
     prompt_ << "\nRun " << index + 1 << "/" << planned << " (" << run.label << ", trial "
-            << run.trial << ") has stopped. The robot's odometry says x=" << fixed(run.odom.x_mm)
-            << " y=" << fixed(run.odom.y_mm) << " mm, heading "
-            << fixed(run.odom.theta_deg.value_or(0.0)) << " deg.\n";
+            << run.trial
+            << ") has stopped. The robot's odometry says x=" << fmt::format("{:.1f}", run.odom.x_mm)
+            << " y=" << fmt::format("{:.1f}", run.odom.y_mm) << " mm, heading "
+            << fmt::format("{:.1f}", run.odom.theta_deg.value_or(0.0)) << " deg.\n";
     for (;;) {
       prompt_ << "Measured stop point from the start mark, mm: x (ahead) y (left) [heading deg]: "
               << std::flush;
@@ -183,13 +183,16 @@ bool parse_measurement_line(const std::string& text, SessionPose& pose, std::str
   static const char* const names[3] = {"x_mm", "y_mm", "theta_deg"};
   double values[3] = {0.0, 0.0, 0.0};
   for (std::size_t i = 0; i < words.size(); ++i) {
-    if (!parse_finite(words[i], values[i])) {
+    const std::optional<double> value = toolkit::parse_real(words[i]);
+    if (!value) {
       why = std::string(names[i]) + " '" + words[i] + "' is not a number";
       return false;
     }
+    values[i] = *value;
     const double limit = i < 2 ? max_position_mm : max_theta_deg;
     if (std::fabs(values[i]) > limit) {
-      why = std::string(names[i]) + " " + words[i] + " is absurd (at most " + fixed(limit) + ")";
+      why = std::string(names[i]) + " " + words[i] + " is absurd (at most " +
+            fmt::format("{:.1f}", limit) + ")";
       return false;
     }
   }

@@ -6,10 +6,12 @@
 #include <cstdio>
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include "odocal/drive/motion_executor.hpp"
 #include "odocal/host/calib_json.hpp"
-#include "odocal/host/sim_numbers.hpp"
 #include "odocal/host/sim_procedures.hpp"
+#include "odocal/toolkit/numbers.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
@@ -25,7 +27,7 @@ double parameter_default(Context& c, const std::string& name) {
   for (const std::string& line : lines) {
     const auto pairs = hash_line_pairs(line);
     if (pairs.count(name) != 0u && pairs.count("default") != 0u) {
-      const auto value = parse_real(pairs.at("default"));
+      const auto value = toolkit::parse_real(pairs.at("default"));
       if (value) {
         return *value;
       }
@@ -68,9 +70,9 @@ Outcome run_verify(Context& c) {
 
   c.log << "Verify: the unseen path (100 cm square, 100 cm triangle, 80 cm semicircle; it should "
            "end "
-        << c.format(goal.x_m * 1e3, 0) << " mm ahead and " << c.format(goal.y_m * 1e3, 0)
-        << " mm to the left of the start), " << n << " runs with the nominal factors, then " << n
-        << " with the factors in force.\n";
+        << fmt::format("{:.0f}", goal.x_m * 1e3) << " mm ahead and "
+        << fmt::format("{:.0f}", goal.y_m * 1e3) << " mm to the left of the start), " << n
+        << " runs with the nominal factors, then " << n << " with the factors in force.\n";
   std::vector<AccuracyTrial> trials;
   std::ostringstream csv;
   csv << "scenario,trial,x_mm,y_mm\n";

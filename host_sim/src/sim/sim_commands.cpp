@@ -10,8 +10,8 @@
 #include <memory>
 #include <string>
 
-#include "odocal/host/sim_numbers.hpp"
 #include "odocal/host/sim_procedures.hpp"
+#include "odocal/toolkit/cli_checks.hpp"
 
 namespace odocal::host {
 namespace {
@@ -27,7 +27,7 @@ struct CommonOptions {
 void add_common(CLI::App* sub, CommonOptions& o) {
   sub->add_option("--robot", o.robot_file, "robot file (flat JSON; see docs/simulation.md)");
   sub->add_option("--seed", o.seed, "seed of every random term (same seed, same output)")
-      ->check(whole_in(0u, UINT64_MAX));
+      ->check(toolkit::whole_check(0u, UINT64_MAX));
   sub->add_flag("--json", o.json, "print one JSON object on stdout");
   sub->add_option("--svg", o.svg_file, "write a picture (SVG) to this file");
 }
@@ -138,7 +138,8 @@ constexpr double side_min_mm = 100.0;
 constexpr double side_max_mm = 20000.0;
 
 void add_side_mm(CLI::App* sub, double& side_mm, const char* help) {
-  sub->add_option("--side-mm", side_mm, help)->check(real_in(side_min_mm, side_max_mm, "mm"));
+  sub->add_option("--side-mm", side_mm, help)
+      ->check(toolkit::range_check(side_min_mm, side_max_mm, "mm"));
 }
 
 /// Loads the robot and checks the picture's path: false (exit 2, reason on stderr) when either
@@ -161,7 +162,7 @@ void register_sim_commands(CLI::App& app, int& exit_code) {
   add_common(u, *common_u);
   add_side_mm(u, *umb_side_mm, "side of the square, mm (100 to 20000, default 4000)");
   u->add_option("--runs", umb->runs, "runs per direction per pass (2 to 64, default 5)")
-      ->check(whole_in(2u, 64u));
+      ->check(toolkit::whole_check(2u, 64u));
   u->add_flag("--exact", umb->exact, "solve without the small-angle approximations");
   u->callback([&exit_code, common_u, umb, umb_side_mm] {
     RobotSpec spec;
@@ -191,12 +192,12 @@ void register_sim_commands(CLI::App& app, int& exit_code) {
   add_common(v, *common_v);
   v->add_option("--trials", val->trials,
                 "straight calibration trials per floor (6 to 200, default 20)")
-      ->check(whole_in(6u, 200u));
+      ->check(toolkit::whole_check(6u, 200u));
   v->add_option("--runs", val->runs, "unseen-path runs per scenario (1 to 100, default 5)")
-      ->check(whole_in(1u, 100u));
+      ->check(toolkit::whole_check(1u, 100u));
   v->add_option("--replicates", val->replicates,
                 "bootstrap replicates B (100 to 100000, default 1000)")
-      ->check(whole_in(100u, 100000u));
+      ->check(toolkit::whole_check(100u, 100000u));
   v->callback([&exit_code, common_v, val] {
     RobotSpec spec;
     bool svg_created = false;
@@ -225,9 +226,9 @@ void register_sim_commands(CLI::App& app, int& exit_code) {
   auto* m = sim->add_subcommand("montecarlo", "Many random robots calibrated by UMBmark");
   add_common(m, *common_m);
   m->add_option("--robots", mc->robots, "how many robots (1 to 1000000, default 100)")
-      ->check(whole_in(1u, 1000000u));
+      ->check(toolkit::whole_check(1u, 1000000u));
   m->add_option("--threads", mc->threads, "worker threads (1 to 64, default 2)")
-      ->check(whole_in(1u, 64u));
+      ->check(toolkit::whole_check(1u, 64u));
   add_side_mm(m, *mc_side_mm, "side of the square, mm (100 to 20000, default 1500)");
   m->callback([&exit_code, common_m, mc, mc_side_mm] {
     RobotSpec spec;

@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <sstream>
+
+#include <fmt/format.h>
 
 namespace odocal::host {
 namespace {
@@ -11,16 +12,14 @@ namespace {
 constexpr double panel_px = 520.0;
 constexpr double margin_px = 60.0;
 
+/// A coordinate in the picture, 0.1 px.
 std::string num(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.1f", v);
-  return buffer;
+  return fmt::format("{:.1f}", v);
 }
 
+/// An axis label as printf's %g writes it.
 std::string label(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%g", v);
-  return buffer;
+  return fmt::format("{:g}", v);
 }
 
 /// A "nice" tick step (1, 2 or 5 times a power of ten) for about 6 ticks over `span`.

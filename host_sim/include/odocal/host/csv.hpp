@@ -41,7 +41,8 @@ struct CsvTable {
 
   /// The field as text.
   [[nodiscard]] const std::string& text(std::size_t row, std::size_t column) const;
-  /// The field as a finite number (whole field, no trailing junk); throws InputError.
+  /// The field as a finite number (toolkit::read_number: whole field, plain decimal); throws
+  /// InputError.
   [[nodiscard]] double number(std::size_t row, std::size_t column) const;
   /// Throws InputError naming this row's line and the column's name.
   [[noreturn]] void fail(std::size_t row, std::size_t column, const std::string& message) const;
@@ -55,19 +56,6 @@ struct CsvTable {
 /// Reads a CSV whose columns are all numbers; rows of doubles in column order.
 [[nodiscard]] std::vector<std::vector<double>> read_numeric_csv(
     const std::string& path, const std::vector<std::string>& columns);
-
-/// What a number field holds.
-enum class NumberText {
-  ok,            ///< a finite double (an underflow such as 1e-310 rounds to subnormal or 0)
-  not_a_number,  ///< empty, junk, NaN, Inf, hex
-  out_of_range,  ///< decimal, but beyond the largest double (1e400)
-};
-
-/// Parses a whole string in plain decimal notation; `value` is set only on `ok`.
-[[nodiscard]] NumberText read_number(const std::string& text, double& value);
-
-/// Parses a whole string as a finite double; false on empty, junk, NaN, Inf or out of range.
-[[nodiscard]] bool parse_finite(const std::string& text, double& value);
 
 /// The whole contents of `path`. Throws InputError when it is a directory, cannot be opened or
 /// cannot be read.

@@ -7,9 +7,8 @@
 
 #include <cstdint>
 
-#include "odocal/hal/digital_input.hpp"
 #include "odocal/hal/edge_sink.hpp"
-#include "odocal/hal/monotonic_clock.hpp"
+#include "odocal/sim/plant.hpp"
 
 namespace odocal::sim {
 
@@ -20,11 +19,12 @@ enum class ChannelFault : std::uint8_t {
   noisy,  ///< every 5th B edge arrives with a glitch on A (both channels change at once)
 };
 
-/// One wheel's edge path: lines A and B -> sink. Must outlive the registration.
+/// One wheel's edge path: lines A and B -> sink. Must outlive the registration. It takes the
+/// plant's concrete line and clock types (final classes): reading them on every edge then costs
+/// no virtual call.
 class EncoderWiring {
  public:
-  EncoderWiring(hal::DigitalInput& a, hal::DigitalInput& b, hal::MonotonicClock& clock,
-                const hal::EdgeSink& sink)
+  EncoderWiring(EncoderLine& a, EncoderLine& b, SimClock& clock, const hal::EdgeSink& sink)
       : a_(a), b_(b), clock_(clock), sink_(sink) {}
 
   EncoderWiring(const EncoderWiring&) = delete;
@@ -74,9 +74,9 @@ class EncoderWiring {
     self->sink_.on_edge(a, b, self->clock_.now_us());
   }
 
-  hal::DigitalInput& a_;
-  hal::DigitalInput& b_;
-  hal::MonotonicClock& clock_;
+  EncoderLine& a_;
+  EncoderLine& b_;
+  SimClock& clock_;
   const hal::EdgeSink sink_;
   ChannelFault fault_ = ChannelFault::none;
   bool stuck_a_ = false;

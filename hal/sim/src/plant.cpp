@@ -149,7 +149,7 @@ void Plant::advance_to_ns(std::uint64_t t_ns) {
   }
 }
 
-void Plant::integrate_motor(Wheel& w, double dt_s, bool standard_step, double& delta_rad) {
+inline void Plant::integrate_motor(Wheel& w, double dt_s, bool standard_step, double& delta_rad) {
   const MotorModel& m = w.motor_;
   const double duty = static_cast<double>(w.pwm_.duty());
   w.voltage_v_ = (w.direction_.forward() ? duty : -duty) * m.supply_v;
@@ -237,8 +237,8 @@ Plant::Sweep Plant::sweep_of(Wheel& w, double from) {
   return s;
 }
 
-void Plant::fire(Sweep& s, std::uint64_t t0_ns, double dt_ns, std::int64_t last_ns,
-                 std::int64_t& previous_ns) {
+inline void Plant::fire(Sweep& s, std::uint64_t t0_ns, double dt_ns, std::int64_t last_ns,
+                        std::int64_t& previous_ns) {
   // The edge's instant, rounded to the ns, inside the step and never before the previous one.
   auto offset = static_cast<std::int64_t>(s.next * dt_ns + 0.5);
   offset = offset < previous_ns ? previous_ns : (offset > last_ns ? last_ns : offset);
@@ -282,7 +282,7 @@ void Plant::deliver_wheel_edges(Wheel& wheel, double from, std::uint64_t t0_ns,
   }
 }
 
-double Plant::ground_travel(Wheel& w, double rolled_m) {
+inline double Plant::ground_travel(Wheel& w, double rolled_m) {
   const double magnitude = std::fabs(rolled_m);
   if (magnitude == 0.0) {
     return 0.0;

@@ -57,19 +57,21 @@ class EncoderWiring {
   /// Edge context: latch the levels and the time into the sink, nothing else.
   static void on_edge(void* context) {
     auto* self = static_cast<EncoderWiring*>(context);
-    bool a = self->a_.read();
-    const bool b = self->b_.read();
-    if (self->fault_ == ChannelFault::dead) {
-      if (a != self->a_seen_) {  // an A edge: the dead channel shows none
-        self->a_seen_ = a;
-        return;
+    const bool a_line = self->a_.level();
+    const bool b = self->b_.level();
+    bool a = a_line;
+    if (self->fault_ != ChannelFault::none) {
+      if (self->fault_ == ChannelFault::dead) {
+        if (a_line != self->a_seen_) {  // an A edge: the dead channel shows none
+          self->a_seen_ = a_line;
+          return;
+        }
+        a = self->stuck_a_;
+      } else if (b != self->b_seen_ && ++self->edges_ % 5u == 0u) {
+        a = !a;  // a glitch on A at a B edge: the decoder sees both change at once
       }
-      a = self->stuck_a_;
-    } else if (self->fault_ == ChannelFault::noisy && b != self->b_seen_ &&
-               ++self->edges_ % 5u == 0u) {
-      a = !a;  // a glitch on A at a B edge: the decoder sees both change at once
     }
-    self->a_seen_ = self->a_.read();
+    self->a_seen_ = a_line;
     self->b_seen_ = b;
     self->sink_.on_edge(a, b, self->clock_.now_us());
   }

@@ -3,39 +3,6 @@
 #include <cmath>
 
 namespace odocal::calib {
-namespace {
-
-std::uint64_t splitmix64(std::uint64_t& x) {
-  x += 0x9E3779B97F4A7C15ull;
-  std::uint64_t z = x;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
-std::uint64_t rotl(std::uint64_t x, int k) {
-  return (x << k) | (x >> (64 - k));
-}
-
-}  // namespace
-
-Random::Random(std::uint64_t seed) {
-  for (auto& word : state_) {
-    word = splitmix64(seed);
-  }
-}
-
-std::uint64_t Random::next() {
-  const std::uint64_t result = rotl(state_[1] * 5u, 7) * 9u;
-  const std::uint64_t t = state_[1] << 17;
-  state_[2] ^= state_[0];
-  state_[3] ^= state_[1];
-  state_[1] ^= state_[2];
-  state_[0] ^= state_[3];
-  state_[2] ^= t;
-  state_[3] = rotl(state_[3], 45);
-  return result;
-}
 
 std::uint32_t Random::below(std::uint32_t bound) {
   if (bound == 0u) {
@@ -53,10 +20,6 @@ std::uint32_t Random::below(std::uint32_t bound) {
     }
   }
   return static_cast<std::uint32_t>(product >> 32);
-}
-
-double Random::uniform() {
-  return static_cast<double>(next() >> 11) * 0x1.0p-53;
 }
 
 double Random::normal() {

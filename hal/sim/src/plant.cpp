@@ -149,7 +149,7 @@ void Plant::advance_to_ns(std::uint64_t t_ns) {
   }
 }
 
-void Plant::integrate_motor(Wheel& w, double dt_s, bool standard_step, double& delta_rad) {
+inline void Plant::integrate_motor(Wheel& w, double dt_s, bool standard_step, double& delta_rad) {
   const MotorModel& m = w.motor_;
   const double duty = static_cast<double>(w.pwm_.duty());
   w.voltage_v_ = (w.direction_.forward() ? duty : -duty) * m.supply_v;
@@ -195,42 +195,70 @@ void Plant::integrate_motor(Wheel& w, double dt_s, bool standard_step, double& d
   w.speed_radps_ = w1;
 }
 
+/// The edges one wheel owes inside a step, at evenly spaced fractions of it (the shaft angle is
+/// interpolated linearly inside the step).
+struct Plant::Sweep {
+  Wheel* wheel;
+  std::int64_t remaining;  ///< edges not yet delivered
+  std::int64_t direction;  ///< +1 counting up, −1 down
+  std::int64_t a_parity;   ///< count parity at which the next edge is on line A
+  double next;             ///< fraction of the step at which the next edge happens
+  double spacing;          ///< fraction of the step between two edges
+};
+
+bool Plant::leaves_count(const Wheel& w) {
+  // floor(angle / count_rad) != count, without floor(): the shaft is inside count c exactly when
+  // c <= angle·counts_per_rad < c + 1 (c + 1 is exact in a double).
+  const double counts = w.angle_rad_ * w.counts_per_rad_;
+  const auto count = static_cast<double>(w.count_);
+  return counts < count || counts >= count + 1.0;
+}
+
+Plant::Sweep Plant::sweep_of(Wheel& w, double from) {
+  Sweep s{&w, 0, 1, 0, no_edge, 0.0};
+  // floor() without the libm call: truncation, one less for negative non-integers.
+  const double counts = w.angle_rad_ * w.counts_per_rad_;
+  auto target = static_cast<std::int64_t>(counts);
+  if (static_cast<double>(target) > counts) {
+    --target;
+  }
+  if (target == w.count_) {
+    return s;
+  }
+  const double per_rad = 1.0 / (w.angle_rad_ - from);
+  s.direction = target > w.count_ ? 1 : -1;
+  s.remaining = (target - w.count_) * s.direction;
+  // Gray code (see phase_levels): line A changes between an even count and the next one, B
+  // between an odd one and the next. Counting down from c, the edge is the one below c.
+  s.a_parity = s.direction > 0 ? 0 : 1;
+  const std::int64_t boundary = s.direction > 0 ? w.count_ + 1 : w.count_;
+  s.next = (static_cast<double>(boundary) * w.count_rad_ - from) * per_rad;
+  s.spacing = w.count_rad_ * per_rad * static_cast<double>(s.direction);
+  return s;
+}
+
+inline void Plant::fire(Sweep& s, std::uint64_t t0_ns, double dt_ns, std::int64_t last_ns,
+                        std::int64_t& previous_ns) {
+  // The edge's instant, rounded to the ns, inside the step and never before the previous one.
+  auto offset = static_cast<std::int64_t>(s.next * dt_ns + 0.5);
+  offset = offset < previous_ns ? previous_ns : (offset > last_ns ? last_ns : offset);
+  previous_ns = offset;
+  clock_.set_ns(t0_ns + static_cast<std::uint64_t>(offset));
+  Wheel& w = *s.wheel;
+  const bool line_a = (w.count_ & 1) == s.a_parity;
+  w.count_ += s.direction;
+  if (line_a) {  // exactly one line changes per count; only that one runs its handler
+    w.a_.toggle();
+  } else {
+    w.b_.toggle();
+  }
+  s.next = --s.remaining > 0 ? s.next + s.spacing : no_edge;
+}
+
 void Plant::deliver_edges(double left_from, double right_from, std::uint64_t t0_ns,
                           std::uint32_t dt_ns) {
-  // The edges one wheel owes inside this step, at evenly spaced fractions of it (the shaft angle
-  // is interpolated linearly inside the step).
-  struct Sweep {
-    Wheel* wheel;
-    std::int64_t remaining;  // edges not yet delivered
-    std::int64_t direction;  // +1 counting up, −1 down
-    std::int64_t a_parity;   // count parity at which the next edge is on line A
-    double next;             // fraction of the step at which the next edge happens
-    double spacing;          // fraction of the step between two edges
-  };
-  auto prepare = [](Wheel& w, double from) {
-    Sweep s{&w, 0, 1, 0, no_edge, 0.0};
-    // floor() without the libm call: truncation, one less for negative non-integers.
-    const double counts = w.angle_rad_ * w.counts_per_rad_;
-    auto target = static_cast<std::int64_t>(counts);
-    if (static_cast<double>(target) > counts) {
-      --target;
-    }
-    if (target == w.count_) {
-      return s;
-    }
-    const double per_rad = 1.0 / (w.angle_rad_ - from);
-    s.direction = target > w.count_ ? 1 : -1;
-    s.remaining = (target - w.count_) * s.direction;
-    // Gray code (see phase_levels): line A changes between an even count and the next one, B
-    // between an odd one and the next. Counting down from c, the edge is the one below c.
-    s.a_parity = s.direction > 0 ? 0 : 1;
-    const std::int64_t boundary = s.direction > 0 ? w.count_ + 1 : w.count_;
-    s.next = (static_cast<double>(boundary) * w.count_rad_ - from) * per_rad;
-    s.spacing = w.count_rad_ * per_rad * static_cast<double>(s.direction);
-    return s;
-  };
-  Sweep sweeps[2] = {prepare(left_, left_from), prepare(right_, right_from)};
-  const double dt = static_cast<double>(dt_ns);
+  Sweep sweeps[2] = {sweep_of(left_, left_from), sweep_of(right_, right_from)};
+  const auto dt = static_cast<double>(dt_ns);
   const auto last = static_cast<std::int64_t>(dt_ns);
   std::int64_t previous = 0;
   for (;;) {
@@ -239,24 +267,22 @@ void Plant::deliver_edges(double left_from, double right_from, std::uint64_t t0_
     if (s.next > 1.5) {
       break;
     }
-    // The edge's instant, rounded to the ns, inside the step and never before the previous one.
-    auto offset = static_cast<std::int64_t>(s.next * dt + 0.5);
-    offset = offset < previous ? previous : (offset > last ? last : offset);
-    previous = offset;
-    clock_.set_ns(t0_ns + static_cast<std::uint64_t>(offset));
-    Wheel& w = *s.wheel;
-    const bool line_a = (w.count_ & 1) == s.a_parity;
-    w.count_ += s.direction;
-    if (line_a) {  // exactly one line changes per count; only that one runs its handler
-      w.a_.toggle();
-    } else {
-      w.b_.toggle();
-    }
-    s.next = --s.remaining > 0 ? s.next + s.spacing : no_edge;
+    fire(s, t0_ns, dt, last, previous);
   }
 }
 
-double Plant::ground_travel(Wheel& w, double rolled_m) {
+void Plant::deliver_wheel_edges(Wheel& wheel, double from, std::uint64_t t0_ns,
+                                std::uint32_t dt_ns) {
+  Sweep s = sweep_of(wheel, from);
+  const auto dt = static_cast<double>(dt_ns);
+  const auto last = static_cast<std::int64_t>(dt_ns);
+  std::int64_t previous = 0;
+  while (s.next <= 1.5) {
+    fire(s, t0_ns, dt, last, previous);
+  }
+}
+
+inline double Plant::ground_travel(Wheel& w, double rolled_m) {
   const double magnitude = std::fabs(rolled_m);
   if (magnitude == 0.0) {
     return 0.0;
@@ -333,7 +359,17 @@ void Plant::step(std::uint32_t dt_ns) {
   if (left_delta != 0.0 || right_delta != 0.0) {
     left_.angle_rad_ += left_delta;
     right_.angle_rad_ += right_delta;
-    deliver_edges(left_from, right_from, t0, dt_ns);
+    // Edges by event: most steps cross no count boundary on one wheel or both, and only a wheel
+    // whose shaft left its count computes the instants of its edges.
+    const bool left_edges = leaves_count(left_);
+    const bool right_edges = leaves_count(right_);
+    if (left_edges && right_edges) {
+      deliver_edges(left_from, right_from, t0, dt_ns);
+    } else if (left_edges) {
+      deliver_wheel_edges(left_, left_from, t0, dt_ns);
+    } else if (right_edges) {
+      deliver_wheel_edges(right_, right_from, t0, dt_ns);
+    }
 
     const double rolled_left = left_.radius_m_ * left_delta;
     const double rolled_right = right_.radius_m_ * right_delta;

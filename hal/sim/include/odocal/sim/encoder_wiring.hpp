@@ -7,9 +7,8 @@
 
 #include <cstdint>
 
-#include "odocal/hal/digital_input.hpp"
 #include "odocal/hal/edge_sink.hpp"
-#include "odocal/hal/monotonic_clock.hpp"
+#include "odocal/sim/plant.hpp"
 
 namespace odocal::sim {
 
@@ -20,11 +19,12 @@ enum class ChannelFault : std::uint8_t {
   noisy,  ///< every 5th B edge arrives with a glitch on A (both channels change at once)
 };
 
-/// One wheel's edge path: lines A and B -> sink. Must outlive the registration.
+/// One wheel's edge path: lines A and B -> sink. Must outlive the registration. It takes the
+/// plant's concrete line and clock types (final classes): reading them on every edge then costs
+/// no virtual call.
 class EncoderWiring {
  public:
-  EncoderWiring(hal::DigitalInput& a, hal::DigitalInput& b, hal::MonotonicClock& clock,
-                const hal::EdgeSink& sink)
+  EncoderWiring(EncoderLine& a, EncoderLine& b, SimClock& clock, const hal::EdgeSink& sink)
       : a_(a), b_(b), clock_(clock), sink_(sink) {}
 
   EncoderWiring(const EncoderWiring&) = delete;
@@ -57,26 +57,28 @@ class EncoderWiring {
   /// Edge context: latch the levels and the time into the sink, nothing else.
   static void on_edge(void* context) {
     auto* self = static_cast<EncoderWiring*>(context);
-    bool a = self->a_.read();
-    const bool b = self->b_.read();
-    if (self->fault_ == ChannelFault::dead) {
-      if (a != self->a_seen_) {  // an A edge: the dead channel shows none
-        self->a_seen_ = a;
-        return;
+    const bool a_line = self->a_.level();
+    const bool b = self->b_.level();
+    bool a = a_line;
+    if (self->fault_ != ChannelFault::none) {
+      if (self->fault_ == ChannelFault::dead) {
+        if (a_line != self->a_seen_) {  // an A edge: the dead channel shows none
+          self->a_seen_ = a_line;
+          return;
+        }
+        a = self->stuck_a_;
+      } else if (b != self->b_seen_ && ++self->edges_ % 5u == 0u) {
+        a = !a;  // a glitch on A at a B edge: the decoder sees both change at once
       }
-      a = self->stuck_a_;
-    } else if (self->fault_ == ChannelFault::noisy && b != self->b_seen_ &&
-               ++self->edges_ % 5u == 0u) {
-      a = !a;  // a glitch on A at a B edge: the decoder sees both change at once
     }
-    self->a_seen_ = self->a_.read();
+    self->a_seen_ = a_line;
     self->b_seen_ = b;
     self->sink_.on_edge(a, b, self->clock_.now_us());
   }
 
-  hal::DigitalInput& a_;
-  hal::DigitalInput& b_;
-  hal::MonotonicClock& clock_;
+  EncoderLine& a_;
+  EncoderLine& b_;
+  SimClock& clock_;
   const hal::EdgeSink sink_;
   ChannelFault fault_ = ChannelFault::none;
   bool stuck_a_ = false;

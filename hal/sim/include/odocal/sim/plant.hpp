@@ -100,8 +100,9 @@ class Wheel {
  public:
   hal::PwmOutput& pwm() { return pwm_; }
   hal::DigitalOutput& forward() { return direction_; }
-  hal::DigitalInput& channel_a() { return a_; }
-  hal::DigitalInput& channel_b() { return b_; }
+  /// The encoder lines (their concrete type, so that wiring them costs no virtual call).
+  EncoderLine& channel_a() { return a_; }
+  EncoderLine& channel_b() { return b_; }
 
   /// Shaft angle since the start, rad (forward positive).
   [[nodiscard]] double angle_rad() const { return angle_rad_; }
@@ -212,7 +213,13 @@ class Plant {
  private:
   void step(std::uint32_t dt_ns);
   void integrate_motor(Wheel& wheel, double dt_s, bool standard_step, double& delta_rad);
+  struct Sweep;
+  static bool leaves_count(const Wheel& wheel);
+  static Sweep sweep_of(Wheel& wheel, double from);
+  void fire(Sweep& sweep, std::uint64_t t0_ns, double dt_ns, std::int64_t last_ns,
+            std::int64_t& previous_ns);
   void deliver_edges(double left_from, double right_from, std::uint64_t t0_ns, std::uint32_t dt_ns);
+  void deliver_wheel_edges(Wheel& wheel, double from, std::uint64_t t0_ns, std::uint32_t dt_ns);
   double ground_travel(Wheel& wheel, double rolled_m);
   double over_cables(Wheel& wheel, double rolled_m);
   void start_bump(Wheel& wheel);

@@ -1,27 +1,35 @@
 #pragma once
 /// @file
-/// Deterministic random numbers for the simulated robot: the same seed gives the same sequence on
-/// every machine and compiler (no std:: distributions, whose algorithms are unspecified).
+/// Deterministic random numbers for the simulated robot: the project's one xoshiro256** engine
+/// (odocal/random/xoshiro256.hpp) with the simulator's distributions. The same seed gives the
+/// same sequence on every machine and compiler (no std:: distributions, whose algorithms are
+/// unspecified).
 
 #include <cstdint>
 
+#include "odocal/random/xoshiro256.hpp"
+
 namespace odocal::sim {
 
-/// xoshiro256** generator (Blackman & Vigna), seeded through splitmix64. 32 bytes of state, no
-/// heap.
+/// xoshiro256** generator (Blackman & Vigna), seeded through splitmix64, with uniform, bounded
+/// and normal deviates. No heap.
 class Random {
  public:
   /// Seeds the generator; any 64-bit value (including 0) gives a valid state.
   explicit Random(std::uint64_t seed = 1u) { reseed(seed); }
 
   /// Restarts the sequence from `seed`.
-  void reseed(std::uint64_t seed);
+  void reseed(std::uint64_t seed) {
+    engine_.reseed(seed);
+    has_spare_ = false;
+    spare_ = 0.0;
+  }
 
   /// Next 64 random bits.
-  std::uint64_t next_u64();
+  std::uint64_t next_u64() { return engine_.next_u64(); }
 
   /// Uniform in [0, 1) with 53 random bits.
-  double uniform() { return static_cast<double>(next_u64() >> 11u) * 0x1.0p-53; }
+  double uniform() { return engine_.uniform(); }
 
   /// Uniform in [lo, hi).
   double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
@@ -41,7 +49,7 @@ class Random {
   [[nodiscard]] static Random derive(std::uint64_t seed, std::uint64_t index);
 
  private:
-  std::uint64_t state_[4] = {0u, 0u, 0u, 0u};
+  random::Xoshiro256 engine_;
   double spare_ = 0.0;
   bool has_spare_ = false;
 };

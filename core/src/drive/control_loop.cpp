@@ -309,10 +309,9 @@ void ControlLoop::tick(std::uint32_t now_us) {
   drive_motors(left_duty, right_duty);
 
   // 8. Trial bookkeeping: a trial closes once the robot is at rest after its motion.
-  const bool trial_closed =
-      trial_.update(mode_ == Mode::path || mode_ == Mode::drive, left_speed_.position_counts(),
-                    right_speed_.position_counts(), odometry_.pose(), dt_us,
-                    std::fmax(config_.settle_ms, kMinStill_ms));
+  const bool trial_closed = trial_.update(
+      mode_ == Mode::path || mode_ == Mode::drive, left_speed_.position_counts(),
+      right_speed_.position_counts(), odometry_, dt_us, std::fmax(config_.settle_ms, kMinStill_ms));
 
   // 9. Publish for the main loop.
   hal::CriticalGuard guard(critical_);

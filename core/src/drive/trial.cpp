@@ -21,6 +21,26 @@ void TrialRecorder::begin(PathId path, float length_m, std::int64_t counts_l,
 
 bool TrialRecorder::update(bool moving, std::int64_t counts_l, std::int64_t counts_r,
                            const Pose& pose, std::uint32_t dt_us, float still_ms) {
+  if (!advance(moving, counts_l, counts_r, dt_us, still_ms)) {
+    return false;
+  }
+  current_.end = pose;
+  last_ = current_;
+  return true;
+}
+
+bool TrialRecorder::update(bool moving, std::int64_t counts_l, std::int64_t counts_r,
+                           const Odometry& odometry, std::uint32_t dt_us, float still_ms) {
+  if (!advance(moving, counts_l, counts_r, dt_us, still_ms)) {
+    return false;
+  }
+  current_.end = odometry.pose();
+  last_ = current_;
+  return true;
+}
+
+bool TrialRecorder::advance(bool moving, std::int64_t counts_l, std::int64_t counts_r,
+                            std::uint32_t dt_us, float still_ms) {
   if (phase_ == Phase::none) {
     return false;
   }
@@ -49,8 +69,6 @@ bool TrialRecorder::update(bool moving, std::int64_t counts_l, std::int64_t coun
   current_.duration_ms = static_cast<std::uint32_t>(divide_u64(elapsed_us_ + 500u, 1000u));
   current_.count_l = counts_l - start_l_;
   current_.count_r = counts_r - start_r_;
-  current_.end = pose;
-  last_ = current_;
   phase_ = Phase::none;
   return true;
 }

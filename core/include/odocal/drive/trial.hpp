@@ -44,6 +44,10 @@ class TrialRecorder {
   /// @return true when the trial closed this tick (then `last()` holds it).
   bool update(bool moving, std::int64_t counts_l, std::int64_t counts_r, const Pose& pose,
               std::uint32_t dt_us, float still_ms);
+  /// The same, taking the end pose from `odometry` only when the trial closes (the tick's way:
+  /// the heading's atan2 is not worth paying every tick).
+  bool update(bool moving, std::int64_t counts_l, std::int64_t counts_r, const Odometry& odometry,
+              std::uint32_t dt_us, float still_ms);
 
   /// True from `begin` until the trial closes or is abandoned.
   [[nodiscard]] bool open() const { return phase_ != Phase::none; }
@@ -52,6 +56,10 @@ class TrialRecorder {
 
  private:
   enum class Phase : std::uint8_t { none, moving, settling };
+
+  /// One tick's bookkeeping; true when the trial closes (everything but the end pose is set).
+  bool advance(bool moving, std::int64_t counts_l, std::int64_t counts_r, std::uint32_t dt_us,
+               float still_ms);
 
   Phase phase_ = Phase::none;
   TrialRecord current_{};

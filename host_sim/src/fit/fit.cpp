@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <thread>
 
+#include "fit_interval.hpp"
 #include "fit_model.hpp"
 #include "odocal/calib/random.hpp"
 #include "odocal/host/fit.hpp"
@@ -323,8 +324,37 @@ FitOutcome fit_geometry(const std::vector<TickLog>& runs, const FitNominal& nomi
     r.holdout = score_runs(holdout, nominal, r.geometry, o.heading_length_mm);
   }
 
-  if (o.replicates > 0) {
+  if (o.replicates > 0 && o.interval != FitIntervalMethod::percentile) {
     const std::vector<Unit> boot = bootstrap_units(runs, o.min_units);
+    const fit_detail::ClusterInterval ci =
+        fit_detail::cluster_interval(fit_detail::unit_rows(boot, main.p, k, o.heading_length_mm),
+                                     main.p, o.replicates, o.seed, o.level);
+    if (!ci.ok) {
+      out.error =
+          FitError{"", "the runs do not determine the geometry's intervals: give more runs"};
+      return out;
+    }
+    r.interval = o.interval;
+    r.bootstrap_units = boot.size();
+    r.replicates = o.replicates;
+    for (int i = 0; i < 3; ++i) {
+      r.cluster_sd[i] = ci.se[i];
+      r.dof[i] = ci.dof[i];
+    }
+    const bool wild = o.interval == FitIntervalMethod::wild_t;
+    FitInterval c[3];
+    for (int i = 0; i < 3; ++i) {
+      c[i] = wild ? FitInterval{ci.lo[i], ci.hi[i]} : FitInterval{ci.t_lo[i], ci.t_hi[i]};
+    }
+    const double d = nominal.wheel_diameter_mm;
+    r.ci_left_mm = c[0];
+    r.ci_right_mm = c[1];
+    r.ci_wheelbase_mm = c[2];
+    r.ci_c_l = FitInterval{c[0].lo / d, c[0].hi / d};
+    r.ci_c_r = FitInterval{c[1].lo / d, c[1].hi / d};
+  } else if (o.replicates > 0) {
+    const std::vector<Unit> boot = bootstrap_units(runs, o.min_units);
+    r.interval = o.interval;
     r.bootstrap_units = boot.size();
     r.replicates = o.replicates;
     std::vector<Params> estimates(o.replicates);

@@ -47,10 +47,18 @@ TEST(FitCoverage, NinetyFivePercentIntervalsCoverTheTruthOfSimulatedRobots) {
   // Each robot: 4 lines of 1.5 m and 2 + 2 squares of 1 m (UMBmark-style, both ways), measured
   // where they stopped: 8 runs, the fewest that determine all three parameters comfortably, where
   // a bootstrap over runs is most likely to be too narrow.
-  const std::uint64_t robots = env_number("ODOCAL_FIT_ROBOTS", 120);
+  const std::uint64_t robots = env_number("ODOCAL_FIT_ROBOTS", 300);
   const std::uint64_t first = env_number("ODOCAL_FIT_FIRST_SEED", 1);
   const char* const names[3] = {"wheel_diameter_left_mm", "wheel_diameter_right_mm",
                                 "wheelbase_mm"};
+  FitIntervalMethod interval = FitOptions{}.interval;
+  if (const char* method = std::getenv("ODOCAL_FIT_INTERVAL"); method != nullptr) {
+    for (const FitIntervalMethod m :
+         {FitIntervalMethod::wild_t, FitIntervalMethod::student_t, FitIntervalMethod::percentile}) {
+      interval = std::string(method) == interval_name(m) ? m : interval;
+    }
+    std::printf("fit coverage: %s intervals\n", interval_name(interval));
+  }
   std::uint64_t covered[3] = {0, 0, 0};
   double width_sum[3] = {0, 0, 0}, error_square_sum[3] = {0, 0, 0};
   for (std::uint64_t k = first; k < first + robots; ++k) {
@@ -67,13 +75,7 @@ TEST(FitCoverage, NinetyFivePercentIntervalsCoverTheTruthOfSimulatedRobots) {
     }
     FitOptions options;  // the defaults: B = 500, level 0.95
     options.seed = k;
-    if (const char* method = std::getenv("ODOCAL_FIT_INTERVAL"); method != nullptr) {
-      for (const FitIntervalMethod m : {FitIntervalMethod::wild_t, FitIntervalMethod::student_t,
-                                        FitIntervalMethod::percentile}) {
-        options.interval = std::string(method) == interval_name(m) ? m : options.interval;
-      }
-      std::printf("fit coverage: %s intervals\n", interval_name(options.interval));
-    }
+    options.interval = interval;
     const FitOutcome out =
         fit_geometry(logs,
                      FitNominal{spec.nominal.wheel_diameter_mm, spec.nominal.wheelbase_mm,

@@ -140,7 +140,7 @@ TEST(FitGeometry, RecoversAKnownRobotFromMotionCaptureAwayFromTheOriginWithUnwra
   EXPECT_LT(out.result->fit.path_rms_after_mm, 1e-3);
   EXPECT_GT(out.result->fit.path_rms_before_mm, 1e3 * out.result->fit.path_rms_after_mm);
   // One run, cut into pieces for the bootstrap.
-  EXPECT_GE(out.result->bootstrap_units, 10u);
+  EXPECT_GE(out.result->bootstrap_units, 6u);
   ASSERT_TRUE(out.result->ci_wheelbase_mm.has_value());
   EXPECT_LE(out.result->ci_wheelbase_mm->lo, out.result->geometry.wheelbase_mm + 1e-6);
   EXPECT_GE(out.result->ci_wheelbase_mm->hi, out.result->geometry.wheelbase_mm - 1e-6);

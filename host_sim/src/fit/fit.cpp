@@ -344,7 +344,13 @@ FitOutcome fit_geometry(const std::vector<TickLog>& runs, const FitNominal& nomi
     const bool wild = o.interval == FitIntervalMethod::wild_t;
     FitInterval c[3];
     for (int i = 0; i < 3; ++i) {
-      c[i] = wild ? FitInterval{ci.lo[i], ci.hi[i]} : FitInterval{ci.t_lo[i], ci.t_hi[i]};
+      // The bootstrap-t percentiles follow skewed or heavy-tailed errors; with few runs the
+      // wild bootstrap (unrestricted residuals) undercuts the variance of its own standard
+      // error, which the Bell-McCaffrey Student t accounts for: neither end is left narrower.
+      c[i] = FitInterval{ci.t_lo[i], ci.t_hi[i]};
+      if (wild) {
+        c[i] = FitInterval{std::min(ci.lo[i], ci.t_lo[i]), std::max(ci.hi[i], ci.t_hi[i])};
+      }
     }
     const double d = nominal.wheel_diameter_mm;
     r.ci_left_mm = c[0];

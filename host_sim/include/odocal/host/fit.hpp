@@ -77,7 +77,8 @@ using FitProgressFn = std::function<void(const std::string&)>;
 
 /// How the intervals are made (FitOptions::interval).
 enum class FitIntervalMethod {
-  wild_t,      ///< wild cluster bootstrap-t over runs (default, see docs/calibration.md)
+  wild_t,      ///< wild cluster bootstrap-t over runs, each end at least as far out as
+               ///< student_t's (default, see docs/calibration.md)
   student_t,   ///< CR2 standard error × Student t with Bell-McCaffrey degrees of freedom
   percentile,  ///< percentile of refits of runs resampled with replacement, widened
 };
@@ -100,7 +101,7 @@ struct FitOptions {
   /// Bootstrap units: runs. When there are fewer than this many runs, runs with ground truth
   /// along the path are cut into pieces (each restarting at its first row's ground truth) so that
   /// there are about this many units to resample.
-  std::size_t min_units = 10;
+  std::size_t min_units = 6;
   FitProgressFn progress;  ///< called from the calling thread only (the bootstrap uses two)
 };
 

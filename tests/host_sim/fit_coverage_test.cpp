@@ -60,7 +60,7 @@ TEST(FitCoverage, NinetyFivePercentIntervalsCoverTheTruthOfSimulatedRobots) {
     std::printf("fit coverage: %s intervals\n", interval_name(interval));
   }
   std::uint64_t covered[3] = {0, 0, 0};
-  double width_sum[3] = {0, 0, 0}, error_square_sum[3] = {0, 0, 0};
+  double width_sum[3] = {0, 0, 0}, error_square_sum[3] = {0, 0, 0}, dof_sum[3] = {0, 0, 0};
   for (std::uint64_t k = first; k < first + robots; ++k) {
     const RobotSpec spec = varied_robot(k);
     SimulatedRobot robot(spec, 1000003u * k);
@@ -91,6 +91,7 @@ TEST(FitCoverage, NinetyFivePercentIntervalsCoverTheTruthOfSimulatedRobots) {
     for (int i = 0; i < 3; ++i) {
       covered[i] += ci[i].lo <= truth[i] && truth[i] <= ci[i].hi ? 1 : 0;
       width_sum[i] += (ci[i].hi - ci[i].lo) / truth[i];
+      dof_sum[i] += r.dof[i];
       error_square_sum[i] += std::pow((fitted[i] - truth[i]) / truth[i], 2);
     }
   }
@@ -105,9 +106,11 @@ TEST(FitCoverage, NinetyFivePercentIntervalsCoverTheTruthOfSimulatedRobots) {
     const double coverage = static_cast<double>(covered[i]) / n;
     const double rms = std::sqrt(error_square_sum[i] / n);
     const double mean_half_width = 0.5 * width_sum[i] / n;
-    std::printf("fit coverage: %-24s %3llu/%llu = %.3f; mean half-width %.2e, RMS error %.2e\n",
-                names[i], static_cast<unsigned long long>(covered[i]),
-                static_cast<unsigned long long>(robots), coverage, mean_half_width, rms);
+    std::printf(
+        "fit coverage: %-24s %3llu/%llu = %.3f; mean half-width %.2e, RMS error %.2e, "
+        "mean dof %.1f\n",
+        names[i], static_cast<unsigned long long>(covered[i]),
+        static_cast<unsigned long long>(robots), coverage, mean_half_width, rms, dof_sum[i] / n);
     EXPECT_GE(coverage, 0.95 - 3.0 * se) << names[i];
     // Informative, not covering by being huge: a Student-t interval from few runs is wider than
     // ±1.96 × the true spread by t_dof/1.96 (1.3 for 5 degrees of freedom), not twice.

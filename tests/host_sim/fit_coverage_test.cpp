@@ -4,7 +4,8 @@
 //
 // ODOCAL_FIT_ROBOTS=N runs N robots instead of the default (docs/results.md reports 300);
 // ODOCAL_FIT_FIRST_SEED moves the seeds; ODOCAL_FIT_INTERVAL=student-t|percentile measures the
-// other interval methods on the same robots (the default is what `odocal fit` uses).
+// other interval methods on the same robots (the default is what `odocal fit` uses);
+// ODOCAL_FIT_PATH_TRUTH=1 logs the exact truth along the path (motion capture) instead.
 
 #include <gtest/gtest.h>
 
@@ -59,6 +60,8 @@ TEST(FitCoverage, NinetyFivePercentIntervalsCoverTheTruthOfSimulatedRobots) {
     }
     std::printf("fit coverage: %s intervals\n", interval_name(interval));
   }
+  const LogTruth logged =
+      env_number("ODOCAL_FIT_PATH_TRUTH", 0) != 0 ? LogTruth::path : LogTruth::end_only;
   std::uint64_t covered[3] = {0, 0, 0};
   double width_sum[3] = {0, 0, 0}, error_square_sum[3] = {0, 0, 0}, dof_sum[3] = {0, 0, 0};
   for (std::uint64_t k = first; k < first + robots; ++k) {
@@ -70,7 +73,7 @@ TEST(FitCoverage, NinetyFivePercentIntervalsCoverTheTruthOfSimulatedRobots) {
           i < 4 ? drive::make_line(1.5f) : drive::make_umbmark_square(i % 2 == 0, 1.0f);
       TickLog log;
       log.source = "robot " + std::to_string(k) + " run " + std::to_string(i + 1);
-      ASSERT_TRUE(run_path_logged(robot, path, log, LogTruth::end_only, 50u).completed);
+      ASSERT_TRUE(run_path_logged(robot, path, log, logged, 50u).completed);
       logs.push_back(std::move(log));
     }
     FitOptions options;  // the defaults: B = 500, level 0.95

@@ -273,6 +273,34 @@ TEST(FitGeometry, CopesWithWhatRealLogsHold) {
   EXPECT_GE(out.result->ci_wheelbase_mm->hi, t.wheelbase_mm);
 }
 
+TEST(FitGeometry, WheelTravelGivenAsTurnsOrDistanceFitsAlike) {
+  // Some public data sets log each wheel's travel (turns, or metres for a nominal wheel) instead
+  // of counts: as fractional "counts" with counts_per_rev 1 (turns) the fit is the same.
+  const Truth t;
+  std::vector<Move> moves = square(t, 1000.0, true);
+  moves.push_back(line(1500.0));
+  const TickLog counts = make_log(t, moves, Truthing::path, 300.0, 400.0, -60.0);
+  TickLog turns = counts;
+  for (TickRow& row : turns.rows) {
+    row.count_l /= t.counts_per_rev;
+    row.count_r /= t.counts_per_rev;
+  }
+  std::ostringstream text;
+  write_tick_log(turns, text);
+  const std::string path = ::testing::TempDir() + "fit_turns.csv";
+  std::ofstream(path, std::ios::binary) << text.str();
+  FitOptions options;
+  options.replicates = 0;
+  const FitOutcome a = fit_geometry({counts}, nominal_for(t), options);
+  const FitOutcome b = fit_geometry({read_tick_log(path)}, FitNominal{60.0, 150.0, 1.0}, options);
+  ASSERT_TRUE(a && b) << a.error.message << b.error.message;
+  EXPECT_NEAR(b.result->geometry.wheel_diameter_left_mm, a.result->geometry.wheel_diameter_left_mm,
+              1e-9 * t.left_mm);
+  EXPECT_NEAR(b.result->geometry.wheelbase_mm, a.result->geometry.wheelbase_mm,
+              1e-9 * t.wheelbase_mm);
+  expect_recovered(*b.result, t, 1e-7);
+}
+
 // ------------------------------------------------------------------------------ reading logs
 
 std::string write_file(const std::string& name, const std::string& text) {

@@ -301,6 +301,21 @@ TEST(FitGeometry, WheelTravelGivenAsTurnsOrDistanceFitsAlike) {
   expect_recovered(*b.result, t, 1e-7);
 }
 
+TEST(FitGeometry, OneTapeMeasureRunGivesTheGeometryWithoutIntervals) {
+  // A loop measured at its end in x, y and heading: three numbers for three parameters, enough
+  // when it turns and travels (a 1.5 m side, then half a turn more) but no scatter between runs.
+  const Truth t;
+  std::vector<Move> moves = square(t, 1500.0, false);
+  moves.push_back(line(2500.0));
+  moves.push_back(turn(pi, t));
+  const FitOutcome out =
+      fit_geometry({make_log(t, moves, Truthing::end_only)}, nominal_for(t), FitOptions{});
+  ASSERT_TRUE(out) << out.error.message;
+  EXPECT_FALSE(out.result->ci_left_mm.has_value());
+  EXPECT_EQ(out.result->replicates, 0u);
+  EXPECT_NE(fit_result_text(*out.result).find("single run"), std::string::npos);
+}
+
 // ------------------------------------------------------------------------------ reading logs
 
 std::string write_file(const std::string& name, const std::string& text) {

@@ -324,18 +324,16 @@ FitOutcome fit_geometry(const std::vector<TickLog>& runs, const FitNominal& nomi
     r.holdout = score_runs(holdout, nominal, r.geometry, o.heading_length_mm);
   }
 
+  fit_detail::ClusterInterval ci;
   if (o.replicates > 0 && o.interval != FitIntervalMethod::percentile) {
     const std::vector<Unit> boot = bootstrap_units(runs, o.min_units);
-    const fit_detail::ClusterInterval ci =
-        fit_detail::cluster_interval(fit_detail::unit_rows(boot, main.p, k, o.heading_length_mm),
-                                     main.p, o.replicates, o.seed, o.level);
-    if (!ci.ok) {
-      out.error =
-          FitError{"", "the runs do not determine the geometry's intervals: give more runs"};
-      return out;
-    }
+    ci = fit_detail::cluster_interval(fit_detail::unit_rows(boot, main.p, k, o.heading_length_mm),
+                                      main.p, o.replicates, o.seed, o.level);
     r.interval = o.interval;
     r.bootstrap_units = boot.size();
+  }
+  // One unit (a single tape-measure run) shows no scatter between runs: no intervals.
+  if (ci.ok) {
     r.replicates = o.replicates;
     for (int i = 0; i < 3; ++i) {
       r.cluster_sd[i] = ci.se[i];
@@ -358,7 +356,7 @@ FitOutcome fit_geometry(const std::vector<TickLog>& runs, const FitNominal& nomi
     r.ci_wheelbase_mm = c[2];
     r.ci_c_l = FitInterval{c[0].lo / d, c[0].hi / d};
     r.ci_c_r = FitInterval{c[1].lo / d, c[1].hi / d};
-  } else if (o.replicates > 0) {
+  } else if (o.replicates > 0 && o.interval == FitIntervalMethod::percentile) {
     const std::vector<Unit> boot = bootstrap_units(runs, o.min_units);
     r.interval = o.interval;
     r.bootstrap_units = boot.size();

@@ -125,6 +125,8 @@ std::string fit_result_text(const FitResult& r) {
     } else {
       out << line(" (degrees of freedom %.1f, %.1f, %.1f)\n", r.dof[0], r.dof[1], r.dof[2]);
     }
+  } else if (r.bootstrap_units > 0) {
+    out << "  no intervals: a single run shows no scatter between runs (give more runs)\n";
   } else {
     out << "  no bootstrap (B = 0): no intervals\n";
   }

@@ -68,6 +68,11 @@ TEST(FitCoverage, NinetyFivePercentIntervalsCoverTheTruthOfSimulatedRobots) {
   }
   const LogTruth logged =
       env_number("ODOCAL_FIT_PATH_TRUTH", 0) != 0 ? LogTruth::path : LogTruth::end_only;
+  // ODOCAL_FIT_DESIGN_CF=1: the recommended procedure (docs/calibration.md section 4) instead,
+  // 20 lines, 2 + 2 squares and 4 + 4 turns in place.
+  const bool cf = env_number("ODOCAL_FIT_DESIGN_CF", 0) != 0;
+  const int lines = cf ? 20 : 4;
+  const int spins = cf ? 8 : 0;
   std::uint64_t covered[3] = {0, 0, 0};
   std::vector<double> half_widths[3];
   double width_sum[3] = {0, 0, 0}, error_square_sum[3] = {0, 0, 0}, dof_sum[3] = {0, 0, 0};
@@ -75,9 +80,16 @@ TEST(FitCoverage, NinetyFivePercentIntervalsCoverTheTruthOfSimulatedRobots) {
     const RobotSpec spec = varied_robot(k);
     SimulatedRobot robot(spec, 1000003u * k);
     std::vector<TickLog> logs;
-    for (int i = 0; i < 8; ++i) {
-      const drive::Path path =
-          i < 4 ? drive::make_line(1.5f) : drive::make_umbmark_square(i % 2 == 0, 1.0f);
+    for (int i = 0; i < lines + 4 + spins; ++i) {
+      drive::Path path;
+      if (i < lines) {
+        path = drive::make_line(1.5f);
+      } else if (i < lines + 4) {
+        path = drive::make_umbmark_square(i % 2 == 0, 1.0f);
+      } else {  // 5 turns in place, alternately cw and ccw
+        const float turns = (i % 2 == 0 ? -5.0f : 5.0f) * 6.2831853f;
+        static_cast<void>(path.push(drive::Segment{0.0f, turns}));
+      }
       TickLog log;
       log.source = "robot " + std::to_string(k) + " run " + std::to_string(i + 1);
       ASSERT_TRUE(run_path_logged(robot, path, log, logged, 50u).completed);

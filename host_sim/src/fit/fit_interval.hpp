@@ -23,7 +23,7 @@ struct UnitRows {
 /// What the interval computation gives per parameter.
 struct ClusterInterval {
   bool ok = false;
-  double se[3] = {0, 0, 0};   ///< CR2 cluster-robust standard error
+  double se[3] = {0, 0, 0};   ///< CR2 cluster-robust standard error, relative to p
   double dof[3] = {0, 0, 0};  ///< Bell-McCaffrey degrees of freedom
   double lo[3] = {0, 0, 0};   ///< wild bootstrap-t interval ends
   double hi[3] = {0, 0, 0};
@@ -33,8 +33,9 @@ struct ClusterInterval {
 
 /// Wild cluster bootstrap-t: the units' (CR2-adjusted) residuals are multiplied by one random
 /// weight per unit (Webb's six-point distribution), the linearised fit is redone and studentized by
-/// its own CR2 standard error, B times; the interval is p̂ − t*·se with the t* quantiles, widened
-/// where needed to the Student-t interval with the Bell-McCaffrey degrees of freedom.
+/// its own CR2 standard error, B times; the interval is p̂ − t*·se with the t* quantiles. Also the
+/// Student-t interval with the Bell-McCaffrey degrees of freedom (fit_geometry takes the wider
+/// end of the two). Not ok with fewer than 2 units.
 [[nodiscard]] ClusterInterval cluster_interval(const std::vector<UnitRows>& rows, const Params& p,
                                                std::uint32_t replicates, std::uint64_t seed,
                                                double level);

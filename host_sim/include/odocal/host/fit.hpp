@@ -127,7 +127,7 @@ struct FitResult {
   double c_r = 1.0;  ///< D_R / D
   double e_d = 1.0;  ///< D_R / D_L
   double e_b = 1.0;  ///< b fitted / b nominal
-  /// Intervals at `level` by FitOptions::interval (absent when B = 0).
+  /// Intervals at `level` by FitOptions::interval (absent when B = 0, or with a single unit).
   std::optional<FitInterval> ci_left_mm, ci_right_mm, ci_wheelbase_mm, ci_c_l, ci_c_r;
   FitIntervalMethod interval = FitIntervalMethod::wild_t;
   std::size_t bootstrap_units = 0;  ///< runs (or pieces of runs) resampled

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <thread>
 
+#include "fit_interval.hpp"
 #include "fit_model.hpp"
 #include "odocal/calib/random.hpp"
 #include "odocal/host/fit.hpp"
@@ -323,8 +324,41 @@ FitOutcome fit_geometry(const std::vector<TickLog>& runs, const FitNominal& nomi
     r.holdout = score_runs(holdout, nominal, r.geometry, o.heading_length_mm);
   }
 
-  if (o.replicates > 0) {
+  fit_detail::ClusterInterval ci;
+  if (o.replicates > 0 && o.interval != FitIntervalMethod::percentile) {
     const std::vector<Unit> boot = bootstrap_units(runs, o.min_units);
+    ci = fit_detail::cluster_interval(fit_detail::unit_rows(boot, main.p, k, o.heading_length_mm),
+                                      main.p, o.replicates, o.seed, o.level);
+    r.interval = o.interval;
+    r.bootstrap_units = boot.size();
+  }
+  // One unit (a single tape-measure run) shows no scatter between runs: no intervals.
+  if (ci.ok) {
+    r.replicates = o.replicates;
+    for (int i = 0; i < 3; ++i) {
+      r.cluster_sd[i] = ci.se[i];
+      r.dof[i] = ci.dof[i];
+    }
+    const bool wild = o.interval == FitIntervalMethod::wild_t;
+    FitInterval c[3];
+    for (int i = 0; i < 3; ++i) {
+      // The bootstrap-t percentiles follow skewed or heavy-tailed errors; with few runs the
+      // wild bootstrap (unrestricted residuals) undercuts the variance of its own standard
+      // error, which the Bell-McCaffrey Student t accounts for: neither end is left narrower.
+      c[i] = FitInterval{ci.t_lo[i], ci.t_hi[i]};
+      if (wild) {
+        c[i] = FitInterval{std::min(ci.lo[i], ci.t_lo[i]), std::max(ci.hi[i], ci.t_hi[i])};
+      }
+    }
+    const double d = nominal.wheel_diameter_mm;
+    r.ci_left_mm = c[0];
+    r.ci_right_mm = c[1];
+    r.ci_wheelbase_mm = c[2];
+    r.ci_c_l = FitInterval{c[0].lo / d, c[0].hi / d};
+    r.ci_c_r = FitInterval{c[1].lo / d, c[1].hi / d};
+  } else if (o.replicates > 0 && o.interval == FitIntervalMethod::percentile) {
+    const std::vector<Unit> boot = bootstrap_units(runs, o.min_units);
+    r.interval = o.interval;
     r.bootstrap_units = boot.size();
     r.replicates = o.replicates;
     std::vector<Params> estimates(o.replicates);

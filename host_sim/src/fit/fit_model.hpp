@@ -13,7 +13,8 @@ namespace odocal::host::fit_detail {
 constexpr double pi = 3.14159265358979323846;
 
 /// A stretch of one log: rows [begin, end). Its odometry starts at rows[begin]'s ground-truth
-/// pose when that row has one, else at (0, 0, 0); residuals are taken at the rows after it.
+/// pose when that row has one (averaged with the rows right after it that have the same counts),
+/// else at (0, 0, 0); residuals are taken at the rows after it.
 struct Unit {
   const TickLog* log = nullptr;
   std::size_t begin = 0;
@@ -42,9 +43,25 @@ void integrate(const Unit& unit, const Params& p, double mm_per_count_per_mm, bo
   ModelState s;
   const TickRow& start = rows[unit.begin];
   if (start.has_xy && start.has_theta) {
-    s.x = start.x_mm;
-    s.y = start.y_mm;
-    s.theta = start.theta_deg * pi / 180.0;
+    // The start pose: the first row's truth, averaged over the rows after it at which the wheels
+    // have not turned yet (motion capture of a robot at rest: its jitter averages out).
+    double sx = 0.0, sy = 0.0, st = 0.0;
+    std::size_t n = 0;
+    for (std::size_t i = unit.begin; i < unit.end; ++i) {
+      const TickRow& row = rows[i];
+      if (row.count_l != start.count_l || row.count_r != start.count_r) {
+        break;
+      }
+      if (row.has_xy && row.has_theta) {
+        sx += row.x_mm;
+        sy += row.y_mm;
+        st += std::remainder((row.theta_deg - start.theta_deg) * pi / 180.0, 2.0 * pi);
+        ++n;
+      }
+    }
+    s.x = sx / static_cast<double>(n);
+    s.y = sy / static_cast<double>(n);
+    s.theta = start.theta_deg * pi / 180.0 + st / static_cast<double>(n);
   }
   for (std::size_t i = unit.begin + 1; i < unit.end; ++i) {
     const double a = mm_per_count_per_mm * (rows[i].count_l - rows[i - 1].count_l);

@@ -40,6 +40,18 @@ std::string figures_text(const char* what, const FitFigures& f) {
 
 }  // namespace
 
+const char* interval_name(FitIntervalMethod method) {
+  switch (method) {
+    case FitIntervalMethod::wild_t:
+      return "wild-bootstrap-t";
+    case FitIntervalMethod::student_t:
+      return "student-t";
+    case FitIntervalMethod::percentile:
+      return "percentile";
+  }
+  return "?";
+}
+
 nlohmann::json fit_result_json(const FitResult& r) {
   nlohmann::json j;
   j["wheel_diameter_left_mm"] = r.geometry.wheel_diameter_left_mm;
@@ -64,8 +76,16 @@ nlohmann::json fit_result_json(const FitResult& r) {
                     {"redrawn", r.redrawn},
                     {"level", r.level},
                     {"seed", r.seed},
-                    {"interval", "percentile"},
-                    {"widen", r.widen}};
+                    {"interval", interval_name(r.interval)},
+                    {"widen", r.widen},
+                    {"sd",
+                     {{"wheel_diameter_left_mm", r.cluster_sd[0]},
+                      {"wheel_diameter_right_mm", r.cluster_sd[1]},
+                      {"wheelbase_mm", r.cluster_sd[2]}}},
+                    {"dof",
+                     {{"wheel_diameter_left_mm", r.dof[0]},
+                      {"wheel_diameter_right_mm", r.dof[1]},
+                      {"wheelbase_mm", r.dof[2]}}}};
   j["relative_sd"] = {{"wheel_diameter_left_mm", r.relative_sd[0]},
                       {"wheel_diameter_right_mm", r.relative_sd[1]},
                       {"wheelbase_mm", r.relative_sd[2]}};
@@ -99,7 +119,14 @@ std::string fit_result_text(const FitResult& r) {
   row("e_b", r.e_b, std::nullopt, "");
   if (r.replicates > 0) {
     out << "  bootstrap: B = " << r.replicates << " over " << r.bootstrap_units << " unit(s), seed "
-        << r.seed << line(", percentile intervals widened x%.3f (small sample)\n", r.widen);
+        << r.seed << ", " << interval_name(r.interval) << " intervals";
+    if (r.interval == FitIntervalMethod::percentile) {
+      out << line(" widened x%.3f (small sample)\n", r.widen);
+    } else {
+      out << line(" (degrees of freedom %.1f, %.1f, %.1f)\n", r.dof[0], r.dof[1], r.dof[2]);
+    }
+  } else if (r.bootstrap_units > 0) {
+    out << "  no intervals: a single run shows no scatter between runs (give more runs)\n";
   } else {
     out << "  no bootstrap (B = 0): no intervals\n";
   }

@@ -18,8 +18,11 @@ const std::vector<std::string> counts_only = {"t_s", "count_l", "count_r"};
 const std::vector<std::string> with_truth = {"t_s",  "count_l", "count_r",
                                              "x_mm", "y_mm",    "theta_deg"};
 
-// Magnitudes beyond these are no real log: a year of time, 2^50 counts, 1000 km, a million turns.
-constexpr double max_time_s = 3.2e7;
+// Magnitudes beyond these are no real log: a clock past the year 5000 (UNIX time, as public
+// data sets stamp their rows, is about 1.7e9 s; nanoseconds are not seconds), a log longer than a
+// year, 2^50 counts, 1000 km, a million turns.
+constexpr double max_clock_s = 1e11;
+constexpr double max_span_s = 3.2e7;
 constexpr double max_count = 1.1e15;
 constexpr double max_position_mm = 1e9;
 constexpr double max_heading_deg = 3.6e8;
@@ -94,7 +97,18 @@ void check_tick_log(const TickLog& log) {
   bool truth_after_start = false;
   for (std::size_t i = 0; i < log.rows.size(); ++i) {
     const TickRow& row = log.rows[i];
-    check_magnitude(log, row, "t_s", row.t_s, max_time_s);
+    if (std::isfinite(row.t_s) && std::fabs(row.t_s) > max_clock_s) {
+      char text[160];
+      std::snprintf(text, sizeof text,
+                    "absurd magnitude %g (at most %g: t_s is in seconds, e.g. UNIX time; divide "
+                    "nanosecond stamps by 1e9)",
+                    row.t_s, max_clock_s);
+      fail_row(log, row, "t_s", text);
+    }
+    check_magnitude(log, row, "t_s", row.t_s, max_clock_s);
+    if (row.t_s - log.rows.front().t_s > max_span_s) {
+      fail_row(log, row, "t_s", "absurd magnitude: the log spans more than a year");
+    }
     check_magnitude(log, row, "count_l", row.count_l, max_count);
     check_magnitude(log, row, "count_r", row.count_r, max_count);
     if (row.has_xy) {

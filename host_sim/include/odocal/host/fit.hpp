@@ -75,7 +75,16 @@ struct FitGeometry {
 /// Receives one-line progress messages during the bootstrap ("fit: bootstrap 200/1000").
 using FitProgressFn = std::function<void(const std::string&)>;
 
+/// How the intervals are made (FitOptions::interval).
+enum class FitIntervalMethod {
+  wild_t,      ///< wild cluster bootstrap-t over runs, each end at least as far out as
+               ///< student_t's (default, see docs/calibration.md)
+  student_t,   ///< CR2 standard error × Student t with Bell-McCaffrey degrees of freedom
+  percentile,  ///< percentile of refits of runs resampled with replacement, widened
+};
+
 struct FitOptions {
+  FitIntervalMethod interval = FitIntervalMethod::wild_t;
   std::uint32_t replicates = 500;  ///< bootstrap B (0: no intervals)
   std::uint64_t seed = 1;          ///< bootstrap resampling seed (same seed, same intervals)
   double level = 0.95;             ///< interval level, in (0, 1)
@@ -92,7 +101,7 @@ struct FitOptions {
   /// Bootstrap units: runs. When there are fewer than this many runs, runs with ground truth
   /// along the path are cut into pieces (each restarting at its first row's ground truth) so that
   /// there are about this many units to resample.
-  std::size_t min_units = 10;
+  std::size_t min_units = 6;
   FitProgressFn progress;  ///< called from the calling thread only (the bootstrap uses two)
 };
 
@@ -118,13 +127,17 @@ struct FitResult {
   double c_r = 1.0;  ///< D_R / D
   double e_d = 1.0;  ///< D_R / D_L
   double e_b = 1.0;  ///< b fitted / b nominal
-  /// Percentile bootstrap intervals over runs, widened by `widen` about the estimate (absent when
-  /// B = 0).
+  /// Intervals at `level` by FitOptions::interval (absent when B = 0, or with a single unit).
   std::optional<FitInterval> ci_left_mm, ci_right_mm, ci_wheelbase_mm, ci_c_l, ci_c_r;
+  FitIntervalMethod interval = FitIntervalMethod::wild_t;
   std::size_t bootstrap_units = 0;  ///< runs (or pieces of runs) resampled
   std::uint32_t replicates = 0;     ///< B
-  std::uint32_t redrawn = 0;        ///< resamples drawn again because they determined nothing
-  double widen = 1.0;  ///< each interval end's distance from the estimate × sqrt(n/(n − 3))
+  std::uint32_t redrawn = 0;        ///< percentile: resamples drawn again (determined nothing)
+  double widen = 1.0;  ///< percentile: each end's distance from the estimate × sqrt(n/(n − 3))
+  /// wild_t, student_t: D_L, D_R, b relative CR2 standard errors over runs and their
+  /// Bell-McCaffrey degrees of freedom.
+  double cluster_sd[3] = {0, 0, 0};
+  double dof[3] = {0, 0, 0};
   double level = 0.95;
   std::uint64_t seed = 0;
   double heading_length_mm = 0.0;
@@ -167,6 +180,9 @@ struct FitOutcome {
 /// wheelbase_mm c_l c_r e_d e_b ci{...} fit holdout (null without held-out logs), plus
 /// nominal, bootstrap and relative_sd details.
 [[nodiscard]] nlohmann::json fit_result_json(const FitResult& result);
+
+/// "wild-bootstrap-t", "student-t", "percentile" (the JSON's bootstrap.interval).
+[[nodiscard]] const char* interval_name(FitIntervalMethod method);
 
 /// The same for people.
 [[nodiscard]] std::string fit_result_text(const FitResult& result);

@@ -1,0 +1,46 @@
+#pragma once
+// Internal to host_sim/src/fit: intervals for the fitted geometry from the runs as independent
+// clusters. See fit_interval.cpp.
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "fit_model.hpp"
+
+namespace odocal::host::fit_detail {
+
+/// Residuals and Jacobian rows of one bootstrap unit at the fitted parameters.
+struct UnitRows {
+  Eigen::MatrixX3d jacobian;  ///< ∂r/∂(D_L, D_R, b), one row per residual
+  Eigen::VectorXd residual;   ///< model − ground truth (mm; heading × heading_length_mm)
+};
+
+/// Collects every unit's residuals and Jacobian rows at `p`.
+[[nodiscard]] std::vector<UnitRows> unit_rows(const std::vector<Unit>& units, const Params& p,
+                                              double k, double heading_length_mm);
+
+/// What the interval computation gives per parameter.
+struct ClusterInterval {
+  bool ok = false;
+  double se[3] = {0, 0, 0};   ///< CR2 cluster-robust standard error, relative to p
+  double dof[3] = {0, 0, 0};  ///< Bell-McCaffrey degrees of freedom
+  double lo[3] = {0, 0, 0};   ///< wild bootstrap-t interval ends
+  double hi[3] = {0, 0, 0};
+  double t_lo[3] = {0, 0, 0};  ///< Student-t (Bell-McCaffrey) interval ends
+  double t_hi[3] = {0, 0, 0};
+};
+
+/// Wild cluster bootstrap-t: the units' (CR2-adjusted) residuals are multiplied by one random
+/// weight per unit (Webb's six-point distribution), the linearised fit is redone and studentized by
+/// its own CR2 standard error, B times; the interval is p̂ − t*·se with the t* quantiles. Also the
+/// Student-t interval with the Bell-McCaffrey degrees of freedom (fit_geometry takes the wider
+/// end of the two). Not ok with fewer than 2 units.
+[[nodiscard]] ClusterInterval cluster_interval(const std::vector<UnitRows>& rows, const Params& p,
+                                               std::uint32_t replicates, std::uint64_t seed,
+                                               double level);
+
+/// Student-t quantile: P(T_dof <= t) = probability, dof > 0 (need not be whole).
+[[nodiscard]] double student_t_quantile(double probability, double dof);
+
+}  // namespace odocal::host::fit_detail

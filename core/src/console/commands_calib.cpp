@@ -26,7 +26,7 @@ void Console::cmd_umbmark(const Token* words, std::size_t count) {
       return;
     }
     umbmark_.clear();
-    Reply reply;
+    ReplyLine reply;
     reply.text("ok").pair_u("cw", 0u).pair_u("ccw", 0u);
     send(reply);
   } else if (sub.is("add")) {
@@ -48,7 +48,7 @@ void Console::cmd_umbmark(const Token* words, std::size_t count) {
       send_error(ErrorCode::umbmark_full, "16 runs per direction at most");
       return;
     }
-    Reply reply;
+    ReplyLine reply;
     reply.text("ok").pair_u("cw", umbmark_.cw_count()).pair_u("ccw", umbmark_.ccw_count());
     send(reply);
   } else if (sub.is("side")) {
@@ -61,7 +61,7 @@ void Console::cmd_umbmark(const Token* words, std::size_t count) {
       return;
     }
     umbmark_.set_side_mm(side_m * 1000.0f);
-    Reply reply;
+    ReplyLine reply;
     reply.text("ok").pair("side_mm", umbmark_.side_mm(), kLengthDecimals);
     send(reply);
   } else if (sub.is("solve")) {
@@ -78,7 +78,7 @@ void Console::cmd_umbmark(const Token* words, std::size_t count) {
       return;
     }
     const calib::UmbmarkSession::Result& result = umbmark_.result();
-    Reply reply;
+    ReplyLine reply;
     reply.text("ok")
         .pair("e_d", result.e_d, kFactorDecimals)
         .pair("e_b", result.e_b, kFactorDecimals)
@@ -136,7 +136,7 @@ void Console::cmd_umbmark(const Token* words, std::size_t count) {
     }
     umbmark_.applied();
     const params::ParamSet& values = settings_.values();
-    Reply reply;
+    ReplyLine reply;
     reply.text("ok")
         .pair("c_l", values.get(params::ParamId::c_l), kFactorDecimals)
         .pair("c_r", values.get(params::ParamId::c_r), kFactorDecimals)
@@ -158,7 +158,7 @@ void Console::cmd_lateral(const Token* words, std::size_t count) {
       return;
     }
     lateral_.clear();
-    Reply reply;
+    ReplyLine reply;
     reply.text("ok").pair_u("lateral", 0u);
     send(reply);
   } else if (sub.is("add")) {
@@ -200,7 +200,7 @@ void Console::cmd_lateral(const Token* words, std::size_t count) {
         return;
     }
     lateral_used_ = trial->number;
-    Reply reply;
+    ReplyLine reply;
     reply.text("ok")
         .pair_u("lateral", lateral_.count())
         .pair_u("trial", trial->number)
@@ -222,7 +222,7 @@ void Console::cmd_lateral(const Token* words, std::size_t count) {
       return;
     }
     const calib::LateralSession::Result& result = lateral_.result();
-    Reply reply;
+    ReplyLine reply;
     reply.text("ok")
         .pair("f_lat", result.f_lat, kFactorDecimals)
         .pair("f_lon", result.f_lon, kFactorDecimals)
@@ -266,7 +266,7 @@ void Console::cmd_lateral(const Token* words, std::size_t count) {
     }
     lateral_.applied();
     const params::ParamSet& values = settings_.values();
-    Reply reply;
+    ReplyLine reply;
     reply.text("ok")
         .pair("f_lat", values.get(params::ParamId::f_lat), kFactorDecimals)
         .pair("f_lon", values.get(params::ParamId::f_lon), kFactorDecimals)
@@ -330,7 +330,12 @@ void Console::apply_host_factors(const Token* words, std::size_t count, std::siz
   if (!config_accepted(settings_.apply(candidate))) {
     return;
   }
-  Reply reply;
+  send_factors_applied(ids, id_count, method);
+}
+
+void Console::send_factors_applied(const params::ParamId* ids, std::size_t id_count,
+                                   params::FactorMethod method) {
+  ReplyLine reply;
   reply.text("ok");
   for (std::size_t i = 0; i < id_count; ++i) {
     reply.pair(params::param_info(ids[i]).name, settings_.get(ids[i]), kFactorDecimals);

@@ -35,7 +35,7 @@ void Console::cmd_odom(const Token* words, std::size_t count) {
     }
     loop_.reset_pose();
   }
-  Reply reply;
+  ReplyLine reply;
   reply.text("ok");
   pose_pairs(reply, loop_.pose());
   send(reply);
@@ -67,7 +67,7 @@ void Console::cmd_drive(const Token* words, std::size_t count) {
     return;
   }
   note_pending(Pending::drive);
-  Reply reply;
+  ReplyLine reply;
   reply.text("ok")
       .pair("v_mps", v, kPoseDecimals)
       .pair("w_radps", w, kPoseDecimals)
@@ -90,7 +90,7 @@ void Console::cmd_drive(const Token* words, std::size_t count) {
 void Console::cmd_stop(const Token*, std::size_t) {
   loop_.stop();
   note_pending(Pending::stop);
-  Reply reply;
+  ReplyLine reply;
   reply.text("ok").pair_s("mode", "idle");
   send(reply);
 }
@@ -132,7 +132,7 @@ void Console::cmd_run(const Token* words, std::size_t count) {
   if (square) {
     umbmark_.note_driven_side_mm(length_m * 1000.0f);
   }
-  Reply reply;
+  ReplyLine reply;
   reply.text("ok").pair_s("path", drive::path_name(path.id)).pair_u("segments", path.count);
   if (!unseen) {
     reply.pair("length_m", length_m, kPoseDecimals);
@@ -151,7 +151,7 @@ void Console::cmd_stream(const Token* words, std::size_t count) {
     send_error(ErrorCode::wrong_arity, "usage: stream odom <hz> | stream ticks <hz> | stream off");
     return;
   }
-  Reply reply;
+  ReplyLine reply;
   if (!odom && !ticks) {
     stream_odom_ = false;
     stream_ticks_ = false;
@@ -198,7 +198,7 @@ void Console::cmd_trial(const Token* words, std::size_t count) {
       return;
     }
   }
-  Reply reply;
+  ReplyLine reply;
   reply.text("ok").pair_u("trial", trial->number);
   trial_pairs(reply, *trial);
   send(reply);
@@ -219,7 +219,7 @@ void Console::cmd_trials(const Token* words, std::size_t count) {
       return;
     }
     trials_.clear();
-    Reply reply;
+    ReplyLine reply;
     reply.text("ok").pair_u("trials", 0u);
     send(reply);
     return;

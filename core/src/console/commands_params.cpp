@@ -22,7 +22,7 @@ void Console::cmd_get(const Token* words, std::size_t) {
     send_error(ErrorCode::unknown_parameter, "no such parameter (see params)");
     return;
   }
-  Reply reply;
+  ReplyLine reply;
   reply.text("ok").pair(params::param_info(id).name, settings_.get(id), kParamDecimals);
   send(reply);
 }
@@ -50,7 +50,7 @@ void Console::cmd_set(const Token* words, std::size_t) {
   if (!config_accepted(settings_.set(id, stored))) {
     return;
   }
-  Reply reply;
+  ReplyLine reply;
   reply.text("ok").pair(info.name, stored, kParamDecimals);
   send(reply);
 }
@@ -62,7 +62,7 @@ void Console::cmd_save(const Token*, std::size_t) {
     send_error(ErrorCode::store_error, params::to_string(result));
     return;
   }
-  Reply reply;
+  ReplyLine reply;
   reply.text("ok")
       .pair_u("sequence", info.record.sequence)
       .pair_u("sector", info.sector)
@@ -78,7 +78,7 @@ void Console::cmd_load(const Token*, std::size_t) {
   }
   if (load.store == params::StoreResult::corrupt) {
     // Nothing loaded and nothing erased: the damaged image stays until the next `save`.
-    Reply reply;
+    ReplyLine reply;
     reply.text("err ").text(error_code_name(ErrorCode::store_corrupt));
     reply.text(" every stored record is damaged (");
     char digits[8];
@@ -89,7 +89,7 @@ void Console::cmd_load(const Token*, std::size_t) {
     return;
   }
   if (load.store == params::StoreResult::newer_version) {
-    Reply reply;
+    ReplyLine reply;
     reply.text("err ").text(error_code_name(ErrorCode::store_version));
     reply.text(" record format ");
     char digits[8];
@@ -107,7 +107,7 @@ void Console::cmd_load(const Token*, std::size_t) {
   if (!config_accepted(load.check)) {
     return;
   }
-  Reply reply;
+  ReplyLine reply;
   reply.text("ok")
       .pair_u("sequence", load.info.record.sequence)
       .pair_u("version", load.info.record.version)
@@ -119,14 +119,14 @@ void Console::cmd_defaults(const Token*, std::size_t) {
   if (!config_accepted(settings_.restore_defaults())) {
     return;
   }
-  Reply reply;
+  ReplyLine reply;
   reply.text("ok").pair_u("params", params::param_count).pair_u("unsaved", 1u);
   send(reply);
 }
 
 void Console::cmd_provenance(const Token*, std::size_t) {
   const params::ParamSet& values = settings_.values();
-  Reply reply;
+  ReplyLine reply;
   reply.text("ok")
       .pair_s("wheel_method", params::method_name(values.wheel.method))
       .pair_u("wheel_runs", values.wheel.runs)

@@ -13,7 +13,7 @@ void Console::cmd_help(const Token*, std::size_t) {
 }
 
 void Console::cmd_version(const Token*, std::size_t) {
-  Reply reply;
+  ReplyLine reply;
   reply.text("ok")
       .pair_s("name", "odocal")
       .pair_s("version", project_version)
@@ -25,7 +25,7 @@ void Console::cmd_version(const Token*, std::size_t) {
 void Console::cmd_status(const Token*, std::size_t) {
   constexpr int decimals = 3;
   const drive::LoopStatus status = loop_.status();
-  Reply reply;
+  ReplyLine reply;
   reply.text("ok").pair_s("mode", drive::mode_name(status.mode));
   reply.pair_s("path", drive::path_name(status.path)).pair_u("segment", status.segment);
   reply.key("faults");
@@ -72,13 +72,13 @@ void Console::cmd_echo(const Token* words, std::size_t) {
   }
   echo_ = words[1].is("on");
   options_.echo = echo_ ? EchoMode::on : EchoMode::off;
-  Reply reply;
+  ReplyLine reply;
   reply.text("ok").pair_s("echo", echo_ ? "on" : "off");
   send(reply);
 }
 
 void Console::cmd_extra(const Token* words, std::size_t count) {
-  Reply reply;
+  ReplyLine reply;
   options_.extra.handler(options_.extra.context, words, count, reply);
   if (reply.size() >= 3u && std::strncmp(reply.data(), "err", 3u) == 0) {
     ++errors_;

@@ -28,7 +28,7 @@ params::StoreResult Console::start(std::uint32_t now_us) {
   const Settings::Start start = settings_.start();
   trial_seen_ = loop_.last_trial().number;
   if (options_.banner) {
-    Reply banner;
+    ReplyLine banner;
     banner.text("# odocal ").text(project_version).text(" console");
     if (start.used) {
       banner.pair_s("params", "loaded").pair_u("sequence", start.info.record.sequence);
@@ -170,14 +170,14 @@ void Console::send_async(Reply& line) {
 }
 
 void Console::send_error(ErrorCode code, const char* message) {
-  Reply reply;
+  ErrorLine reply;
   reply.text("err ").text(error_code_name(code)).text(" ").text(message);
   ++errors_;
   send(reply);
 }
 
 void Console::send_usage(const Command& command) {
-  Reply reply;
+  ErrorLine reply;
   reply.text("err ").text(error_code_name(ErrorCode::wrong_arity)).text(" usage: ");
   reply.text(command.name);
   if (command.usage[0] != '\0') {
@@ -250,7 +250,7 @@ void Console::start_listing(Listing listing) {
 
 void Console::continue_listing() {
   while (listing_ != Listing::none && out_.free_space() >= max_reply + 2u) {
-    Reply line;
+    ReplyLine line;
     if (listing_ == Listing::help) {
       // listing_index_ counts help lines over the whole table, then the target's command.
       std::size_t index = listing_index_;
@@ -317,7 +317,7 @@ void Console::note_trials() {
   }
   trial_seen_ = trial.number;
   trials_.push(trial);
-  Reply line;
+  ReplyLine line;
   line.text("# done").pair_u("trial", trial.number).pair_s("path", drive::path_name(trial.path));
   // Announced like a reply (never dropped): a host waits for it.
   const std::size_t typed = echo_ ? editor_.pending_length() : 0u;
@@ -349,7 +349,7 @@ bool due(std::uint32_t now_us, std::uint32_t period_us, std::uint32_t& next_us) 
 void Console::emit_streams(std::uint32_t now_us) {
   if (stream_odom_ && due(now_us, odom_period_us_, odom_next_us_)) {
     const drive::Pose pose = loop_.pose();
-    Reply line;
+    ReplyLine line;
     line.text("# odom")
         .pair_u("t_ms", drive::divide_u64(clock_us_, 1000u))
         .pair("x_mm", pose.x_m * 1000.0f, kPoseDecimals)
@@ -359,7 +359,7 @@ void Console::emit_streams(std::uint32_t now_us) {
   }
   if (stream_ticks_ && due(now_us, ticks_period_us_, ticks_next_us_)) {
     const drive::WheelCounts counts = loop_.wheel_counts();
-    Reply line;
+    ReplyLine line;
     line.text("# ticks")
         .pair_u("t_ms", drive::divide_u64(counts.t_us, 1000u))
         .pair_i("count_l", counts.left)
@@ -378,7 +378,7 @@ bool Console::number_arg(const Token& token, float lo, float hi, float& value) {
   // The typed decimal against the printed bounds, exactly: `set v_max_mps 0.001` is the minimum
   // although the table's float is 0.0010000000475, and 2.0000001 is above 2 though not as a float.
   if (compare(typed, lo, decimals) < 0 || compare(typed, hi, decimals) > 0) {
-    Reply reply;
+    ErrorLine reply;
     reply.text("err ").text(error_code_name(ErrorCode::out_of_range)).text(" allowed");
     reply.pair("min", lo, decimals).pair("max", hi, decimals);
     ++errors_;
@@ -395,7 +395,7 @@ bool Console::config_accepted(const drive::ConfigCheck& check) {
     return true;
   }
   if (check.error == drive::ConfigError::out_of_range) {
-    Reply reply;
+    ErrorLine reply;
     reply.text("err ").text(error_code_name(ErrorCode::rejected)).text(" drive refused ");
     reply.text(drive::config_fields[check.field].name).text(" (outside its range)");
     ++errors_;

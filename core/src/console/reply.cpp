@@ -51,22 +51,22 @@ const char* error_code_name(ErrorCode code) {
 }
 
 Reply& Reply::bytes(const char* s, std::size_t n) {
-  if (n > max_reply - length_) {
-    n = max_reply - length_;
+  if (n > capacity_ - length_) {
+    n = capacity_ - length_;
   }
-  std::memcpy(buffer_.data() + length_, s, n);
+  std::memcpy(buffer_ + length_, s, n);
   length_ += n;
   return *this;
 }
 
 Reply& Reply::number(float value, int decimals) {
-  length_ += format_fixed(value, decimals, buffer_.data() + length_, max_reply - length_);
+  length_ += format_fixed(value, decimals, buffer_ + length_, capacity_ - length_);
   return *this;
 }
 
 Reply& Reply::pair_u(const char* k, std::uint64_t value) {
   key(k);
-  length_ += format_unsigned(value, buffer_.data() + length_, max_reply - length_);
+  length_ += format_unsigned(value, buffer_ + length_, capacity_ - length_);
   return *this;
 }
 
@@ -76,10 +76,10 @@ Reply& Reply::pair_i(const char* k, std::int64_t value) {
     text("-");
     // Negate in unsigned arithmetic: correct for INT64_MIN too.
     const std::uint64_t magnitude = ~static_cast<std::uint64_t>(value) + 1u;
-    length_ += format_unsigned(magnitude, buffer_.data() + length_, max_reply - length_);
+    length_ += format_unsigned(magnitude, buffer_ + length_, capacity_ - length_);
   } else {
-    length_ += format_unsigned(static_cast<std::uint64_t>(value), buffer_.data() + length_,
-                               max_reply - length_);
+    length_ +=
+        format_unsigned(static_cast<std::uint64_t>(value), buffer_ + length_, capacity_ - length_);
   }
   return *this;
 }

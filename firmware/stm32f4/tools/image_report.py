@@ -9,7 +9,8 @@ Stack frames come from each function's prologue in the linked image (push / vpus
 the same figure -fstack-usage reports for our own functions, and it also covers libgcc/libm/libc.
 The call graph comes from bl / b.w; indirect calls are resolved by a table below (virtual HAL
 calls -> every `do_*` override; function-pointer handlers -> the handlers the image installs).
-Exit status 1 when the worst case exceeds the reserved stack.
+The console's command table (pointers to member functions) is resolved to every `Console::cmd_*`
+handler. Exit status 1 when the worst case exceeds the reserved stack.
 """
 
 import argparse
@@ -219,6 +220,20 @@ def main():
         for prefix, pattern in HANDLER_TARGETS.items():
             if d.startswith(prefix):
                 return [n for n in functions if re.search(pattern, names[n])]
+        streams = [n for n in virtual
+                   if re.search(r"do_read\(unsigned char|do_write|do_enter|do_exit", names[n])]
+        if d.startswith("odocal::console::Console::cmd_"):
+            return streams  # a handler writes replies; it dispatches nothing
+        if (d.startswith("odocal::console::Console::") or
+                d.startswith("odocal::firmware::(anonymous namespace)::run")):
+            # The console dispatches through its command table (pointers to member functions;
+            # with LTO the dispatch may be inlined into the main loop): any handler, and the
+            # stream virtuals.
+            return [n for n in functions if re.search(r"Console::cmd_", names[n])] + streams
+        wrapper = re.match(r"odocal::hal::\w+::(\w+)\(", d)
+        if wrapper and not wrapper.group(1).startswith("do_"):
+            # A HAL interface's public method calls its own virtual: X::foo -> *::do_foo.
+            return [n for n in virtual if re.search(rf"::do_{wrapper.group(1)}\(", names[n])]
         for prefix, pattern in VIRTUAL_BY_CALLER:
             if d.startswith(prefix):
                 return [n for n in virtual if re.search(pattern, names[n])]

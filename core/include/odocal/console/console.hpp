@@ -188,6 +188,10 @@ class Console {
   void apply_host_factors(const Token* words, std::size_t count, std::size_t first,
                           const params::ParamId* ids, std::size_t id_count,
                           params::FactorMethod method);
+  /// The `ok` line of apply_host_factors; its own frame (not inlined), so that the reply line is
+  /// not on the stack while the arguments are checked (docs/performance.md, worst-case stack).
+  [[gnu::noinline]] void send_factors_applied(const params::ParamId* ids, std::size_t id_count,
+                                              params::FactorMethod method);
 
   hal::ByteStream& stream_;
   drive::ControlLoop& loop_;

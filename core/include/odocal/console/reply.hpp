@@ -43,10 +43,17 @@ enum class ErrorCode : std::uint8_t {
 /// Longest output line, bytes (status with a target's own pairs).
 inline constexpr std::size_t max_reply = 560u;
 
-/// One output line: text and ` key=value` pairs appended in order; whatever does not fit in
-/// `max_reply` bytes is cut off. No heap.
+/// Longest error line, bytes: "err <code> <message>" (the longest message is ~150 bytes).
+inline constexpr std::size_t max_error = 224u;
+
+/// Writes one output line: text and ` key=value` pairs appended in order into storage lent by a
+/// `ReplyLine` / `ErrorLine`; whatever does not fit is cut off. No heap. Not copyable (it points
+/// into its line's storage).
 class Reply {
  public:
+  Reply(const Reply&) = delete;
+  Reply& operator=(const Reply&) = delete;
+
   Reply& text(const char* s) { return bytes(s, std::strlen(s)); }
   Reply& bytes(const char* s, std::size_t n);
   /// " k=" (the value follows).
@@ -59,10 +66,10 @@ class Reply {
   /// Lets `fill(out, capacity)` write into the free space; keeps the printable ASCII prefix.
   template <typename Fill>
   Reply& append_with(Fill fill) {
-    char* out = buffer_.data() + length_;
-    std::size_t n = fill(out, max_reply - length_);
-    if (n > max_reply - length_) {
-      n = max_reply - length_;
+    char* out = buffer_ + length_;
+    std::size_t n = fill(out, capacity_ - length_);
+    if (n > capacity_ - length_) {
+      n = capacity_ - length_;
     }
     std::size_t printable = 0u;
     while (printable < n && out[printable] >= 0x20 && out[printable] < 0x7f) {
@@ -71,12 +78,32 @@ class Reply {
     length_ += printable;
     return *this;
   }
-  [[nodiscard]] const char* data() const { return buffer_.data(); }
+  [[nodiscard]] const char* data() const { return buffer_; }
   [[nodiscard]] std::size_t size() const { return length_; }
 
+ protected:
+  Reply(char* buffer, std::size_t capacity) : buffer_(buffer), capacity_(capacity) {}
+  ~Reply() = default;
+
  private:
-  std::array<char, max_reply> buffer_{};
+  char* buffer_;
+  std::size_t capacity_;
   std::size_t length_ = 0u;
 };
+
+/// A line of `Capacity` bytes to write a reply into (on the stack: the storage is not cleared).
+template <std::size_t Capacity>
+class LineOf final : public Reply {
+ public:
+  LineOf() : Reply(storage_, Capacity) {}
+
+ private:
+  char storage_[Capacity];
+};
+/// Any reply line, `status` included.
+using ReplyLine = LineOf<max_reply>;
+/// An `err <code> <message>` line: a smaller frame for the helpers that refuse a command from
+/// inside a handler (the handler's own ReplyLine is on the stack already).
+using ErrorLine = LineOf<max_error>;
 
 }  // namespace odocal::console

@@ -50,11 +50,7 @@ void Console::cmd_drive(const Token* words, std::size_t count) {
   std::uint32_t ms = 0u;
   if (count == 4u) {
     float parsed = 0.0f;
-    if (!number_arg(words[3], 0.0f, 600000.0f, parsed)) {
-      return;
-    }
-    if (!drive::is_whole(parsed)) {
-      send_error(ErrorCode::bad_number, "ms must be a whole number");
+    if (!number_arg(words[3], 0.0f, 600000.0f, parsed, "ms must be a whole number")) {
       return;
     }
     ms = static_cast<std::uint32_t>(parsed);

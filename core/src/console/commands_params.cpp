@@ -36,11 +36,8 @@ void Console::cmd_set(const Token* words, std::size_t) {
   const params::ParamInfo& info = params::param_info(id);
   // number_arg accepts the bounds as `params` prints them and keeps the value inside the table's.
   float stored = 0.0f;
-  if (!number_arg(words[2], info.min, info.max, stored)) {
-    return;
-  }
-  if (info.integer && !drive::is_whole(stored)) {
-    send_error(ErrorCode::bad_number, "a whole number is required");
+  if (!number_arg(words[2], info.min, info.max, stored,
+                  info.integer ? "a whole number is required" : nullptr)) {
     return;
   }
   if (path_running(loop_.status())) {

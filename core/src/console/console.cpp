@@ -368,7 +368,8 @@ void Console::emit_streams(std::uint32_t now_us) {
   }
 }
 
-bool Console::number_arg(const Token& token, float lo, float hi, float& value) {
+bool Console::number_arg(const Token& token, float lo, float hi, float& value,
+                         const char* not_whole) {
   constexpr int decimals = 6;  // bounds as `params` and the refusal print them
   Decimal typed;
   if (!parse_decimal(token, typed)) {
@@ -383,6 +384,11 @@ bool Console::number_arg(const Token& token, float lo, float hi, float& value) {
     reply.pair("min", lo, decimals).pair("max", hi, decimals);
     ++errors_;
     send(reply);
+    return false;
+  }
+  // Whole as typed: 1440.0000001 is not, although its nearest float is 1440.
+  if (not_whole != nullptr && !is_whole(typed)) {
+    send_error(ErrorCode::bad_number, not_whole);
     return false;
   }
   const float parsed = to_float(typed);

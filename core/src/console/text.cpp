@@ -123,6 +123,7 @@ bool parse_decimal(const Token& token, Decimal& value) {
   int digits = 0;
   bool point = false;
   bool inexact = false;
+  bool fraction_dropped = false;
   for (; p != end; ++p) {
     if (is_digit(*p)) {
       ++digits;
@@ -133,6 +134,7 @@ bool parse_decimal(const Token& token, Decimal& value) {
         }
       } else {
         inexact = inexact || *p != '0';
+        fraction_dropped = fraction_dropped || (point && *p != '0');
         if (!point) {
           ++exponent10;  // a dropped integer digit still scales the value
         }
@@ -181,8 +183,25 @@ bool parse_decimal(const Token& token, Decimal& value) {
   } else {
     exponent10 = 0;
   }
-  value = Decimal{mantissa, exponent10, negative, inexact};
+  value = Decimal{mantissa, exponent10, negative, inexact, fraction_dropped};
   return true;
+}
+
+bool is_whole(const Decimal& value) {
+  if (value.fraction_dropped) {
+    return false;  // a nonzero digit after the point beyond the 9 kept
+  }
+  if (value.mantissa == 0u || value.exp10 >= 0) {
+    return true;
+  }
+  if (value.exp10 < -9) {
+    return false;  // mantissa < 10^9: a nonzero fraction
+  }
+  std::uint32_t divisor = 1u;
+  for (int i = 0; i < -value.exp10; ++i) {
+    divisor *= 10u;
+  }
+  return value.mantissa % divisor == 0u;
 }
 
 float to_float(const Decimal& decimal) {

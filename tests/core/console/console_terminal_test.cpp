@@ -122,6 +122,11 @@ TEST(ConsoleTerminal, TheDocumentedBoundsOfEveryParameterAreAccepted) {
   EXPECT_EQ(rig->reply("set w_max_radps 0.01"), "ok w_max_radps=0.010000");
   EXPECT_EQ(test::error_code(rig->reply("set v_max_mps 0.000999")), "out_of_range");
   EXPECT_EQ(test::error_code(rig->reply("set c_l 2.0000001")), "out_of_range");
+  // Whole numbers are judged as typed: 32.0000001 is no whole number, although the float
+  // nearest to it is 32.
+  EXPECT_EQ(test::error_code(rig->reply("set max_illegal 32.0000001")), "bad_number");
+  EXPECT_EQ(rig->reply("set max_illegal 32.000"), "ok max_illegal=32.000000");
+  EXPECT_EQ(test::error_code(rig->reply("drive 0.1 0 100.00001")), "bad_number");
 }
 
 TEST(ConsoleTerminal, HelpListsTheTrialAndLateralCommands) {

@@ -153,6 +153,26 @@ TEST(CompareDecimal, ComparesTheTypedDigitsWithTheBoundAsPrinted) {
   EXPECT_EQ(compare_text("100000000000000000001e-20", 1.0f), 1);
 }
 
+TEST(CompareDecimal, WholeAsTyped) {
+  const auto whole = [](const char* typed) {
+    Decimal d;
+    EXPECT_TRUE(parse_decimal(tok(typed), d)) << typed;
+    return is_whole(d);
+  };
+  EXPECT_TRUE(whole("1440"));
+  EXPECT_TRUE(whole("1440.000"));
+  EXPECT_TRUE(whole("1.44e3"));
+  EXPECT_TRUE(whole("0"));
+  EXPECT_TRUE(whole("-0.0"));
+  EXPECT_TRUE(whole("12345678901234"));  // digits dropped before the point are whole
+  EXPECT_FALSE(whole("1440.5"));
+  EXPECT_FALSE(whole("1440.0000001"));          // its nearest float is 1440, but typed it is not
+  EXPECT_FALSE(whole("123456789.5"));           // the fraction is beyond the 9 kept digits
+  EXPECT_FALSE(whole("1440.000000000000001"));  // far beyond
+  EXPECT_FALSE(whole("1e-12"));
+  EXPECT_FALSE(whole("1.5e0"));
+}
+
 TEST(ParseUnsigned, DigitsOnlyAndBounded) {
   std::uint32_t v = 0;
   ASSERT_TRUE(parse_unsigned(tok("0"), v));

@@ -146,8 +146,10 @@ class Console {
   void send_error(ErrorCode code, const char* message);
   void send_usage(const Command& command);
   void send_newline();
-  /// Parses `token` into [lo, hi]; sends the error and returns false otherwise.
-  bool number_arg(const Token& token, float lo, float hi, float& value);
+  /// Parses `token` into [lo, hi] (and, with `not_whole` set, requires a whole number as typed,
+  /// sending `not_whole` otherwise); sends the error and returns false when refused.
+  bool number_arg(const Token& token, float lo, float hi, float& value,
+                  const char* not_whole = nullptr);
   /// Sends the reason a configuration was refused; @return check.ok().
   bool config_accepted(const drive::ConfigCheck& check);
   [[nodiscard]] bool path_running(const drive::LoopStatus& status) const;

@@ -23,8 +23,11 @@ struct Decimal {
   int exp10 = 0;
   bool negative = false;
   bool inexact = false;  ///< nonzero digits beyond the 9 kept (the value is a little larger)
+  bool fraction_dropped = false;  ///< some of those were after the point
 };
 
+/// True when the typed decimal is a whole number (its digits after the point, all of them, are 0).
+[[nodiscard]] bool is_whole(const Decimal& value);
 /// Parses a whole token with the grammar of `parse_number`, keeping the decimal digits.
 [[nodiscard]] bool parse_decimal(const Token& token, Decimal& value);
 /// The float nearest `value` or one unit of its last bit away (see parse_number).

@@ -2,12 +2,13 @@
 
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 #include <utility>
+
+#include <fmt/format.h>
 
 #include "odocal/host/calib_json.hpp"
 #include "odocal/host/csv.hpp"
@@ -85,9 +86,7 @@ bool fail(std::string& error, const std::string& source, const std::string& key,
 }
 
 std::string mm(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g mm", value);
-  return buffer;
+  return fmt::format("{:.6g} mm", value);
 }
 
 // Ranges a robot file must keep so that the simulated firmware can run every procedure on it.

@@ -32,7 +32,8 @@ void BM_BootstrapReference_B10000_m20_u20(benchmark::State& state) {
   std::vector<UnknownRow> unknowns;
   paper_scale(training, unknowns);
   for (auto _ : state) {
-    benchmark::DoNotOptimize(odocal::test::reference_bootstrap(training, unknowns, 10000, 42, 0.95));
+    benchmark::DoNotOptimize(
+        odocal::test::reference_bootstrap(training, unknowns, 10000, 42, 0.95));
     benchmark::ClobberMemory();
   }
   state.SetLabel("plain reference: heap, QR refit per replicate, sort");

@@ -2,20 +2,14 @@
 
 #include <cmath>
 
+#include "norm.hpp"
+
 namespace odocal::calib {
 namespace {
 
 template <typename Real>
 bool positive(Real v) {
   return std::isfinite(v) && v > 0;
-}
-
-/// |(x, y)|: float without libm's hypotf (stop points are far from overflow).
-float norm_of(float x, float y) {
-  return std::sqrt(x * x + y * y);
-}
-double norm_of(double x, double y) {
-  return std::hypot(x, y);
 }
 
 }  // namespace

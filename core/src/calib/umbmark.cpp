@@ -4,6 +4,7 @@
 #include <initializer_list>
 #include <limits>
 
+#include "norm.hpp"
 #include "odocal/drive/bounded_trig.hpp"
 
 namespace odocal::calib {
@@ -23,19 +24,6 @@ double sin_of(double a) {
 }
 double cos_of(double a) {
   return std::cos(a);
-}
-float root_of(float v) {
-  return std::sqrt(v);
-}
-double root_of(double v) {
-  return std::sqrt(v);
-}
-/// |(x, y)|: float without libm's hypotf (magnitudes here are far from overflow).
-float norm_of(float x, float y) {
-  return std::sqrt(x * x + y * y);
-}
-double norm_of(double x, double y) {
-  return std::hypot(x, y);
 }
 
 template <typename Real>
@@ -375,9 +363,9 @@ UmbmarkStatus solve_umbmark(const UmbmarkInputOf<Real>& input, UmbmarkResultOf<R
   // Scatter: radial deviation of each run from its own direction's centre, pooled over both
   // directions (two centres estimated). SEM of a centre = σ/√n, with the smaller n (section 6.3).
   const std::size_t runs = input.cw_count + input.ccw_count;
-  out.sigma_mm = root_of((cw.scatter_sq + ccw.scatter_sq) / static_cast<Real>(runs - 2));
+  out.sigma_mm = std::sqrt((cw.scatter_sq + ccw.scatter_sq) / static_cast<Real>(runs - 2));
   const std::size_t n = input.cw_count < input.ccw_count ? input.cw_count : input.ccw_count;
-  out.sem_mm = out.sigma_mm / root_of(static_cast<Real>(n));
+  out.sem_mm = out.sigma_mm / std::sqrt(static_cast<Real>(n));
   // 3·SEM rule; no error at all needs no pass even when the runs have no scatter.
   out.second_pass_recommended = out.e_max_syst_mm > 0 && out.e_max_syst_mm >= 3 * out.sem_mm;
   result = out;

@@ -6,7 +6,6 @@
 #include "odocal/console/console.hpp"
 #include "odocal/drive/diff_drive_kinematics.hpp"
 #include "odocal/drive/motion_executor.hpp"
-#include "odocal/drive/numeric.hpp"
 
 namespace odocal::console {
 namespace {

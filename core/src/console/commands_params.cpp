@@ -3,7 +3,6 @@
 #include <cmath>
 
 #include "odocal/console/console.hpp"
-#include "odocal/drive/numeric.hpp"
 
 namespace odocal::console {
 namespace {

@@ -21,6 +21,15 @@ float power_of_ten(int n) {
   return result * small[n];
 }
 
+/// Number of decimal digits of a nonzero value.
+int decimal_digits(std::uint32_t value) {
+  int digits = 0;
+  for (; value != 0u; value /= 10u) {
+    ++digits;
+  }
+  return digits;
+}
+
 /// Decimal powers for the division-free conversion of 64-bit integers.
 constexpr std::uint64_t kPowers[20] = {10000000000000000000ull,
                                        1000000000000000000ull,
@@ -173,11 +182,7 @@ bool parse_decimal(const Token& token, Decimal& value) {
     exponent10 += exponent_negative ? -written : written;
   }
   if (mantissa != 0u) {
-    int places = 0;  // decimal digits of the mantissa
-    for (std::uint32_t m = mantissa; m != 0u; m /= 10u) {
-      ++places;
-    }
-    if (places - 1 + exponent10 > 308) {
+    if (decimal_digits(mantissa) - 1 + exponent10 > 308) {
       return false;  // not a finite number in any usual reading (a double overflows too)
     }
   } else {
@@ -209,11 +214,8 @@ float to_float(const Decimal& decimal) {
   const int exponent10 = decimal.exp10;
   float result = 0.0f;
   if (mantissa != 0u) {
-    int places = 0;
-    for (std::uint32_t m = mantissa; m != 0u; m /= 10u) {
-      ++places;
-    }
-    const int magnitude = places - 1 + exponent10;  // value = d.ddd × 10^magnitude
+    const int magnitude =
+        decimal_digits(mantissa) - 1 + exponent10;  // value = d.ddd × 10^magnitude
     if (magnitude > 38) {
       // Finite as written but beyond float: the largest float, so that range checks name it as
       // out of range rather than as not a number.

@@ -247,7 +247,7 @@ int run(const Options& options, const LinuxConfig& config) {
     return kExitSetup;
   }
   robot.enable.set(true);
-  if (!robot.encoders->realtime() || config.tick_priority == 0) {
+  if (!robot.encoders->realtime() || !robot.tick->stats().realtime || config.tick_priority == 0) {
     std::fprintf(stderr, "odocal-linux: threads not on SCHED_FIFO (%s); see `status`\n",
                  config.tick_priority == 0 ? "priority 0 configured"
                                            : "needs root, CAP_SYS_NICE or an rtprio limit");

@@ -87,6 +87,11 @@ std::uint32_t TimerfdTick::do_start(std::uint32_t rate_hz, TickHandler handler, 
   rate_hz_.store(static_cast<std::uint32_t>(1000000000u / period_ns), std::memory_order_relaxed);
   reason_ready_.store(false, std::memory_order_relaxed);
   thread_ = std::thread([this, period_ns, first_ns] { run(period_ns, first_ns); });
+  // Whether the thread got SCHED_FIFO is known before start returns, so `status` and the
+  // start-up warning never report a thread that has not tried yet.
+  while (!reason_ready_.load(std::memory_order_acquire)) {
+    std::this_thread::yield();
+  }
   return rate_hz_.load(std::memory_order_relaxed);
 }
 

@@ -512,6 +512,10 @@ int main() {
   Robot robot;
   const SetupResult opened = open_robot(robot);
   check(opened.ok(), "robot wiring", opened.ok() ? "all lines requested" : opened.message);
+  // Read at once: `start` returns only when the threads know whether they got SCHED_FIFO, so a
+  // `status` right after start-up never reports a thread that has not tried yet (root here).
+  check(opened.ok() && robot.tick->stats().realtime && robot.encoders->realtime(),
+        "realtime known at start", opened.ok() ? robot.tick->realtime_reason() : "not opened");
   if (opened.ok() && generator.valid()) {
     check_tick(robot);
     check_counting(robot, generator);

@@ -8,12 +8,8 @@
 
 namespace odocal::console {
 
-void Console::cmd_help(const Token*, std::size_t) {
-  start_listing(Listing::help);
-}
-
-void Console::cmd_version(const Token*, std::size_t) {
-  ReplyLine reply;
+void Console::cmd_version() {
+  ReplyLine reply(out_);
   reply.text("ok")
       .pair_s("name", "odocal")
       .pair_s("version", project_version)
@@ -22,10 +18,10 @@ void Console::cmd_version(const Token*, std::size_t) {
   send(reply);
 }
 
-void Console::cmd_status(const Token*, std::size_t) {
+void Console::cmd_status() {
   constexpr int decimals = 3;
   const drive::LoopStatus status = loop_.status();
-  ReplyLine reply;
+  ReplyLine reply(out_);
   reply.text("ok").pair_s("mode", drive::mode_name(status.mode));
   reply.pair_s("path", drive::path_name(status.path)).pair_u("segment", status.segment);
   reply.key("faults");
@@ -65,20 +61,20 @@ void Console::cmd_status(const Token*, std::size_t) {
   send(reply);
 }
 
-void Console::cmd_echo(const Token* words, std::size_t) {
+void Console::cmd_echo(const Token* words) {
   if (!words[1].is("on") && !words[1].is("off")) {
-    send_error(ErrorCode::bad_argument, "usage: echo on|off");
+    send_usage(ErrorCode::bad_argument);
     return;
   }
   echo_ = words[1].is("on");
   options_.echo = echo_ ? EchoMode::on : EchoMode::off;
-  ReplyLine reply;
+  ReplyLine reply(out_);
   reply.text("ok").pair_s("echo", echo_ ? "on" : "off");
   send(reply);
 }
 
 void Console::cmd_extra(const Token* words, std::size_t count) {
-  ReplyLine reply;
+  ReplyLine reply(out_);
   options_.extra.handler(options_.extra.context, words, count, reply);
   if (reply.size() >= 3u && std::strncmp(reply.data(), "err", 3u) == 0) {
     ++errors_;

@@ -2,7 +2,6 @@
 // lateral (Maddahi eq. 4-5).
 
 #include "odocal/console/console.hpp"
-#include "odocal/drive/numeric.hpp"
 
 namespace odocal::console {
 namespace {
@@ -131,7 +130,7 @@ void Console::cmd_lateral_add(const Token* words) {
   }
   // The stop point belongs to the latest trial, which must be a straight line not used yet:
   // its left-wheel counts give θ_L (eq. 4).
-  const drive::TrialRecord* trial = trials_.latest();
+  const KeptTrial* trial = trials_.latest();
   if (trial == nullptr || trial->path != drive::PathId::line) {
     send_error(ErrorCode::no_trial, "the latest trial is no line (run line <m> first)");
     return;
@@ -141,7 +140,7 @@ void Console::cmd_lateral_add(const Token* words) {
     return;
   }
   const float counts_per_rev = settings_.get(params::ParamId::counts_per_rev);
-  const float theta_l = kTwoPi * drive::to_float(trial->count_l) / counts_per_rev;
+  const float theta_l = kTwoPi * static_cast<float>(trial->count_l) / counts_per_rev;
   const calib::LateralSession::AddStatus added =
       lateral_.add(calib::LateralSession::Stop{x, y}, trial->length_m * 1000.0f, theta_l);
   switch (added) {

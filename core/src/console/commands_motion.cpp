@@ -155,7 +155,7 @@ void Console::cmd_stream(const Token* words) {
 }
 
 void Console::cmd_trial(const Token* words, std::size_t count) {
-  const drive::TrialRecord* trial = nullptr;
+  const KeptTrial* trial = nullptr;
   if (count == 2u) {
     std::uint32_t number = 0u;
     if (!parse_unsigned(words[1], number)) {
@@ -180,7 +180,7 @@ void Console::cmd_trial(const Token* words, std::size_t count) {
   send(reply);
 }
 
-void Console::trial_pairs(Reply& reply, const drive::TrialRecord& trial) {
+void Console::trial_pairs(Reply& reply, const KeptTrial& trial) {
   reply.pair_s("path", drive::path_name(trial.path))
       .pair_u("duration_ms", trial.duration_ms)
       .pair_i("count_l", trial.count_l)

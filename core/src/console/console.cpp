@@ -340,7 +340,7 @@ void Console::continue_listing() {
           .pair_u("unsaved", settings_.unsaved() ? 1u : 0u);
     } else {
       if (listing_index_ < trials_.size()) {
-        const drive::TrialRecord& trial = trials_.at(listing_index_++);
+        const KeptTrial& trial = trials_.at(listing_index_++);
         line.text("# trial ");
         char digits[12];
         line.bytes(digits, format_unsigned(trial.number, digits, sizeof digits));

@@ -3,7 +3,7 @@
 /// The robot's serial console: byte I/O, line editing, and a command table that dispatches each
 /// line to its handler (docs/console.md). The parameters in force live in `Settings`; the
 /// on-robot calibrations in calib::UmbmarkSession and calib::LateralSession; trials in
-/// drive::TrialLog. The handlers are grouped by area in console/commands_*.cpp.
+/// KeptTrials. The handlers are grouped by area in console/commands_*.cpp.
 
 #include <array>
 #include <atomic>
@@ -12,6 +12,7 @@
 
 #include "odocal/calib/lateral_session.hpp"
 #include "odocal/calib/umbmark_session.hpp"
+#include "odocal/console/kept_trials.hpp"
 #include "odocal/console/line_editor.hpp"
 #include "odocal/console/output_queue.hpp"
 #include "odocal/console/reply.hpp"
@@ -223,7 +224,7 @@ class Console {
   void cmd_trial(const Token* words, std::size_t count);
   void cmd_trials(std::size_t count);
   /// ` path=.. duration_ms=.. count_l=.. count_r=.. x_mm=.. y_mm=.. theta_deg=..`
-  static void trial_pairs(Reply& reply, const drive::TrialRecord& trial);
+  static void trial_pairs(Reply& reply, const KeptTrial& trial);
   // commands_calib.cpp
   void cmd_umbmark_clear();
   void cmd_umbmark_add(const Token* words);
@@ -263,7 +264,7 @@ class Console {
 
   calib::UmbmarkSession umbmark_;
   calib::LateralSession lateral_;
-  drive::TrialLog trials_;
+  KeptTrials trials_;
   std::uint32_t trial_seen_ = 0u;    ///< number of the last trial announced
   std::uint32_t lateral_used_ = 0u;  ///< number of the last trial `lateral add` took
 

@@ -72,7 +72,7 @@ void Console::poll(std::uint32_t now_us) {
   last_now_us_ = now_us;
 
   // Pull what the stream has into the ring (as much as the ring takes).
-  std::array<std::uint8_t, 64> chunk{};
+  std::array<std::uint8_t, 16> chunk{};  // small: the main loop's stack
   for (;;) {
     const std::size_t room = rx_.free_space();
     if (room == 0u) {
@@ -331,7 +331,7 @@ void Console::continue_listing() {
         line.pair_s("unit", info.unit)
             .pair("min", info.min, decimals)
             .pair("max", info.max, decimals)
-            .pair("default", settings_.defaults().get(id), decimals);
+            .pair("default", settings_.default_value(id), decimals);
         send(line);
         continue;
       }

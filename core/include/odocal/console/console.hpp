@@ -92,7 +92,8 @@ class Console {
   /// Loads the saved parameters (keeping the defaults when there are none, or they cannot be
   /// used) and configures the loop with them; queues the banner. Main loop, once, before `poll`.
   /// @return what the store said.
-  params::StoreResult start(std::uint32_t now_us);
+  /// Out of line: its parameter set stays off the main loop's frame.
+  [[gnu::noinline]] params::StoreResult start(std::uint32_t now_us);
 
   /// Hands one received byte to the console. ISR-safe (single producer: one ISR or one reader
   /// thread). @return false when the RX ring is full (byte dropped and counted).
@@ -208,16 +209,18 @@ class Console {
   void cmd_status();
   void cmd_echo(const Token* words);
   void cmd_extra(const Token* words, std::size_t count);
-  // commands_params.cpp
+  // commands_params.cpp. [[gnu::noinline]]: handlers with a big frame (a parameter set, a drive
+  // configuration, the UMBmark solver) stay out of the dispatch's frame, which every command's
+  // path (`load` and the store's the deepest) shares (worst-case stack, docs/stm32f4.md).
   void cmd_get(const Token* words);
-  void cmd_set(const Token* words);
+  [[gnu::noinline]] void cmd_set(const Token* words);
   void cmd_save();
   void cmd_load();
   void cmd_defaults();
   void cmd_provenance();
   // commands_motion.cpp
   void cmd_odom(std::size_t count);
-  void cmd_drive(const Token* words, std::size_t count);
+  [[gnu::noinline]] void cmd_drive(const Token* words, std::size_t count);
   void cmd_stop();
   void cmd_run(const Token* words);
   void cmd_stream(const Token* words);
@@ -229,7 +232,7 @@ class Console {
   void cmd_umbmark_clear();
   void cmd_umbmark_add(const Token* words);
   void cmd_umbmark_side(const Token* words);
-  void cmd_umbmark_solve(const Token* words, std::size_t count);
+  [[gnu::noinline]] void cmd_umbmark_solve(const Token* words, std::size_t count);
   void cmd_umbmark_apply(const Token* words, std::size_t count);
   void cmd_lateral_clear();
   void cmd_lateral_add(const Token* words);

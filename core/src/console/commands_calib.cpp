@@ -239,7 +239,7 @@ bool Console::apply_factors(params::ParamSet& candidate, bool wheel, params::Fac
     return false;
   }
   if (!params::all_in_range(candidate)) {
-    send_error(ErrorCode::out_of_range, "the factors fall outside their ranges; not applied");
+    send_error(ErrorCode::out_of_range, "factors out of range; not applied");
     return false;
   }
   params::Provenance& provenance = wheel ? candidate.wheel : candidate.lateral;

@@ -16,7 +16,8 @@ namespace odocal::console {
 /// the stack) and queued by `commit`. Main-loop only.
 class OutputQueue {
  public:
-  static constexpr std::size_t capacity = 1024u;
+  /// A whole reply (max_reply, 560 B) plus room for stream lines while a command waits.
+  static constexpr std::size_t capacity = 768u;
 
   /// Appends `size` bytes, all or nothing. @return false (nothing queued) when they do not fit.
   bool push(const char* data, std::size_t size);

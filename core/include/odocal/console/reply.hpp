@@ -43,6 +43,8 @@ enum class ErrorCode : std::uint8_t {
 
 /// Longest output line, bytes (status with a target's own pairs).
 inline constexpr std::size_t max_reply = 560u;
+static_assert(OutputQueue::capacity >= max_reply + 8u + 128u,
+              "the output queue holds a whole reply, its echo and line end, and stream lines");
 
 /// Writes one output line: text and ` key=value` pairs appended in order into storage lent by a
 /// `ReplyLine`; whatever does not fit is cut off. No heap. Not copyable (it points into its

@@ -18,8 +18,8 @@ constexpr params::ParamId kLateralIds[] = {params::ParamId::f_lat, params::Param
 
 void Console::cmd_umbmark_clear() {
   umbmark_.clear();
-  ReplyLine reply(out_);
-  reply.text("ok").pair_u("cw", 0u).pair_u("ccw", 0u);
+  OkLine reply(out_);
+  reply.pair_u("cw", 0u).pair_u("ccw", 0u);
   send(reply);
 }
 
@@ -38,8 +38,8 @@ void Console::cmd_umbmark_add(const Token* words) {
     send_error(ErrorCode::umbmark_full, "16 runs per direction at most");
     return;
   }
-  ReplyLine reply(out_);
-  reply.text("ok").pair_u("cw", umbmark_.cw_count()).pair_u("ccw", umbmark_.ccw_count());
+  OkLine reply(out_);
+  reply.pair_u("cw", umbmark_.cw_count()).pair_u("ccw", umbmark_.ccw_count());
   send(reply);
 }
 
@@ -49,8 +49,8 @@ void Console::cmd_umbmark_side(const Token* words) {
     return;
   }
   umbmark_.set_side_mm(side_m * 1000.0f);
-  ReplyLine reply(out_);
-  reply.text("ok").pair("side_mm", umbmark_.side_mm(), kLengthDecimals);
+  OkLine reply(out_);
+  reply.pair("side_mm", umbmark_.side_mm(), kLengthDecimals);
   send(reply);
 }
 
@@ -67,9 +67,8 @@ void Console::cmd_umbmark_solve(const Token* words, std::size_t count) {
     return;
   }
   const calib::UmbmarkSession::Result& result = umbmark_.result();
-  ReplyLine reply(out_);
-  reply.text("ok")
-      .pair("e_d", result.e_d, kFactorDecimals)
+  OkLine reply(out_);
+  reply.pair("e_d", result.e_d, kFactorDecimals)
       .pair("e_b", result.e_b, kFactorDecimals)
       .pair("c_l", result.c_l, kFactorDecimals)
       .pair("c_r", result.c_r, kFactorDecimals)
@@ -117,8 +116,8 @@ void Console::cmd_umbmark_apply(const Token* words, std::size_t count) {
 
 void Console::cmd_lateral_clear() {
   lateral_.clear();
-  ReplyLine reply(out_);
-  reply.text("ok").pair_u("lateral", 0u);
+  OkLine reply(out_);
+  reply.pair_u("lateral", 0u);
   send(reply);
 }
 
@@ -157,9 +156,8 @@ void Console::cmd_lateral_add(const Token* words) {
       return;
   }
   lateral_used_ = trial->number;
-  ReplyLine reply(out_);
-  reply.text("ok")
-      .pair_u("lateral", lateral_.count())
+  OkLine reply(out_);
+  reply.pair_u("lateral", lateral_.count())
       .pair_u("trial", trial->number)
       .pair("length_mm", lateral_.length_mm(), kLengthDecimals)
       .pair("theta_l_rad", theta_l, kFactorDecimals);
@@ -177,9 +175,8 @@ void Console::cmd_lateral_solve() {
     return;
   }
   const calib::LateralSession::Result& result = lateral_.result();
-  ReplyLine reply(out_);
-  reply.text("ok")
-      .pair("f_lat", result.f_lat, kFactorDecimals)
+  OkLine reply(out_);
+  reply.pair("f_lat", result.f_lat, kFactorDecimals)
       .pair("f_lon", result.f_lon, kFactorDecimals)
       .pair("theta_l_rad", result.theta_l_rad, kFactorDecimals)
       .pair("length_mm", lateral_.length_mm(), kLengthDecimals)
@@ -253,8 +250,7 @@ bool Console::apply_factors(params::ParamSet& candidate, bool wheel, params::Fac
 void Console::send_factors_applied(const params::ParamId* ids, std::size_t id_count,
                                    params::FactorMethod method, bool runs) {
   const params::ParamSet& values = settings_.values();
-  ReplyLine reply(out_);
-  reply.text("ok");
+  OkLine reply(out_);
   for (std::size_t i = 0; i < id_count; ++i) {
     reply.pair(params::param_info(ids[i]).name, values.get(ids[i]), kFactorDecimals);
   }

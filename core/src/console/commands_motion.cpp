@@ -29,8 +29,7 @@ void Console::cmd_odom(std::size_t count) {
     }
     loop_.reset_pose();
   }
-  ReplyLine reply(out_);
-  reply.text("ok");
+  OkLine reply(out_);
   pose_pairs(reply, loop_.pose());
   send(reply);
 }
@@ -57,11 +56,8 @@ void Console::cmd_drive(const Token* words, std::size_t count) {
     return;
   }
   note_pending(Pending::drive);
-  ReplyLine reply(out_);
-  reply.text("ok")
-      .pair("v_mps", v, kPoseDecimals)
-      .pair("w_radps", w, kPoseDecimals)
-      .pair_u("ms", ms);
+  OkLine reply(out_);
+  reply.pair("v_mps", v, kPoseDecimals).pair("w_radps", w, kPoseDecimals).pair_u("ms", ms);
   // The loop scales both wheel set-points down to max_wheel_radps, keeping the curvature: say so,
   // with the twist that will really be driven.
   const drive::DriveConfig config = params::to_drive_config(settings_.values());
@@ -80,8 +76,8 @@ void Console::cmd_drive(const Token* words, std::size_t count) {
 void Console::cmd_stop() {
   loop_.stop();
   note_pending(Pending::stop);
-  ReplyLine reply(out_);
-  reply.text("ok").pair_s("mode", "idle");
+  OkLine reply(out_);
+  reply.pair_s("mode", "idle");
   send(reply);
 }
 
@@ -114,8 +110,8 @@ void Console::cmd_run(const Token* words) {
   if (square) {
     umbmark_.note_driven_side_mm(length_m * 1000.0f);
   }
-  ReplyLine reply(out_);
-  reply.text("ok").pair_s("path", drive::path_name(path.id)).pair_u("segments", path.count);
+  OkLine reply(out_);
+  reply.pair_s("path", drive::path_name(path.id)).pair_u("segments", path.count);
   if (!unseen) {
     reply.pair("length_m", length_m, kPoseDecimals);
   }
@@ -129,8 +125,8 @@ void Console::cmd_stream(const Token* words) {
   if (!odom && !ticks) {
     stream_odom_ = false;
     stream_ticks_ = false;
-    ReplyLine reply(out_);
-    reply.text("ok").pair_s("stream", "off");
+    OkLine reply(out_);
+    reply.pair_s("stream", "off");
     send(reply);
     return;
   }
@@ -174,8 +170,8 @@ void Console::cmd_trial(const Token* words, std::size_t count) {
       return;
     }
   }
-  ReplyLine reply(out_);
-  reply.text("ok").pair_u("trial", trial->number);
+  OkLine reply(out_);
+  reply.pair_u("trial", trial->number);
   trial_pairs(reply, *trial);
   send(reply);
 }
@@ -191,8 +187,8 @@ void Console::trial_pairs(Reply& reply, const KeptTrial& trial) {
 void Console::cmd_trials(std::size_t count) {
   if (count == 2u) {  // trials clear
     trials_.clear();
-    ReplyLine reply(out_);
-    reply.text("ok").pair_u("trials", 0u);
+    OkLine reply(out_);
+    reply.pair_u("trials", 0u);
     send(reply);
     return;
   }

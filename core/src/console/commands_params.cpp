@@ -17,8 +17,8 @@ void Console::cmd_get(const Token* words) {
     send_error(ErrorCode::unknown_parameter, "no such parameter (see params)");
     return;
   }
-  ReplyLine reply(out_);
-  reply.text("ok").pair(params::param_info(id).name, settings_.get(id), kParamDecimals);
+  OkLine reply(out_);
+  reply.pair(params::param_info(id).name, settings_.get(id), kParamDecimals);
   send(reply);
 }
 
@@ -41,8 +41,8 @@ void Console::cmd_set(const Token* words) {
   if (!config_accepted(settings_.set(id, stored))) {
     return;
   }
-  ReplyLine reply(out_);
-  reply.text("ok").pair(info.name, stored, kParamDecimals);
+  OkLine reply(out_);
+  reply.pair(info.name, stored, kParamDecimals);
   send(reply);
 }
 
@@ -53,9 +53,8 @@ void Console::cmd_save() {
     send_error(ErrorCode::store_error, params::to_string(result));
     return;
   }
-  ReplyLine reply(out_);
-  reply.text("ok")
-      .pair_u("sequence", info.record.sequence)
+  OkLine reply(out_);
+  reply.pair_u("sequence", info.record.sequence)
       .pair_u("sector", info.sector)
       .pair_u("slot", info.slot);
   send(reply);
@@ -98,9 +97,8 @@ void Console::cmd_load() {
   if (!config_accepted(load.check)) {
     return;
   }
-  ReplyLine reply(out_);
-  reply.text("ok")
-      .pair_u("sequence", load.info.record.sequence)
+  OkLine reply(out_);
+  reply.pair_u("sequence", load.info.record.sequence)
       .pair_u("version", load.info.record.version)
       .pair_u("migrated", load.info.record.migrated ? 1u : 0u);
   send(reply);
@@ -110,16 +108,15 @@ void Console::cmd_defaults() {
   if (!config_accepted(settings_.restore_defaults())) {
     return;
   }
-  ReplyLine reply(out_);
-  reply.text("ok").pair_u("params", params::param_count).pair_u("unsaved", 1u);
+  OkLine reply(out_);
+  reply.pair_u("params", params::param_count).pair_u("unsaved", 1u);
   send(reply);
 }
 
 void Console::cmd_provenance() {
   const params::ParamSet& values = settings_.values();
-  ReplyLine reply(out_);
-  reply.text("ok")
-      .pair_s("wheel_method", params::method_name(values.wheel.method))
+  OkLine reply(out_);
+  reply.pair_s("wheel_method", params::method_name(values.wheel.method))
       .pair_u("wheel_runs", values.wheel.runs)
       .pair_u("wheel_date", values.wheel.date_unix_s)
       .pair("wheel_e_max_syst_mm", values.wheel.quality_mm, 3)

@@ -9,9 +9,8 @@
 namespace odocal::console {
 
 void Console::cmd_version() {
-  ReplyLine reply(out_);
-  reply.text("ok")
-      .pair_s("name", "odocal")
+  OkLine reply(out_);
+  reply.pair_s("name", "odocal")
       .pair_s("version", project_version)
       .pair_u("protocol", protocol_version)
       .pair_u("record_format", params::record_format_version);
@@ -21,8 +20,8 @@ void Console::cmd_version() {
 void Console::cmd_status() {
   constexpr int decimals = 3;
   const drive::LoopStatus status = loop_.status();
-  ReplyLine reply(out_);
-  reply.text("ok").pair_s("mode", drive::mode_name(status.mode));
+  OkLine reply(out_);
+  reply.pair_s("mode", drive::mode_name(status.mode));
   reply.pair_s("path", drive::path_name(status.path)).pair_u("segment", status.segment);
   reply.key("faults");
   if (status.faults == drive::fault_none) {
@@ -68,8 +67,8 @@ void Console::cmd_echo(const Token* words) {
   }
   echo_ = words[1].is("on");
   options_.echo = echo_ ? EchoMode::on : EchoMode::off;
-  ReplyLine reply(out_);
-  reply.text("ok").pair_s("echo", echo_ ? "on" : "off");
+  OkLine reply(out_);
+  reply.pair_s("echo", echo_ ? "on" : "off");
   send(reply);
 }
 

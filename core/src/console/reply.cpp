@@ -50,6 +50,10 @@ const char* error_code_name(ErrorCode code) {
   return "unknown";
 }
 
+OkLine::OkLine(OutputQueue& queue) : ReplyLine(queue) {
+  text("ok");
+}
+
 Reply& Reply::bytes(const char* s, std::size_t n) {
   if (n > capacity_ - length_) {
     n = capacity_ - length_;

@@ -94,12 +94,18 @@ class Reply {
 /// A line written in place into the free space of an output queue (at most `max_reply` bytes,
 /// leaving room for the line end): nothing is queued until the console sends it. One at a time
 /// per queue (they would share the space); nothing else may be pushed while it is being written.
-class ReplyLine final : public Reply {
+class ReplyLine : public Reply {
  public:
   explicit ReplyLine(OutputQueue& queue)
       : Reply(queue.tail(), queue.free_space() < max_reply + 2u
                                 ? (queue.free_space() < 2u ? 0u : queue.free_space() - 2u)
                                 : max_reply) {}
+};
+
+/// A ReplyLine that starts with "ok" (the pairs follow).
+class OkLine final : public ReplyLine {
+ public:
+  explicit OkLine(OutputQueue& queue);
 };
 
 }  // namespace odocal::console

@@ -98,14 +98,11 @@ void Console::cmd_umbmark_apply(const Token* words, std::size_t count) {
   current.c_r = settings_.get(params::ParamId::c_r);
   current.wheelbase_mm = settings_.get(params::ParamId::wheelbase_mm);
   const calib::UmbmarkSession::Factors next = umbmark_.next_factors(current);
-  params::ParamSet candidate = settings_.values();
-  candidate.set(params::ParamId::c_l, next.c_l);
-  candidate.set(params::ParamId::c_r, next.c_r);
-  candidate.set(params::ParamId::wheelbase_mm, next.wheelbase_mm);
+  const float values[] = {next.c_l, next.c_r, next.wheelbase_mm};
   const calib::UmbmarkSession::Result& result = umbmark_.result();
   const params::FactorMethod method =
       result.exact ? params::FactorMethod::umbmark_exact : params::FactorMethod::umbmark;
-  if (!apply_factors(candidate, true, method,
+  if (!apply_factors(kWheelIds, values, 3u, method,
                      static_cast<std::uint16_t>(umbmark_.cw_count() + umbmark_.ccw_count()), date,
                      static_cast<float>(result.e_max_syst_mm))) {
     return;
@@ -195,10 +192,9 @@ void Console::cmd_lateral_apply(const Token* words, std::size_t count) {
     return;
   }
   const calib::LateralSession::Result& result = lateral_.result();
-  params::ParamSet candidate = settings_.values();
-  candidate.set(params::ParamId::f_lat, candidate.get(params::ParamId::f_lat) * result.f_lat);
-  candidate.set(params::ParamId::f_lon, candidate.get(params::ParamId::f_lon) * result.f_lon);
-  if (!apply_factors(candidate, false, params::FactorMethod::maddahi,
+  const float values[] = {settings_.get(params::ParamId::f_lat) * result.f_lat,
+                          settings_.get(params::ParamId::f_lon) * result.f_lon};
+  if (!apply_factors(kLateralIds, values, 2u, params::FactorMethod::maddahi,
                      static_cast<std::uint16_t>(lateral_.count()), date, 0.0f)) {
     return;
   }
@@ -210,14 +206,12 @@ void Console::cmd_host_factors(bool fit, const Token* words, std::size_t count) 
   // Every value is checked against its parameter's range before anything changes.
   const params::ParamId* ids = fit ? kWheelIds : kLateralIds;
   const std::size_t id_count = fit ? 3u : 2u;
-  params::ParamSet candidate = settings_.values();
+  float values[3] = {};
   for (std::size_t i = 0; i < id_count; ++i) {
     const params::ParamInfo& info = params::param_info(ids[i]);
-    float value = 0.0f;
-    if (!number_arg(words[2u + i], info.min, info.max, value)) {
+    if (!number_arg(words[2u + i], info.min, info.max, values[i])) {
       return;
     }
-    candidate.set(ids[i], value);
   }
   std::uint32_t date = 0u;
   if (!date_arg(words, count, 2u + id_count, date)) {
@@ -225,16 +219,22 @@ void Console::cmd_host_factors(bool fit, const Token* words, std::size_t count) 
   }
   const params::FactorMethod method =
       fit ? params::FactorMethod::fit : params::FactorMethod::bootstrap;
-  if (apply_factors(candidate, fit, method, 0u, date, 0.0f)) {
+  if (apply_factors(ids, values, id_count, method, 0u, date, 0.0f)) {
     send_factors_applied(ids, id_count, method, false);
   }
 }
 
-bool Console::apply_factors(params::ParamSet& candidate, bool wheel, params::FactorMethod method,
-                            std::uint16_t runs, std::uint32_t date, float quality_mm) {
+bool Console::apply_factors(const params::ParamId* ids, const float* values, std::size_t count,
+                            params::FactorMethod method, std::uint16_t runs, std::uint32_t date,
+                            float quality_mm) {
   if (refuse_busy(false)) {
     return false;
   }
+  params::ParamSet candidate = settings_.values();
+  for (std::size_t i = 0; i < count; ++i) {
+    candidate.set(ids[i], values[i]);
+  }
+  const bool wheel = ids == kWheelIds;
   if (!params::all_in_range(candidate)) {
     send_error(ErrorCode::out_of_range, "factors out of range; not applied");
     return false;

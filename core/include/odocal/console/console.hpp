@@ -241,10 +241,12 @@ class Console {
   /// `fit apply` (`fit`) / `lateral set`: puts host-computed factors in force with their
   /// provenance. Main loop.
   void cmd_host_factors(bool fit, const Token* words, std::size_t count);
-  /// Puts `candidate` in force with the provenance of `wheel` or lateral factors when it is in
-  /// range, the robot is still and the drive accepts it; sends the refusal otherwise.
-  bool apply_factors(params::ParamSet& candidate, bool wheel, params::FactorMethod method,
-                     std::uint16_t runs, std::uint32_t date, float quality_mm);
+  /// Puts the factors `ids` (the wheel or the lateral group) = `values` in force with their
+  /// provenance when the robot is still, they are in range and the drive accepts them; sends the
+  /// refusal otherwise. Out of line: the candidate parameter set is on its frame only.
+  [[gnu::noinline]] bool apply_factors(const params::ParamId* ids, const float* values,
+                                       std::size_t count, params::FactorMethod method,
+                                       std::uint16_t runs, std::uint32_t date, float quality_mm);
   /// The `ok` line after factors were applied: the factors `ids` in force, then `method`.
   void send_factors_applied(const params::ParamId* ids, std::size_t id_count,
                             params::FactorMethod method, bool runs);

@@ -68,26 +68,17 @@ void Console::cmd_load() {
   }
   if (load.store == params::StoreResult::corrupt) {
     // Nothing loaded and nothing erased: the damaged image stays until the next `save`.
-    ReplyLine reply(out_);
-    reply.text("err ").text(error_code_name(ErrorCode::store_corrupt));
-    reply.text(" every stored record is damaged (");
-    char digits[8];
-    reply.bytes(digits, format_unsigned(load.info.damaged, digits, sizeof digits));
+    ErrLine reply(out_, ErrorCode::store_corrupt);
+    reply.text("every stored record is damaged (").unsigned_number(load.info.damaged);
     reply.text(" slots); nothing changed, save writes a new one");
-    ++errors_;
-    send(reply);
+    send_refusal(reply);
     return;
   }
   if (load.store == params::StoreResult::newer_version) {
-    ReplyLine reply(out_);
-    reply.text("err ").text(error_code_name(ErrorCode::store_version));
-    reply.text(" record format ");
-    char digits[8];
-    reply.bytes(digits, format_unsigned(load.info.record.version, digits, sizeof digits));
-    reply.text(" is newer than this firmware's ");
-    reply.bytes(digits, format_unsigned(params::record_format_version, digits, sizeof digits));
-    ++errors_;
-    send(reply);
+    ErrLine reply(out_, ErrorCode::store_version);
+    reply.text("record format ").unsigned_number(load.info.record.version);
+    reply.text(" is newer than this firmware's ").unsigned_number(params::record_format_version);
+    send_refusal(reply);
     return;
   }
   if (load.store != params::StoreResult::ok) {

@@ -1,8 +1,6 @@
 // Console commands about the console and the firmware: help, version, status, echo, and the
 // target's own command.
 
-#include <cstring>
-
 #include "odocal/console/console.hpp"
 #include "odocal/console/version.hpp"
 
@@ -75,7 +73,8 @@ void Console::cmd_echo(const Token* words) {
 void Console::cmd_extra(const Token* words, std::size_t count) {
   ReplyLine reply(out_);
   options_.extra.handler(options_.extra.context, words, count, reply);
-  if (reply.size() >= 3u && std::strncmp(reply.data(), "err", 3u) == 0) {
+  const char* text = reply.data();
+  if (reply.size() >= 3u && text[0] == 'e' && text[1] == 'r' && text[2] == 'r') {
     ++errors_;
   }
   send(reply);

@@ -177,21 +177,24 @@ void Console::send_async(Reply& line, std::size_t mark, std::size_t typed) {
   send_over_typing(line, typed);
 }
 
-void Console::send_error(ErrorCode code, const char* message) {
-  ReplyLine reply(out_);
-  reply.text("err ").text(error_code_name(code)).text(" ").text(message);
+void Console::send_refusal(Reply& reply) {
   ++errors_;
   send(reply);
 }
 
+void Console::send_error(ErrorCode code, const char* message) {
+  ErrLine reply(out_, code);
+  reply.text(message);
+  send_refusal(reply);
+}
+
 void Console::send_usage(ErrorCode code, const Form* first, const Form* last) {
-  ReplyLine reply(out_);
-  reply.text("err ").text(error_code_name(code)).text(" usage: ");
+  ErrLine reply(out_, code);
+  reply.text("usage: ");
   for (const Form* form = first; form != last; ++form) {
     reply.text(form == first ? "" : " | ").text(form->synopsis);
   }
-  ++errors_;
-  send(reply);
+  send_refusal(reply);
 }
 
 void Console::handle_event(LineEvent event) {
@@ -341,9 +344,7 @@ void Console::continue_listing() {
     } else {
       if (listing_index_ < trials_.size()) {
         const KeptTrial& trial = trials_.at(listing_index_++);
-        line.text("# trial ");
-        char digits[12];
-        line.bytes(digits, format_unsigned(trial.number, digits, sizeof digits));
+        line.text("# trial ").unsigned_number(trial.number);
         trial_pairs(line, trial);
         send(line);
         continue;
@@ -422,11 +423,9 @@ bool Console::number_arg(const Token& token, float lo, float hi, float& value,
   // The typed decimal against the printed bounds, exactly: `set v_max_mps 0.001` is the minimum
   // although the table's float is 0.0010000000475, and 2.0000001 is above 2 though not as a float.
   if (compare(typed, lo, decimals) < 0 || compare(typed, hi, decimals) > 0) {
-    ReplyLine reply(out_);
-    reply.text("err ").text(error_code_name(ErrorCode::out_of_range)).text(" allowed");
-    reply.pair("min", lo, decimals).pair("max", hi, decimals);
-    ++errors_;
-    send(reply);
+    ErrLine reply(out_, ErrorCode::out_of_range);
+    reply.text("allowed").pair("min", lo, decimals).pair("max", hi, decimals);
+    send_refusal(reply);
     return false;
   }
   // Whole as typed: 1440.0000001 is not, although its nearest float is 1440.
@@ -444,11 +443,10 @@ bool Console::config_accepted(const drive::ConfigCheck& check) {
     return true;
   }
   if (check.error == drive::ConfigError::out_of_range) {
-    ReplyLine reply(out_);
-    reply.text("err ").text(error_code_name(ErrorCode::rejected)).text(" drive refused ");
-    reply.text(drive::config_fields[check.field].name).text(" (outside its range)");
-    ++errors_;
-    send(reply);
+    ErrLine reply(out_, ErrorCode::rejected);
+    reply.text("drive refused ").text(drive::config_fields[check.field].name);
+    reply.text(" (outside its range)");
+    send_refusal(reply);
   } else {
     send_error(ErrorCode::rejected,
                "drive refused the values (wheelbase_mm > wheel_diameter_mm/4)");

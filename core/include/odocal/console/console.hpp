@@ -183,6 +183,8 @@ class Console {
   /// The same for a stream line, dropped (and counted, the queue cut back to `mark`) when a reply
   /// would no longer fit.
   void send_async(Reply& line, std::size_t mark, std::size_t typed);
+  /// Sends an `err` line (counted in `errors`).
+  void send_refusal(Reply& reply);
   void send_error(ErrorCode code, const char* message);
   /// `err <code> usage: <synopsis> | ...` quoting the forms [first, last).
   void send_usage(ErrorCode code, const Form* first, const Form* last);

@@ -60,7 +60,9 @@ class Reply {
   Reply& key(const char* k) { return text(" ").text(k).text("="); }
   Reply& number(float value, int decimals);
   Reply& pair(const char* k, float value, int decimals) { return key(k).number(value, decimals); }
-  Reply& pair_u(const char* k, std::uint64_t value);
+  /// A whole number, in decimal digits.
+  Reply& unsigned_number(std::uint64_t value);
+  Reply& pair_u(const char* k, std::uint64_t value) { return key(k).unsigned_number(value); }
   Reply& pair_i(const char* k, std::int64_t value);
   Reply& pair_s(const char* k, const char* value) { return key(k).text(value); }
   /// Lets `fill(out, capacity)` write into the free space; keeps the printable ASCII prefix.
@@ -100,6 +102,12 @@ class ReplyLine : public Reply {
       : Reply(queue.tail(), queue.free_space() < max_reply + 2u
                                 ? (queue.free_space() < 2u ? 0u : queue.free_space() - 2u)
                                 : max_reply) {}
+};
+
+/// A ReplyLine that starts with "err <code> " (the message follows).
+class ErrLine final : public ReplyLine {
+ public:
+  ErrLine(OutputQueue& queue, ErrorCode code);
 };
 
 /// A ReplyLine that starts with "ok" (the pairs follow).

@@ -21,21 +21,15 @@ Reply& pose_pairs(Reply& reply, const drive::Pose& pose) {
 
 }  // namespace
 
-void Console::cmd_odom(const Token* words, std::size_t count) {
-  if (count == 2u) {
-    if (!words[1].is("reset")) {
-      send_error(ErrorCode::bad_argument, "usage: odom [reset]");
-      return;
-    }
-    if (path_running(loop_.status())) {
-      // The path's segments end on odometry: zeroing it mid-path would stretch the segment.
-      send_error(ErrorCode::busy, "a path is running; stop first");
+void Console::cmd_odom(std::size_t count) {
+  if (count == 2u) {  // odom reset
+    // The path's segments end on odometry: zeroing it mid-path would stretch the segment.
+    if (refuse_busy(true)) {
       return;
     }
     loop_.reset_pose();
   }
-  ReplyLine reply;
-  reply.text("ok");
+  OkLine reply(out_);
   pose_pairs(reply, loop_.pose());
   send(reply);
 }
@@ -62,11 +56,8 @@ void Console::cmd_drive(const Token* words, std::size_t count) {
     return;
   }
   note_pending(Pending::drive);
-  ReplyLine reply;
-  reply.text("ok")
-      .pair("v_mps", v, kPoseDecimals)
-      .pair("w_radps", w, kPoseDecimals)
-      .pair_u("ms", ms);
+  OkLine reply(out_);
+  reply.pair("v_mps", v, kPoseDecimals).pair("w_radps", w, kPoseDecimals).pair_u("ms", ms);
   // The loop scales both wheel set-points down to max_wheel_radps, keeping the curvature: say so,
   // with the twist that will really be driven.
   const drive::DriveConfig config = params::to_drive_config(settings_.values());
@@ -82,33 +73,25 @@ void Console::cmd_drive(const Token* words, std::size_t count) {
   send(reply);
 }
 
-void Console::cmd_stop(const Token*, std::size_t) {
+void Console::cmd_stop() {
   loop_.stop();
   note_pending(Pending::stop);
-  ReplyLine reply;
-  reply.text("ok").pair_s("mode", "idle");
+  OkLine reply(out_);
+  reply.pair_s("mode", "idle");
   send(reply);
 }
 
-void Console::cmd_run(const Token* words, std::size_t count) {
+void Console::cmd_run(const Token* words) {
+  // The table matched the path's name and the word count.
   const Token& name = words[1];
-  const bool square = name.is("umbmark-cw") || name.is("umbmark-ccw");
   const bool line = name.is("line");
   const bool unseen = name.is("unseen");
-  if (!square && !line && !unseen) {
-    send_error(ErrorCode::bad_argument, "unknown path (umbmark-cw umbmark-ccw line unseen)");
-    return;
-  }
-  if (count != (unseen ? 2u : 3u)) {
-    send_error(ErrorCode::wrong_arity, unseen ? "usage: run unseen" : "usage: run <path> <m>");
-    return;
-  }
+  const bool square = !line && !unseen;
   float length_m = 0.0f;
   if (!unseen && !number_arg(words[2], 0.01f, 20.0f, length_m)) {
     return;
   }
-  if (path_running(loop_.status())) {
-    send_error(ErrorCode::busy, "a path is running; stop first");
+  if (refuse_busy(true)) {
     return;
   }
   drive::Path path;
@@ -127,30 +110,23 @@ void Console::cmd_run(const Token* words, std::size_t count) {
   if (square) {
     umbmark_.note_driven_side_mm(length_m * 1000.0f);
   }
-  ReplyLine reply;
-  reply.text("ok").pair_s("path", drive::path_name(path.id)).pair_u("segments", path.count);
+  OkLine reply(out_);
+  reply.pair_s("path", drive::path_name(path.id)).pair_u("segments", path.count);
   if (!unseen) {
     reply.pair("length_m", length_m, kPoseDecimals);
   }
   send(reply);
 }
 
-void Console::cmd_stream(const Token* words, std::size_t count) {
+void Console::cmd_stream(const Token* words) {
+  // The table matched odom, ticks or off and the word count.
   const bool odom = words[1].is("odom");
   const bool ticks = words[1].is("ticks");
-  if (!odom && !ticks && !words[1].is("off")) {
-    send_error(ErrorCode::bad_argument, "usage: stream odom <hz> | stream ticks <hz> | stream off");
-    return;
-  }
-  if (count != (odom || ticks ? 3u : 2u)) {
-    send_error(ErrorCode::wrong_arity, "usage: stream odom <hz> | stream ticks <hz> | stream off");
-    return;
-  }
-  ReplyLine reply;
   if (!odom && !ticks) {
     stream_odom_ = false;
     stream_ticks_ = false;
-    reply.text("ok").pair_s("stream", "off");
+    OkLine reply(out_);
+    reply.pair_s("stream", "off");
     send(reply);
     return;
   }
@@ -159,6 +135,7 @@ void Console::cmd_stream(const Token* words, std::size_t count) {
   if (!number_arg(words[2], 0.1f, ticks ? 1000.0f : 100.0f, hz)) {
     return;
   }
+  ReplyLine reply(out_);
   const auto period_us = static_cast<std::uint32_t>(1.0e6f / hz + 0.5f);
   if (odom) {
     stream_odom_ = true;
@@ -174,7 +151,7 @@ void Console::cmd_stream(const Token* words, std::size_t count) {
 }
 
 void Console::cmd_trial(const Token* words, std::size_t count) {
-  const drive::TrialRecord* trial = nullptr;
+  const KeptTrial* trial = nullptr;
   if (count == 2u) {
     std::uint32_t number = 0u;
     if (!parse_unsigned(words[1], number)) {
@@ -193,13 +170,13 @@ void Console::cmd_trial(const Token* words, std::size_t count) {
       return;
     }
   }
-  ReplyLine reply;
-  reply.text("ok").pair_u("trial", trial->number);
+  OkLine reply(out_);
+  reply.pair_u("trial", trial->number);
   trial_pairs(reply, *trial);
   send(reply);
 }
 
-void Console::trial_pairs(Reply& reply, const drive::TrialRecord& trial) {
+void Console::trial_pairs(Reply& reply, const KeptTrial& trial) {
   reply.pair_s("path", drive::path_name(trial.path))
       .pair_u("duration_ms", trial.duration_ms)
       .pair_i("count_l", trial.count_l)
@@ -207,15 +184,11 @@ void Console::trial_pairs(Reply& reply, const drive::TrialRecord& trial) {
   pose_pairs(reply, trial.end);
 }
 
-void Console::cmd_trials(const Token* words, std::size_t count) {
-  if (count == 2u) {
-    if (!words[1].is("clear")) {
-      send_error(ErrorCode::bad_argument, "usage: trials [clear]");
-      return;
-    }
+void Console::cmd_trials(std::size_t count) {
+  if (count == 2u) {  // trials clear
     trials_.clear();
-    ReplyLine reply;
-    reply.text("ok").pair_u("trials", 0u);
+    OkLine reply(out_);
+    reply.pair_u("trials", 0u);
     send(reply);
     return;
   }

@@ -11,22 +11,18 @@ constexpr int kParamDecimals = 6;
 
 }  // namespace
 
-void Console::cmd_params(const Token*, std::size_t) {
-  start_listing(Listing::params);
-}
-
-void Console::cmd_get(const Token* words, std::size_t) {
+void Console::cmd_get(const Token* words) {
   params::ParamId id{};
   if (!params::find_param(words[1].text, words[1].length, id)) {
     send_error(ErrorCode::unknown_parameter, "no such parameter (see params)");
     return;
   }
-  ReplyLine reply;
-  reply.text("ok").pair(params::param_info(id).name, settings_.get(id), kParamDecimals);
+  OkLine reply(out_);
+  reply.pair(params::param_info(id).name, settings_.get(id), kParamDecimals);
   send(reply);
 }
 
-void Console::cmd_set(const Token* words, std::size_t) {
+void Console::cmd_set(const Token* words) {
   params::ParamId id{};
   if (!params::find_param(words[1].text, words[1].length, id)) {
     send_error(ErrorCode::unknown_parameter, "no such parameter (see params)");
@@ -39,34 +35,32 @@ void Console::cmd_set(const Token* words, std::size_t) {
                   info.integer ? "a whole number is required" : nullptr)) {
     return;
   }
-  if (path_running(loop_.status())) {
-    send_error(ErrorCode::busy, "a path is running; stop first");
+  if (refuse_busy(true)) {
     return;
   }
   if (!config_accepted(settings_.set(id, stored))) {
     return;
   }
-  ReplyLine reply;
-  reply.text("ok").pair(info.name, stored, kParamDecimals);
+  OkLine reply(out_);
+  reply.pair(info.name, stored, kParamDecimals);
   send(reply);
 }
 
-void Console::cmd_save(const Token*, std::size_t) {
+void Console::cmd_save() {
   params::StoreInfo info;
   const params::StoreResult result = settings_.save(info);
   if (result != params::StoreResult::ok) {
     send_error(ErrorCode::store_error, params::to_string(result));
     return;
   }
-  ReplyLine reply;
-  reply.text("ok")
-      .pair_u("sequence", info.record.sequence)
+  OkLine reply(out_);
+  reply.pair_u("sequence", info.record.sequence)
       .pair_u("sector", info.sector)
       .pair_u("slot", info.slot);
   send(reply);
 }
 
-void Console::cmd_load(const Token*, std::size_t) {
+void Console::cmd_load() {
   const Settings::Load load = settings_.load();
   if (load.store == params::StoreResult::empty) {
     send_error(ErrorCode::store_empty, params::to_string(load.store));
@@ -74,26 +68,17 @@ void Console::cmd_load(const Token*, std::size_t) {
   }
   if (load.store == params::StoreResult::corrupt) {
     // Nothing loaded and nothing erased: the damaged image stays until the next `save`.
-    ReplyLine reply;
-    reply.text("err ").text(error_code_name(ErrorCode::store_corrupt));
-    reply.text(" every stored record is damaged (");
-    char digits[8];
-    reply.bytes(digits, format_unsigned(load.info.damaged, digits, sizeof digits));
-    reply.text(" slots); the values in force are unchanged, save writes a new record");
-    ++errors_;
-    send(reply);
+    ErrLine reply(out_, ErrorCode::store_corrupt);
+    reply.text("every stored record is damaged (").unsigned_number(load.info.damaged);
+    reply.text(" slots); nothing changed, save writes a new one");
+    send_refusal(reply);
     return;
   }
   if (load.store == params::StoreResult::newer_version) {
-    ReplyLine reply;
-    reply.text("err ").text(error_code_name(ErrorCode::store_version));
-    reply.text(" record format ");
-    char digits[8];
-    reply.bytes(digits, format_unsigned(load.info.record.version, digits, sizeof digits));
-    reply.text(" is newer than this firmware's ");
-    reply.bytes(digits, format_unsigned(params::record_format_version, digits, sizeof digits));
-    ++errors_;
-    send(reply);
+    ErrLine reply(out_, ErrorCode::store_version);
+    reply.text("record format ").unsigned_number(load.info.record.version);
+    reply.text(" is newer than this firmware's ").unsigned_number(params::record_format_version);
+    send_refusal(reply);
     return;
   }
   if (load.store != params::StoreResult::ok) {
@@ -103,28 +88,26 @@ void Console::cmd_load(const Token*, std::size_t) {
   if (!config_accepted(load.check)) {
     return;
   }
-  ReplyLine reply;
-  reply.text("ok")
-      .pair_u("sequence", load.info.record.sequence)
+  OkLine reply(out_);
+  reply.pair_u("sequence", load.info.record.sequence)
       .pair_u("version", load.info.record.version)
       .pair_u("migrated", load.info.record.migrated ? 1u : 0u);
   send(reply);
 }
 
-void Console::cmd_defaults(const Token*, std::size_t) {
+void Console::cmd_defaults() {
   if (!config_accepted(settings_.restore_defaults())) {
     return;
   }
-  ReplyLine reply;
-  reply.text("ok").pair_u("params", params::param_count).pair_u("unsaved", 1u);
+  OkLine reply(out_);
+  reply.pair_u("params", params::param_count).pair_u("unsaved", 1u);
   send(reply);
 }
 
-void Console::cmd_provenance(const Token*, std::size_t) {
+void Console::cmd_provenance() {
   const params::ParamSet& values = settings_.values();
-  ReplyLine reply;
-  reply.text("ok")
-      .pair_s("wheel_method", params::method_name(values.wheel.method))
+  OkLine reply(out_);
+  reply.pair_s("wheel_method", params::method_name(values.wheel.method))
       .pair_u("wheel_runs", values.wheel.runs)
       .pair_u("wheel_date", values.wheel.date_unix_s)
       .pair("wheel_e_max_syst_mm", values.wheel.quality_mm, 3)

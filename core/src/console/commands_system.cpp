@@ -1,32 +1,25 @@
 // Console commands about the console and the firmware: help, version, status, echo, and the
 // target's own command.
 
-#include <cstring>
-
 #include "odocal/console/console.hpp"
 #include "odocal/console/version.hpp"
 
 namespace odocal::console {
 
-void Console::cmd_help(const Token*, std::size_t) {
-  start_listing(Listing::help);
-}
-
-void Console::cmd_version(const Token*, std::size_t) {
-  ReplyLine reply;
-  reply.text("ok")
-      .pair_s("name", "odocal")
+void Console::cmd_version() {
+  OkLine reply(out_);
+  reply.pair_s("name", "odocal")
       .pair_s("version", project_version)
       .pair_u("protocol", protocol_version)
       .pair_u("record_format", params::record_format_version);
   send(reply);
 }
 
-void Console::cmd_status(const Token*, std::size_t) {
+void Console::cmd_status() {
   constexpr int decimals = 3;
   const drive::LoopStatus status = loop_.status();
-  ReplyLine reply;
-  reply.text("ok").pair_s("mode", drive::mode_name(status.mode));
+  OkLine reply(out_);
+  reply.pair_s("mode", drive::mode_name(status.mode));
   reply.pair_s("path", drive::path_name(status.path)).pair_u("segment", status.segment);
   reply.key("faults");
   if (status.faults == drive::fault_none) {
@@ -65,22 +58,23 @@ void Console::cmd_status(const Token*, std::size_t) {
   send(reply);
 }
 
-void Console::cmd_echo(const Token* words, std::size_t) {
+void Console::cmd_echo(const Token* words) {
   if (!words[1].is("on") && !words[1].is("off")) {
-    send_error(ErrorCode::bad_argument, "usage: echo on|off");
+    send_usage(ErrorCode::bad_argument);
     return;
   }
   echo_ = words[1].is("on");
   options_.echo = echo_ ? EchoMode::on : EchoMode::off;
-  ReplyLine reply;
-  reply.text("ok").pair_s("echo", echo_ ? "on" : "off");
+  OkLine reply(out_);
+  reply.pair_s("echo", echo_ ? "on" : "off");
   send(reply);
 }
 
 void Console::cmd_extra(const Token* words, std::size_t count) {
-  ReplyLine reply;
+  ReplyLine reply(out_);
   options_.extra.handler(options_.extra.context, words, count, reply);
-  if (reply.size() >= 3u && std::strncmp(reply.data(), "err", 3u) == 0) {
+  const char* text = reply.data();
+  if (reply.size() >= 3u && text[0] == 'e' && text[1] == 'r' && text[2] == 'r') {
     ++errors_;
   }
   send(reply);

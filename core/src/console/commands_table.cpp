@@ -1,96 +1,141 @@
-// The console's command table: names, arity, the moving guard, handlers and `help` lines.
+// The console's command table: one row per command form. A row's synopsis is what `help` prints
+// and what a wrong_arity / bad_argument refusal quotes; its first word is the command, and its
+// second word, for a row marked `sub`, the keyword that selects the form.
 
 #include "odocal/console/console.hpp"
 
 namespace odocal::console {
-namespace {
 
-// `help` lines of each command: usage, then what it does.
-constexpr const char* kHelpHelp[] = {"help: this list", nullptr};
-constexpr const char* kVersionHelp[] = {"version: firmware and protocol versions", nullptr};
-constexpr const char* kStatusHelp[] = {"status: mode path segment faults tick timing counters",
-                                       nullptr};
-constexpr const char* kParamsHelp[] = {"params: every parameter with value unit range default",
-                                       nullptr};
-constexpr const char* kGetHelp[] = {"get <name>: one parameter", nullptr};
-constexpr const char* kSetHelp[] = {
-    "set <name> <value>: change a parameter (refused while a path runs)", nullptr};
-constexpr const char* kSaveHelp[] = {"save: persist the parameters (refused while the robot moves)",
-                                     nullptr};
-constexpr const char* kLoadHelp[] = {"load: reload the saved parameters", nullptr};
-constexpr const char* kDefaultsHelp[] = {"defaults: restore every default (not saved until save)",
-                                         nullptr};
-constexpr const char* kProvenanceHelp[] = {"provenance: how the calibration factors were obtained",
-                                           nullptr};
-constexpr const char* kOdomHelp[] = {"odom: pose x_mm y_mm theta_deg",
-                                     "odom reset: set the pose to zero", nullptr};
-constexpr const char* kDriveHelp[] = {
-    "drive <v_mps> <w_radps> [ms]: drive at a twist (no ms: until cmd_timeout_ms; ms: a trial)",
-    nullptr};
-constexpr const char* kStopHelp[] = {
-    "stop: stop at once, abandon the path or trial, acknowledge faults", nullptr};
-constexpr const char* kRunHelp[] = {"run umbmark-cw <side_m>: UMBmark square, clockwise",
-                                    "run umbmark-ccw <side_m>: UMBmark square, counter-clockwise",
-                                    "run line <m>: straight calibration line",
-                                    "run unseen: Maddahi unseen path (each run is a trial)",
-                                    nullptr};
-constexpr const char* kTrialHelp[] = {
-    "trial [N]: the latest trial or trial N: duration, counts, end pose", nullptr};
-constexpr const char* kTrialsHelp[] = {"trials: every kept trial (the last 32)",
-                                       "trials clear: forget the kept trials", nullptr};
-constexpr const char* kUmbmarkHelp[] = {
-    "umbmark clear: forget the entered runs and the solution",
-    "umbmark add cw|ccw <x_mm> <y_mm>: one return error, measured minus odometry",
-    "umbmark side <side_m>: side of the square to solve with",
-    "umbmark solve [exact]: solve UMBmark from the entered runs",
-    "umbmark apply [unix_s]: apply the solved factors (not saved until save)",
-    nullptr};
-constexpr const char* kLateralHelp[] = {
-    "lateral clear: forget the entered line trials and the solution",
-    "lateral add <x_mm> <y_mm>: where the latest line trial stopped, start frame",
-    "lateral solve: F_lat and F_lon from the entered trials (Maddahi eq. 4-5)",
-    "lateral apply [unix_s]: apply the solved factors (not saved until save)",
-    "lateral set <f_lat> <f_lon> [unix_s]: put a host's bootstrap factors in force",
-    nullptr};
-constexpr const char* kFitHelp[] = {
-    "fit apply <c_l> <c_r> <wheelbase_mm> [unix_s]: put an odocal fit result in force", nullptr};
-constexpr const char* kStreamHelp[] = {"stream odom <hz>: print # odom lines at hz",
-                                       "stream ticks <hz>: print # ticks lines (cumulative counts)",
-                                       "stream off: stop streaming", nullptr};
-constexpr const char* kEchoHelp[] = {"echo on|off: echo typed characters", nullptr};
-
-}  // namespace
-
-// The command table: `help` lists it in this order; dispatch, arity and the moving guard come
-// from it. Handlers check what depends on their sub-command.
-const Console::Command Console::command_table_[] = {
-    {"help", "", kHelpHelp, 1, 1, Guard::none, &Console::cmd_help},
-    {"version", "", kVersionHelp, 1, 1, Guard::none, &Console::cmd_version},
-    {"status", "", kStatusHelp, 1, 1, Guard::none, &Console::cmd_status},
-    {"params", "", kParamsHelp, 1, 1, Guard::none, &Console::cmd_params},
-    {"get", "<name>", kGetHelp, 2, 2, Guard::none, &Console::cmd_get},
-    {"set", "<name> <value>", kSetHelp, 3, 3, Guard::none, &Console::cmd_set},
-    {"save", "", kSaveHelp, 1, 1, Guard::moving, &Console::cmd_save},
-    {"load", "", kLoadHelp, 1, 1, Guard::moving, &Console::cmd_load},
-    {"defaults", "", kDefaultsHelp, 1, 1, Guard::moving, &Console::cmd_defaults},
-    {"provenance", "", kProvenanceHelp, 1, 1, Guard::none, &Console::cmd_provenance},
-    {"odom", "[reset]", kOdomHelp, 1, 2, Guard::none, &Console::cmd_odom},
-    {"drive", "<v_mps> <w_radps> [ms]", kDriveHelp, 3, 4, Guard::none, &Console::cmd_drive},
-    {"stop", "", kStopHelp, 1, 1, Guard::none, &Console::cmd_stop},
-    {"run", "umbmark-cw|umbmark-ccw <side_m> | line <m> | unseen", kRunHelp, 2, 3, Guard::none,
-     &Console::cmd_run},
-    {"trial", "[N]", kTrialHelp, 1, 2, Guard::none, &Console::cmd_trial},
-    {"trials", "[clear]", kTrialsHelp, 1, 2, Guard::none, &Console::cmd_trials},
-    {"umbmark", "clear|add|side|solve|apply ...", kUmbmarkHelp, 2, 5, Guard::none,
-     &Console::cmd_umbmark},
-    {"lateral", "clear|add|solve|apply|set ...", kLateralHelp, 2, 5, Guard::none,
-     &Console::cmd_lateral},
-    {"fit", "apply <c_l> <c_r> <wheelbase_mm> [unix_s]", kFitHelp, 5, 6, Guard::none,
-     &Console::cmd_fit},
-    {"stream", "odom <hz> | ticks <hz> | off", kStreamHelp, 2, 3, Guard::none,
-     &Console::cmd_stream},
-    {"echo", "on|off", kEchoHelp, 2, 2, Guard::none, &Console::cmd_echo},
+// `help` lists the rows in this order; a command's rows are adjacent. Full explanations are in
+// docs/console.md (the robot keeps only the synopses).
+const Console::Form Console::form_table_[] = {
+    {"help", 1, 1, 0, Handler::help},
+    {"version", 1, 1, 0, Handler::version},
+    {"status", 1, 1, 0, Handler::status},
+    {"params", 1, 1, 0, Handler::params},
+    {"get <name>", 2, 2, 0, Handler::get},
+    {"set <name> <value>", 3, 3, 0, Handler::set},
+    {"save", 1, 1, form_moving, Handler::save},
+    {"load", 1, 1, form_moving, Handler::load},
+    {"defaults", 1, 1, form_moving, Handler::defaults},
+    {"provenance", 1, 1, 0, Handler::provenance},
+    {"odom", 1, 1, 0, Handler::odom},
+    {"odom reset", 2, 2, form_sub, Handler::odom},
+    {"drive <v_mps> <w_radps> [ms]", 3, 4, 0, Handler::drive},
+    {"stop", 1, 1, 0, Handler::stop},
+    {"run umbmark-cw <side_m>", 3, 3, form_sub, Handler::run},
+    {"run umbmark-ccw <side_m>", 3, 3, form_sub, Handler::run},
+    {"run line <m>", 3, 3, form_sub, Handler::run},
+    {"run unseen", 2, 2, form_sub, Handler::run},
+    {"trial [N]", 1, 2, 0, Handler::trial},
+    {"trials", 1, 1, 0, Handler::trials},
+    {"trials clear", 2, 2, form_sub, Handler::trials},
+    {"umbmark clear", 2, 2, form_sub, Handler::umbmark_clear},
+    {"umbmark add cw|ccw <x_mm> <y_mm>", 5, 5, form_sub, Handler::umbmark_add},
+    {"umbmark side <side_m>", 3, 3, form_sub, Handler::umbmark_side},
+    {"umbmark solve [exact]", 2, 3, form_sub, Handler::umbmark_solve},
+    {"umbmark apply [unix_s]", 2, 3, form_sub, Handler::umbmark_apply},
+    {"lateral clear", 2, 2, form_sub, Handler::lateral_clear},
+    {"lateral add <x_mm> <y_mm>", 4, 4, form_sub, Handler::lateral_add},
+    {"lateral solve", 2, 2, form_sub, Handler::lateral_solve},
+    {"lateral apply [unix_s]", 2, 3, form_sub, Handler::lateral_apply},
+    {"lateral set <f_lat> <f_lon> [unix_s]", 4, 5, form_sub, Handler::lateral_set},
+    {"fit apply <c_l> <c_r> <wheelbase_mm> [unix_s]", 5, 6, form_sub, Handler::fit_apply},
+    {"stream odom <hz>", 3, 3, form_sub, Handler::stream},
+    {"stream ticks <hz>", 3, 3, form_sub, Handler::stream},
+    {"stream off", 2, 2, form_sub, Handler::stream},
+    {"echo on|off", 2, 2, 0, Handler::echo},
 };
-const std::size_t Console::command_count_ = sizeof(Console::command_table_) / sizeof(Command);
+const std::size_t Console::form_count_ = sizeof(Console::form_table_) / sizeof(Form);
+
+void Console::dispatch(Handler handler, const Token* words, std::size_t count) {
+  switch (handler) {
+    case Handler::help:
+      start_listing(Listing::help);
+      return;
+    case Handler::version:
+      cmd_version();
+      return;
+    case Handler::status:
+      cmd_status();
+      return;
+    case Handler::params:
+      start_listing(Listing::params);
+      return;
+    case Handler::get:
+      cmd_get(words);
+      return;
+    case Handler::set:
+      cmd_set(words);
+      return;
+    case Handler::save:
+      cmd_save();
+      return;
+    case Handler::load:
+      cmd_load();
+      return;
+    case Handler::defaults:
+      cmd_defaults();
+      return;
+    case Handler::provenance:
+      cmd_provenance();
+      return;
+    case Handler::odom:
+      cmd_odom(count);
+      return;
+    case Handler::drive:
+      cmd_drive(words, count);
+      return;
+    case Handler::stop:
+      cmd_stop();
+      return;
+    case Handler::run:
+      cmd_run(words);
+      return;
+    case Handler::trial:
+      cmd_trial(words, count);
+      return;
+    case Handler::trials:
+      cmd_trials(count);
+      return;
+    case Handler::umbmark_clear:
+      cmd_umbmark_clear();
+      return;
+    case Handler::umbmark_add:
+      cmd_umbmark_add(words);
+      return;
+    case Handler::umbmark_side:
+      cmd_umbmark_side(words);
+      return;
+    case Handler::umbmark_solve:
+      cmd_umbmark_solve(words, count);
+      return;
+    case Handler::umbmark_apply:
+      cmd_umbmark_apply(words, count);
+      return;
+    case Handler::lateral_clear:
+      cmd_lateral_clear();
+      return;
+    case Handler::lateral_add:
+      cmd_lateral_add(words);
+      return;
+    case Handler::lateral_solve:
+      cmd_lateral_solve();
+      return;
+    case Handler::lateral_apply:
+      cmd_lateral_apply(words, count);
+      return;
+    case Handler::lateral_set:
+    case Handler::fit_apply:
+      cmd_host_factors(handler == Handler::fit_apply, words, count);
+      return;
+    case Handler::stream:
+      cmd_stream(words);
+      return;
+    case Handler::echo:
+      cmd_echo(words);
+      return;
+  }
+}
 
 }  // namespace odocal::console

@@ -28,7 +28,7 @@ params::StoreResult Console::start(std::uint32_t now_us) {
   const Settings::Start start = settings_.start();
   trial_seen_ = loop_.last_trial().number;
   if (options_.banner) {
-    ReplyLine banner;
+    ReplyLine banner(out_);
     banner.text("# odocal ").text(project_version).text(" console");
     if (start.used) {
       banner.pair_s("params", "loaded").pair_u("sequence", start.info.record.sequence);
@@ -72,7 +72,7 @@ void Console::poll(std::uint32_t now_us) {
   last_now_us_ = now_us;
 
   // Pull what the stream has into the ring (as much as the ring takes).
-  std::array<std::uint8_t, 64> chunk{};
+  std::array<std::uint8_t, 16> chunk{};  // small: the main loop's stack
   for (;;) {
     const std::size_t room = rx_.free_space();
     if (room == 0u) {
@@ -144,47 +144,57 @@ void Console::send_newline() {
 }
 
 void Console::send(Reply& reply) {
-  // take_input() guarantees room for max_reply + newline before a command runs.
-  if (out_.push(reply.data(), reply.size())) {
-    send_newline();
-  }
+  // The reply was written in place at the queue's tail, leaving room for the line end.
+  out_.commit(reply.size());
+  send_newline();
 }
 
-void Console::send_async(Reply& line) {
-  // A line that is not a reply: it never takes the room a reply needs (dropped and counted
-  // instead), and it never lands inside a line the user is typing: that line is cleared first
-  // and shown again after.
+std::size_t Console::clear_typing() {
+  // An asynchronous line never lands inside a line the user is typing: that line is cleared first
+  // (carriage return, erase to end of line) and shown again after.
   const std::size_t typed = echo_ ? editor_.pending_length() : 0u;
-  const std::size_t newline = options_.crlf ? 2u : 1u;
-  if (out_.free_space() < line.size() + newline + typed + 4u + max_reply + 8u) {
-    ++stream_dropped_;
-    return;
-  }
   if (typed > 0u) {
-    (void)out_.push("\r\x1b[K", 4u);  // carriage return, erase to end of line
+    (void)out_.push("\r\x1b[K", 4u);
   }
+  return typed;
+}
+
+void Console::send_over_typing(Reply& line, std::size_t typed) {
   send(line);
   if (typed > 0u) {
     (void)out_.push(editor_.pending(), typed);
   }
 }
 
-void Console::send_error(ErrorCode code, const char* message) {
-  ErrorLine reply;
-  reply.text("err ").text(error_code_name(code)).text(" ").text(message);
+void Console::send_async(Reply& line, std::size_t mark, std::size_t typed) {
+  // A line that is not a reply never takes the room a reply needs: dropped and counted instead.
+  const std::size_t newline = options_.crlf ? 2u : 1u;
+  if (out_.free_space() < line.size() + newline + typed + max_reply + 8u) {
+    out_.truncate(mark);
+    ++stream_dropped_;
+    return;
+  }
+  send_over_typing(line, typed);
+}
+
+void Console::send_refusal(Reply& reply) {
   ++errors_;
   send(reply);
 }
 
-void Console::send_usage(const Command& command) {
-  ErrorLine reply;
-  reply.text("err ").text(error_code_name(ErrorCode::wrong_arity)).text(" usage: ");
-  reply.text(command.name);
-  if (command.usage[0] != '\0') {
-    reply.text(" ").text(command.usage);
+void Console::send_error(ErrorCode code, const char* message) {
+  ErrLine reply(out_, code);
+  reply.text(message);
+  send_refusal(reply);
+}
+
+void Console::send_usage(ErrorCode code, const Form* first, const Form* last) {
+  ErrLine reply(out_, code);
+  reply.text("usage: ");
+  for (const Form* form = first; form != last; ++form) {
+    reply.text(form == first ? "" : " | ").text(form->synopsis);
   }
-  ++errors_;
-  send(reply);
+  send_refusal(reply);
 }
 
 void Console::handle_event(LineEvent event) {
@@ -204,11 +214,11 @@ void Console::handle_event(LineEvent event) {
     }
     case LineEvent::too_long:
       ++commands_;
-      send_error(ErrorCode::line_too_long, "line longer than 127 bytes refused");
+      send_error(ErrorCode::line_too_long, "line over 127 bytes");
       return;
     case LineEvent::bad_byte:
       ++commands_;
-      send_error(ErrorCode::non_ascii, "line holds a non-ASCII or control byte");
+      send_error(ErrorCode::non_ascii, "non-ASCII or control byte");
       return;
     case LineEvent::none:
     case LineEvent::empty:
@@ -217,29 +227,78 @@ void Console::handle_event(LineEvent event) {
   }
 }
 
+namespace {
+
+// Length of the word at `text` (up to a space or the end).
+std::size_t word_length(const char* text) {
+  std::size_t n = 0u;
+  while (text[n] != ' ' && text[n] != '\0') {
+    ++n;
+  }
+  return n;
+}
+
+// True when `token` is the word at `text`.
+bool is_word(const Token& token, const char* text) {
+  const std::size_t n = word_length(text);
+  return token.length == n && std::memcmp(token.text, text, n) == 0;
+}
+
+}  // namespace
+
 void Console::execute(const Token* words, std::size_t count) {
-  const Token& name = words[0];
-  for (std::size_t i = 0; i < command_count_; ++i) {
-    const Command& command = command_table_[i];
-    if (!name.is(command.name)) {
-      continue;
-    }
-    if (count < command.min_words || count > command.max_words) {
-      send_usage(command);  // also a line with more words than any command takes
+  // The command's forms are adjacent rows: [first, last).
+  const Form* const table_end = form_table_ + form_count_;
+  const Form* first = form_table_;
+  while (first != table_end && !is_word(words[0], first->synopsis)) {
+    ++first;
+  }
+  if (first == table_end) {
+    if (options_.extra.name != nullptr && words[0].is(options_.extra.name) && count <= kMaxWords) {
+      cmd_extra(words, count);
       return;
     }
-    if (command.guard == Guard::moving && moving(loop_.status())) {
-      send_error(ErrorCode::busy, "the robot is moving; stop first");
-      return;
+    send_error(ErrorCode::unknown_command, "unknown command (try help)");
+    return;
+  }
+  const Form* last = first;
+  std::size_t min_words = 255u;
+  std::size_t max_words = 0u;
+  for (; last != table_end && is_word(words[0], last->synopsis); ++last) {
+    min_words = last->min_words < min_words ? last->min_words : min_words;
+    max_words = last->max_words > max_words ? last->max_words : max_words;
+  }
+  // Too few or too many words for any form (also a line with more words than any command takes).
+  if (count < min_words || count > max_words) {
+    send_usage(ErrorCode::wrong_arity, first, last);
+    return;
+  }
+  // A form selected by its keyword, else the keyword-less form that takes this many words.
+  const Form* form = nullptr;
+  for (const Form* f = first; f != last && form == nullptr; ++f) {
+    if ((f->flags & form_sub) != 0u && count >= 2u &&
+        is_word(words[1], f->synopsis + word_length(f->synopsis) + 1u)) {
+      form = f;
     }
-    (this->*command.handler)(words, count);
+  }
+  for (const Form* f = first; f != last && form == nullptr; ++f) {
+    if ((f->flags & form_sub) == 0u && count >= f->min_words && count <= f->max_words) {
+      form = f;
+    }
+  }
+  if (form == nullptr) {
+    send_usage(ErrorCode::bad_argument, first, last);
     return;
   }
-  if (options_.extra.name != nullptr && name.is(options_.extra.name) && count <= kMaxWords) {
-    cmd_extra(words, count);
+  form_ = form;
+  if (count < form->min_words || count > form->max_words) {
+    send_usage(ErrorCode::wrong_arity);
     return;
   }
-  send_error(ErrorCode::unknown_command, "unknown command (try help)");
+  if ((form->flags & form_moving) != 0u && refuse_busy(false)) {
+    return;
+  }
+  dispatch(form->handler, words, count);
 }
 
 void Console::start_listing(Listing listing) {
@@ -250,24 +309,13 @@ void Console::start_listing(Listing listing) {
 
 void Console::continue_listing() {
   while (listing_ != Listing::none && out_.free_space() >= max_reply + 2u) {
-    ReplyLine line;
+    ReplyLine line(out_);
     if (listing_ == Listing::help) {
-      // listing_index_ counts help lines over the whole table, then the target's command.
-      std::size_t index = listing_index_;
+      // One line per form, then the target's own command.
       const char* text = nullptr;
-      for (std::size_t c = 0; c < command_count_ && text == nullptr; ++c) {
-        std::size_t lines = 0u;
-        while (command_table_[c].help[lines] != nullptr) {
-          ++lines;
-        }
-        if (index < lines) {
-          text = command_table_[c].help[index];
-        } else {
-          index -= lines;
-        }
-      }
-      const bool extra = options_.extra.name != nullptr;
-      if (text == nullptr && extra && index == 0u) {
+      if (listing_index_ < form_count_) {
+        text = form_table_[listing_index_].synopsis;
+      } else if (listing_index_ == form_count_ && options_.extra.name != nullptr) {
         text = options_.extra.usage != nullptr ? options_.extra.usage : options_.extra.name;
       }
       if (text != nullptr) {
@@ -286,7 +334,7 @@ void Console::continue_listing() {
         line.pair_s("unit", info.unit)
             .pair("min", info.min, decimals)
             .pair("max", info.max, decimals)
-            .pair("default", settings_.defaults().get(id), decimals);
+            .pair("default", settings_.default_value(id), decimals);
         send(line);
         continue;
       }
@@ -295,10 +343,8 @@ void Console::continue_listing() {
           .pair_u("unsaved", settings_.unsaved() ? 1u : 0u);
     } else {
       if (listing_index_ < trials_.size()) {
-        const drive::TrialRecord& trial = trials_.at(listing_index_++);
-        line.text("# trial ");
-        char digits[12];
-        line.bytes(digits, format_unsigned(trial.number, digits, sizeof digits));
+        const KeptTrial& trial = trials_.at(listing_index_++);
+        line.text("# trial ").unsigned_number(trial.number);
         trial_pairs(line, trial);
         send(line);
         continue;
@@ -317,17 +363,11 @@ void Console::note_trials() {
   }
   trial_seen_ = trial.number;
   trials_.push(trial);
-  ReplyLine line;
+  const std::size_t typed = clear_typing();
+  ReplyLine line(out_);
   line.text("# done").pair_u("trial", trial.number).pair_s("path", drive::path_name(trial.path));
   // Announced like a reply (never dropped): a host waits for it.
-  const std::size_t typed = echo_ ? editor_.pending_length() : 0u;
-  if (typed > 0u) {
-    (void)out_.push("\r\x1b[K", 4u);
-  }
-  send(line);
-  if (typed > 0u) {
-    (void)out_.push(editor_.pending(), typed);
-  }
+  send_over_typing(line, typed);
 }
 
 namespace {
@@ -349,22 +389,26 @@ bool due(std::uint32_t now_us, std::uint32_t period_us, std::uint32_t& next_us) 
 void Console::emit_streams(std::uint32_t now_us) {
   if (stream_odom_ && due(now_us, odom_period_us_, odom_next_us_)) {
     const drive::Pose pose = loop_.pose();
-    ReplyLine line;
+    const std::size_t mark = out_.size();
+    const std::size_t typed = clear_typing();
+    ReplyLine line(out_);
     line.text("# odom")
         .pair_u("t_ms", drive::divide_u64(clock_us_, 1000u))
         .pair("x_mm", pose.x_m * 1000.0f, kPoseDecimals)
         .pair("y_mm", pose.y_m * 1000.0f, kPoseDecimals)
         .pair("theta_deg", pose.theta_rad * kRadToDeg, kPoseDecimals);
-    send_async(line);
+    send_async(line, mark, typed);
   }
   if (stream_ticks_ && due(now_us, ticks_period_us_, ticks_next_us_)) {
     const drive::WheelCounts counts = loop_.wheel_counts();
-    ReplyLine line;
+    const std::size_t mark = out_.size();
+    const std::size_t typed = clear_typing();
+    ReplyLine line(out_);
     line.text("# ticks")
         .pair_u("t_ms", drive::divide_u64(counts.t_us, 1000u))
         .pair_i("count_l", counts.left)
         .pair_i("count_r", counts.right);
-    send_async(line);
+    send_async(line, mark, typed);
   }
 }
 
@@ -379,11 +423,9 @@ bool Console::number_arg(const Token& token, float lo, float hi, float& value,
   // The typed decimal against the printed bounds, exactly: `set v_max_mps 0.001` is the minimum
   // although the table's float is 0.0010000000475, and 2.0000001 is above 2 though not as a float.
   if (compare(typed, lo, decimals) < 0 || compare(typed, hi, decimals) > 0) {
-    ErrorLine reply;
-    reply.text("err ").text(error_code_name(ErrorCode::out_of_range)).text(" allowed");
-    reply.pair("min", lo, decimals).pair("max", hi, decimals);
-    ++errors_;
-    send(reply);
+    ErrLine reply(out_, ErrorCode::out_of_range);
+    reply.text("allowed").pair("min", lo, decimals).pair("max", hi, decimals);
+    send_refusal(reply);
     return false;
   }
   // Whole as typed: 1440.0000001 is not, although its nearest float is 1440.
@@ -401,11 +443,10 @@ bool Console::config_accepted(const drive::ConfigCheck& check) {
     return true;
   }
   if (check.error == drive::ConfigError::out_of_range) {
-    ErrorLine reply;
-    reply.text("err ").text(error_code_name(ErrorCode::rejected)).text(" drive refused ");
-    reply.text(drive::config_fields[check.field].name).text(" (outside its range)");
-    ++errors_;
-    send(reply);
+    ErrLine reply(out_, ErrorCode::rejected);
+    reply.text("drive refused ").text(drive::config_fields[check.field].name);
+    reply.text(" (outside its range)");
+    send_refusal(reply);
   } else {
     send_error(ErrorCode::rejected,
                "drive refused the values (wheelbase_mm > wheel_diameter_mm/4)");
@@ -425,6 +466,26 @@ bool Console::moving(const drive::LoopStatus& status) const {
     return pending_ == Pending::run || pending_ == Pending::drive;
   }
   return status.mode == drive::Mode::path || status.mode == drive::Mode::drive;
+}
+
+bool Console::refuse_busy(bool path_only) {
+  const drive::LoopStatus status = loop_.status();
+  if (path_only ? path_running(status) : moving(status)) {
+    send_error(ErrorCode::busy,
+               path_only ? "a path is running; stop first" : "the robot is moving; stop first");
+    return true;
+  }
+  return false;
+}
+
+bool Console::date_arg(const Token* words, std::size_t count, std::size_t index,
+                       std::uint32_t& date) {
+  date = 0u;
+  if (count > index && !parse_unsigned(words[index], date)) {
+    send_error(ErrorCode::bad_number, "unix_s is a whole number of seconds");
+    return false;
+  }
+  return true;
 }
 
 void Console::note_pending(Pending pending) {

@@ -50,6 +50,14 @@ const char* error_code_name(ErrorCode code) {
   return "unknown";
 }
 
+ErrLine::ErrLine(OutputQueue& queue, ErrorCode code) : ReplyLine(queue) {
+  text("err ").text(error_code_name(code)).text(" ");
+}
+
+OkLine::OkLine(OutputQueue& queue) : ReplyLine(queue) {
+  text("ok");
+}
+
 Reply& Reply::bytes(const char* s, std::size_t n) {
   if (n > capacity_ - length_) {
     n = capacity_ - length_;
@@ -64,8 +72,7 @@ Reply& Reply::number(float value, int decimals) {
   return *this;
 }
 
-Reply& Reply::pair_u(const char* k, std::uint64_t value) {
-  key(k);
+Reply& Reply::unsigned_number(std::uint64_t value) {
   length_ += format_unsigned(value, buffer_ + length_, capacity_ - length_);
   return *this;
 }

@@ -40,9 +40,13 @@ Settings::Settings(drive::ControlLoop& loop, params::ParamStore& store,
                    const params::ParamSet* target_defaults)
     : loop_(loop),
       store_(store),
-      defaults_(target_defaults != nullptr && usable(*target_defaults) ? *target_defaults
-                                                                       : params::default_params()),
-      values_(defaults_) {}
+      target_defaults_(target_defaults != nullptr && usable(*target_defaults) ? target_defaults
+                                                                              : nullptr),
+      values_(defaults()) {}
+
+float Settings::default_value(params::ParamId id) const {
+  return target_defaults_ != nullptr ? target_defaults_->get(id) : params::default_params().get(id);
+}
 
 Settings::Start Settings::start() {
   Start start;
@@ -54,7 +58,7 @@ Settings::Start Settings::start() {
     values_ = loaded;
     start.used = true;
   } else {
-    values_ = defaults_;
+    values_ = defaults();
     (void)loop_.configure(params::to_drive_config(values_));
   }
   unsaved_ = false;

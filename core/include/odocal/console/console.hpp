@@ -3,7 +3,7 @@
 /// The robot's serial console: byte I/O, line editing, and a command table that dispatches each
 /// line to its handler (docs/console.md). The parameters in force live in `Settings`; the
 /// on-robot calibrations in calib::UmbmarkSession and calib::LateralSession; trials in
-/// drive::TrialLog. The handlers are grouped by area in console/commands_*.cpp.
+/// KeptTrials. The handlers are grouped by area in console/commands_*.cpp.
 
 #include <array>
 #include <atomic>
@@ -12,6 +12,7 @@
 
 #include "odocal/calib/lateral_session.hpp"
 #include "odocal/calib/umbmark_session.hpp"
+#include "odocal/console/kept_trials.hpp"
 #include "odocal/console/line_editor.hpp"
 #include "odocal/console/output_queue.hpp"
 #include "odocal/console/reply.hpp"
@@ -91,7 +92,8 @@ class Console {
   /// Loads the saved parameters (keeping the defaults when there are none, or they cannot be
   /// used) and configures the loop with them; queues the banner. Main loop, once, before `poll`.
   /// @return what the store said.
-  params::StoreResult start(std::uint32_t now_us);
+  /// Out of line: its parameter set stays off the main loop's frame.
+  [[gnu::noinline]] params::StoreResult start(std::uint32_t now_us);
 
   /// Hands one received byte to the console. ISR-safe (single producer: one ISR or one reader
   /// thread). @return false when the RX ring is full (byte dropped and counted).
@@ -115,20 +117,50 @@ class Console {
   [[nodiscard]] bool echo_enabled() const { return echo_; }
 
  private:
-  /// When a command is refused because the robot moves.
-  enum class Guard : std::uint8_t { none, moving };
-  /// One row of the command table: what `help` lists and how a line is dispatched.
-  struct Command {
-    const char* name;
-    const char* usage;        ///< arguments, for the wrong_arity reply
-    const char* const* help;  ///< `help` lines ("name args: what"), nullptr-terminated
+  /// What handles a command form (Console::dispatch).
+  enum class Handler : std::uint8_t {
+    help,
+    version,
+    status,
+    params,
+    get,
+    set,
+    save,
+    load,
+    defaults,
+    provenance,
+    odom,
+    drive,
+    stop,
+    run,
+    trial,
+    trials,
+    umbmark_clear,
+    umbmark_add,
+    umbmark_side,
+    umbmark_solve,
+    umbmark_apply,
+    lateral_clear,
+    lateral_add,
+    lateral_solve,
+    lateral_apply,
+    lateral_set,
+    fit_apply,
+    stream,
+    echo,
+  };
+  static constexpr std::uint8_t form_sub = 1u;     ///< the synopsis' second word selects the form
+  static constexpr std::uint8_t form_moving = 2u;  ///< refused while the robot moves
+  /// One row of the command table: one form of a command, as `help` lists it.
+  struct Form {
+    const char* synopsis;  ///< "umbmark add cw|ccw <x_mm> <y_mm>": help line and usage
     std::uint8_t min_words;
     std::uint8_t max_words;
-    Guard guard;
-    void (Console::*handler)(const Token* words, std::size_t count);
+    std::uint8_t flags;  ///< form_sub, form_moving
+    Handler handler;
   };
-  static const Command command_table_[];
-  static const std::size_t command_count_;
+  static const Form form_table_[];
+  static const std::size_t form_count_;
 
   enum class Listing : std::uint8_t { none, help, params, trials };
   enum class Pending : std::uint8_t { none, run, drive, stop };
@@ -138,62 +170,88 @@ class Console {
   void detect_terminal(std::uint8_t line_end);
   void handle_event(LineEvent event);
   void execute(const Token* words, std::size_t count);
+  void dispatch(Handler handler, const Token* words, std::size_t count);
   void continue_listing();
   void note_trials();
   void emit_streams(std::uint32_t now_us);
   void send(Reply& reply);
-  void send_async(Reply& line);
+  /// Before an asynchronous line (`# ...`): clears the line being typed, if echoed.
+  /// @return its length (to show again after).
+  std::size_t clear_typing();
+  /// Sends `line` (begun after clear_typing()), then shows the `typed` text again.
+  void send_over_typing(Reply& line, std::size_t typed);
+  /// The same for a stream line, dropped (and counted, the queue cut back to `mark`) when a reply
+  /// would no longer fit.
+  void send_async(Reply& line, std::size_t mark, std::size_t typed);
+  /// Sends an `err` line (counted in `errors`).
+  void send_refusal(Reply& reply);
   void send_error(ErrorCode code, const char* message);
-  void send_usage(const Command& command);
+  /// `err <code> usage: <synopsis> | ...` quoting the forms [first, last).
+  void send_usage(ErrorCode code, const Form* first, const Form* last);
+  /// The same for the form being handled.
+  void send_usage(ErrorCode code) { send_usage(code, form_, form_ + 1); }
   void send_newline();
   /// Parses `token` into [lo, hi] (and, with `not_whole` set, requires a whole number as typed,
   /// sending `not_whole` otherwise); sends the error and returns false when refused.
   bool number_arg(const Token& token, float lo, float hi, float& value,
                   const char* not_whole = nullptr);
+  /// Parses the optional `unix_s` at words[index] (0 when absent); sends the error when refused.
+  bool date_arg(const Token* words, std::size_t count, std::size_t index, std::uint32_t& date);
   /// Sends the reason a configuration was refused; @return check.ok().
   bool config_accepted(const drive::ConfigCheck& check);
   [[nodiscard]] bool path_running(const drive::LoopStatus& status) const;
   [[nodiscard]] bool moving(const drive::LoopStatus& status) const;
+  /// Refuses (err busy) and returns true while a path runs (`path_only`) or the robot moves.
+  bool refuse_busy(bool path_only);
   void note_pending(Pending pending);
   void start_listing(Listing listing);
 
   // commands_system.cpp
-  void cmd_help(const Token* words, std::size_t count);
-  void cmd_version(const Token* words, std::size_t count);
-  void cmd_status(const Token* words, std::size_t count);
-  void cmd_echo(const Token* words, std::size_t count);
+  void cmd_version();
+  void cmd_status();
+  void cmd_echo(const Token* words);
   void cmd_extra(const Token* words, std::size_t count);
-  // commands_params.cpp
-  void cmd_params(const Token* words, std::size_t count);
-  void cmd_get(const Token* words, std::size_t count);
-  void cmd_set(const Token* words, std::size_t count);
-  void cmd_save(const Token* words, std::size_t count);
-  void cmd_load(const Token* words, std::size_t count);
-  void cmd_defaults(const Token* words, std::size_t count);
-  void cmd_provenance(const Token* words, std::size_t count);
+  // commands_params.cpp. [[gnu::noinline]]: handlers with a big frame (a parameter set, a drive
+  // configuration, the UMBmark solver) stay out of the dispatch's frame, which every command's
+  // path (`load` and the store's the deepest) shares (worst-case stack, docs/stm32f4.md).
+  void cmd_get(const Token* words);
+  [[gnu::noinline]] void cmd_set(const Token* words);
+  void cmd_save();
+  void cmd_load();
+  void cmd_defaults();
+  void cmd_provenance();
   // commands_motion.cpp
-  void cmd_odom(const Token* words, std::size_t count);
-  void cmd_drive(const Token* words, std::size_t count);
-  void cmd_stop(const Token* words, std::size_t count);
-  void cmd_run(const Token* words, std::size_t count);
-  void cmd_stream(const Token* words, std::size_t count);
+  void cmd_odom(std::size_t count);
+  [[gnu::noinline]] void cmd_drive(const Token* words, std::size_t count);
+  void cmd_stop();
+  void cmd_run(const Token* words);
+  void cmd_stream(const Token* words);
   void cmd_trial(const Token* words, std::size_t count);
-  void cmd_trials(const Token* words, std::size_t count);
+  void cmd_trials(std::size_t count);
   /// ` path=.. duration_ms=.. count_l=.. count_r=.. x_mm=.. y_mm=.. theta_deg=..`
-  static void trial_pairs(Reply& reply, const drive::TrialRecord& trial);
+  static void trial_pairs(Reply& reply, const KeptTrial& trial);
   // commands_calib.cpp
-  void cmd_umbmark(const Token* words, std::size_t count);
-  void cmd_lateral(const Token* words, std::size_t count);
-  void cmd_fit(const Token* words, std::size_t count);
-  /// `fit apply` / `lateral set`: puts host-computed factors in force with their provenance.
-  /// words[first..] are the values of `ids` (then an optional unix_s). Main loop.
-  void apply_host_factors(const Token* words, std::size_t count, std::size_t first,
-                          const params::ParamId* ids, std::size_t id_count,
-                          params::FactorMethod method);
-  /// The `ok` line of apply_host_factors; its own frame (not inlined), so that the reply line is
-  /// not on the stack while the arguments are checked (docs/performance.md, worst-case stack).
-  [[gnu::noinline]] void send_factors_applied(const params::ParamId* ids, std::size_t id_count,
-                                              params::FactorMethod method);
+  void cmd_umbmark_clear();
+  void cmd_umbmark_add(const Token* words);
+  void cmd_umbmark_side(const Token* words);
+  [[gnu::noinline]] void cmd_umbmark_solve(const Token* words, std::size_t count);
+  void cmd_umbmark_apply(const Token* words, std::size_t count);
+  void cmd_lateral_clear();
+  void cmd_lateral_add(const Token* words);
+  void cmd_lateral_solve();
+  void cmd_lateral_apply(const Token* words, std::size_t count);
+  /// `fit apply` (`fit`) / `lateral set`: puts host-computed factors in force with their
+  /// provenance. Main loop.
+  void cmd_host_factors(bool fit, const Token* words, std::size_t count);
+  /// Puts the factors `ids` (the wheel or the lateral group) = `values` in force with their
+  /// provenance when the robot is still, they are in range and the drive accepts them; sends the
+  /// refusal otherwise. Out of line: the candidate parameter set is on its frame only.
+  [[gnu::noinline]] bool apply_factors(const params::ParamId* ids, const float* values,
+                                       std::size_t count, params::FactorMethod method,
+                                       std::uint16_t runs, std::uint32_t date, float quality_mm);
+  /// The `ok` line after factors were applied: the factors `ids` in force, then `method`.
+  void send_factors_applied(const params::ParamId* ids, std::size_t id_count,
+                            params::FactorMethod method, bool runs);
 
   hal::ByteStream& stream_;
   drive::ControlLoop& loop_;
@@ -205,6 +263,7 @@ class Console {
   OutputQueue out_;
   bool echo_ = false;
   Listing listing_ = Listing::none;
+  const Form* form_ = form_table_;  ///< the form being handled
   std::size_t listing_index_ = 0u;
 
   Pending pending_ = Pending::none;
@@ -212,7 +271,7 @@ class Console {
 
   calib::UmbmarkSession umbmark_;
   calib::LateralSession lateral_;
-  drive::TrialLog trials_;
+  KeptTrials trials_;
   std::uint32_t trial_seen_ = 0u;    ///< number of the last trial announced
   std::uint32_t lateral_used_ = 0u;  ///< number of the last trial `lateral add` took
 

@@ -11,21 +11,30 @@
 namespace odocal::console {
 
 /// A byte FIFO of fixed capacity that never blocks: `push` takes a whole piece or nothing, and
-/// `flush` hands the stream only what it accepts. Main-loop only.
+/// `flush` hands the stream only what it accepts. The queued bytes always start at the front, so
+/// the free space is one piece at `tail()`: a line is written there in place (no copy of it on
+/// the stack) and queued by `commit`. Main-loop only.
 class OutputQueue {
  public:
-  static constexpr std::size_t capacity = 1024u;
+  /// A whole reply (max_reply, 560 B) plus room for stream lines while a command waits.
+  static constexpr std::size_t capacity = 768u;
 
   /// Appends `size` bytes, all or nothing. @return false (nothing queued) when they do not fit.
   bool push(const char* data, std::size_t size);
-  /// Writes queued bytes to `stream` until it accepts fewer than offered. @return bytes written.
+  /// Writes queued bytes to `stream` (what it accepts) and moves the rest to the front.
+  /// @return bytes written.
   std::size_t flush(hal::ByteStream& stream);
   [[nodiscard]] std::size_t size() const { return size_; }
   [[nodiscard]] std::size_t free_space() const { return capacity - size_; }
+  /// The free space (`free_space()` bytes), where the next bytes will be queued.
+  [[nodiscard]] char* tail() { return bytes_.data() + size_; }
+  /// Queues the first `size` bytes written at `tail()` (at most `free_space()`).
+  void commit(std::size_t size) { size_ += size < free_space() ? size : free_space(); }
+  /// Drops what was queued after the first `size` bytes (not yet flushed: main loop, same pass).
+  void truncate(std::size_t size) { size_ = size < size_ ? size : size_; }
 
  private:
-  std::array<std::uint8_t, capacity> bytes_{};
-  std::size_t head_ = 0u;  ///< oldest byte
+  std::array<char, capacity> bytes_{};
   std::size_t size_ = 0u;
 };
 

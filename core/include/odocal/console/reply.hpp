@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstring>
 
+#include "odocal/console/output_queue.hpp"
 #include "odocal/console/text.hpp"
 
 namespace odocal::console {
@@ -42,13 +43,12 @@ enum class ErrorCode : std::uint8_t {
 
 /// Longest output line, bytes (status with a target's own pairs).
 inline constexpr std::size_t max_reply = 560u;
-
-/// Longest error line, bytes: "err <code> <message>" (the longest message is ~150 bytes).
-inline constexpr std::size_t max_error = 224u;
+static_assert(OutputQueue::capacity >= max_reply + 8u + 128u,
+              "the output queue holds a whole reply, its echo and line end, and stream lines");
 
 /// Writes one output line: text and ` key=value` pairs appended in order into storage lent by a
-/// `ReplyLine` / `ErrorLine`; whatever does not fit is cut off. No heap. Not copyable (it points
-/// into its line's storage).
+/// `ReplyLine`; whatever does not fit is cut off. No heap. Not copyable (it points into its
+/// line's storage).
 class Reply {
  public:
   Reply(const Reply&) = delete;
@@ -60,7 +60,9 @@ class Reply {
   Reply& key(const char* k) { return text(" ").text(k).text("="); }
   Reply& number(float value, int decimals);
   Reply& pair(const char* k, float value, int decimals) { return key(k).number(value, decimals); }
-  Reply& pair_u(const char* k, std::uint64_t value);
+  /// A whole number, in decimal digits.
+  Reply& unsigned_number(std::uint64_t value);
+  Reply& pair_u(const char* k, std::uint64_t value) { return key(k).unsigned_number(value); }
   Reply& pair_i(const char* k, std::int64_t value);
   Reply& pair_s(const char* k, const char* value) { return key(k).text(value); }
   /// Lets `fill(out, capacity)` write into the free space; keeps the printable ASCII prefix.
@@ -91,19 +93,27 @@ class Reply {
   std::size_t length_ = 0u;
 };
 
-/// A line of `Capacity` bytes to write a reply into (on the stack: the storage is not cleared).
-template <std::size_t Capacity>
-class LineOf final : public Reply {
+/// A line written in place into the free space of an output queue (at most `max_reply` bytes,
+/// leaving room for the line end): nothing is queued until the console sends it. One at a time
+/// per queue (they would share the space); nothing else may be pushed while it is being written.
+class ReplyLine : public Reply {
  public:
-  LineOf() : Reply(storage_, Capacity) {}
-
- private:
-  char storage_[Capacity];
+  explicit ReplyLine(OutputQueue& queue)
+      : Reply(queue.tail(), queue.free_space() < max_reply + 2u
+                                ? (queue.free_space() < 2u ? 0u : queue.free_space() - 2u)
+                                : max_reply) {}
 };
-/// Any reply line, `status` included.
-using ReplyLine = LineOf<max_reply>;
-/// An `err <code> <message>` line: a smaller frame for the helpers that refuse a command from
-/// inside a handler (the handler's own ReplyLine is on the stack already).
-using ErrorLine = LineOf<max_error>;
+
+/// A ReplyLine that starts with "err <code> " (the message follows).
+class ErrLine final : public ReplyLine {
+ public:
+  ErrLine(OutputQueue& queue, ErrorCode code);
+};
+
+/// A ReplyLine that starts with "ok" (the pairs follow).
+class OkLine final : public ReplyLine {
+ public:
+  explicit OkLine(OutputQueue& queue);
+};
 
 }  // namespace odocal::console

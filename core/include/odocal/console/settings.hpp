@@ -38,7 +38,11 @@ class Settings {
   /// True when the values differ from what was last saved or loaded.
   [[nodiscard]] bool unsaved() const { return unsaved_; }
   /// The defaults `defaults` restores: the target's own when usable, else the built-in ones.
-  [[nodiscard]] const params::ParamSet& defaults() const { return defaults_; }
+  [[nodiscard]] params::ParamSet defaults() const {
+    return target_defaults_ != nullptr ? *target_defaults_ : params::default_params();
+  }
+  /// One value of `defaults()` (out of line: the built-in set is built on its frame).
+  [[nodiscard, gnu::noinline]] float default_value(params::ParamId id) const;
 
   /// Puts `candidate` in force (unsaved) when the drive accepts it.
   drive::ConfigCheck apply(const params::ParamSet& candidate);
@@ -46,7 +50,7 @@ class Settings {
   /// `value` must be in range (params::in_range).
   drive::ConfigCheck set(params::ParamId id, float value);
   /// Restores `defaults()` (unsaved).
-  drive::ConfigCheck restore_defaults() { return apply(defaults_); }
+  drive::ConfigCheck restore_defaults() { return apply(defaults()); }
 
   /// Saves the values in force. @return the store's answer; on `ok` nothing is unsaved.
   params::StoreResult save(params::StoreInfo& info);
@@ -67,7 +71,7 @@ class Settings {
  private:
   drive::ControlLoop& loop_;
   params::ParamStore& store_;
-  params::ParamSet defaults_;
+  const params::ParamSet* target_defaults_;  ///< usable target defaults, or nullptr: built-in
   params::ParamSet values_;
   bool unsaved_ = false;
   params::StoreResult store_state_ = params::StoreResult::empty;

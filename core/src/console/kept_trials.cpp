@@ -1,0 +1,40 @@
+#include "odocal/console/kept_trials.hpp"
+
+namespace odocal::console {
+namespace {
+
+std::int32_t saturate(std::int64_t counts) {
+  constexpr std::int64_t top = 2147483647;
+  return static_cast<std::int32_t>(counts > top ? top : (counts < -top ? -top : counts));
+}
+
+}  // namespace
+
+void KeptTrials::push(const drive::TrialRecord& record) {
+  KeptTrial kept;
+  kept.number = record.number;
+  kept.duration_ms = record.duration_ms;
+  kept.count_l = saturate(record.count_l);
+  kept.count_r = saturate(record.count_r);
+  kept.length_m = record.length_m;
+  kept.end = record.end;
+  kept.path = record.path;
+  if (count_ < capacity) {
+    records_[(first_ + count_) % capacity] = kept;
+    ++count_;
+  } else {
+    records_[first_] = kept;
+    first_ = static_cast<std::uint8_t>((first_ + 1u) % capacity);
+  }
+}
+
+const KeptTrial* KeptTrials::find(std::uint32_t number) const {
+  for (std::size_t i = 0; i < count_; ++i) {
+    if (at(i).number == number) {
+      return &at(i);
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace odocal::console

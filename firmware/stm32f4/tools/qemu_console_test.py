@@ -209,9 +209,10 @@ def main():
         ticks, timer_us = int(session.group(1)), int(session.group(2))
         rate = ticks / (timer_us / 1e6) if timer_us else 0.0
         # QEMU drops SysTick periods when its virtual clock jumps after a host stall (0.2..6 %
-        # measured on a loaded 2-core host), never adds any: the band catches a wrong reload or
-        # clock (x2, /2, 16 vs 168 MHz) and a tick that overruns its period.
-        checks.check(timer_us > 1_000_000 and 0.90 <= rate / 1000.0 <= 1.005,
+        # measured on a 2-core host at load 2-3, more under heavier load), never adds any: the
+        # band still catches a wrong reload or clock (x2, /2, 16 vs 168 MHz). A tick that
+        # overruns its period is caught by the instruction budget above.
+        checks.check(timer_us > 1_000_000 and 0.75 <= rate / 1000.0 <= 1.005,
                      "tick keeps 1 kHz against an independent timer",
                      f"{ticks} ticks in {timer_us} us = {rate:.2f} Hz")
     else:

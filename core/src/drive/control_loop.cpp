@@ -390,6 +390,9 @@ Pose ControlLoop::pose() const {
   Odometry copy;
   {
     hal::CriticalGuard guard(critical_);
+    if (inbox_.reset_pose) {
+      return Pose{};  // `odom reset` not taken by a tick yet: the pose it will be
+    }
     copy = published_.odometry;
   }
   return copy.pose();
@@ -403,7 +406,33 @@ void ControlLoop::reset_pose() {
 
 LoopStatus ControlLoop::status() const {
   hal::CriticalGuard guard(critical_);
-  return published_.status;
+  LoopStatus status = published_.status;
+  // A command the tick has not taken yet reads as taken (as `config()` does): `run` then `status`
+  // says mode=path even when no tick came between the two lines.
+  switch (inbox_.command) {
+    case Command::run:
+      status.mode = Mode::path;
+      status.path = inbox_.path.id;
+      status.segment = 0u;
+      status.trial_open = true;
+      break;
+    case Command::drive:
+      status.mode = Mode::drive;
+      status.path = PathId::none;
+      status.segment = 0u;
+      status.trial_open = inbox_.duration_ms > 0u;
+      break;
+    case Command::stop:
+      status.mode = Mode::idle;
+      status.path = PathId::none;
+      status.segment = 0u;
+      status.faults = fault_none;
+      status.trial_open = false;
+      break;
+    case Command::none:
+      break;
+  }
+  return status;
 }
 
 TrialRecord ControlLoop::last_trial() const {

@@ -134,5 +134,44 @@ TEST(ControlLoop, StopHaltsAPathAtOnce) {
   EXPECT_LT(rig.loop.pose().x_m, 0.3f);
 }
 
+TEST(ControlLoop, ACommandNotYetTakenByATickReadsAsTaken) {
+  // A console reads `status` right after `run` or `drive`, possibly before the next tick: the
+  // reply must not say idle for a motion it has just accepted (nor a fault `stop` acknowledged).
+  TestRig rig;
+  rig.run_for(0.01);
+  ASSERT_TRUE(rig.loop.run(make_line(1.0f)));
+  LoopStatus s = rig.loop.status();
+  EXPECT_EQ(s.mode, Mode::path);
+  EXPECT_EQ(s.path, PathId::line);
+  EXPECT_EQ(s.segment, 0u);
+  EXPECT_TRUE(s.trial_open);
+  rig.run_for(0.3);
+  EXPECT_EQ(rig.loop.status().mode, Mode::path);
+  ASSERT_GT(rig.loop.pose().x_m, 0.01f);
+
+  rig.loop.reset_pose();  // pending: the pose reads as the one it will be
+  EXPECT_EQ(rig.loop.pose().x_m, 0.0f);
+  EXPECT_EQ(rig.loop.pose().theta_rad, 0.0f);
+
+  rig.loop.stop();
+  s = rig.loop.status();
+  EXPECT_EQ(s.mode, Mode::idle);
+  EXPECT_EQ(s.path, PathId::none);
+  EXPECT_FALSE(s.trial_open);
+  rig.run_for(0.5);
+  EXPECT_EQ(rig.loop.status().mode, Mode::idle);
+
+  ASSERT_TRUE(rig.loop.drive(Twist{0.1f, 0.0f}, 200u));
+  s = rig.loop.status();
+  EXPECT_EQ(s.mode, Mode::drive);
+  EXPECT_TRUE(s.trial_open);
+  rig.run_for(0.05);
+  EXPECT_EQ(rig.loop.status().mode, Mode::drive);
+  rig.run_for(1.0);
+  s = rig.loop.status();
+  EXPECT_EQ(s.mode, Mode::idle);
+  EXPECT_FALSE(s.trial_open);
+}
+
 }  // namespace
 }  // namespace odocal::drive

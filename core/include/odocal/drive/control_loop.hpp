@@ -94,10 +94,12 @@ class ControlLoop {
   [[nodiscard]] bool run(const Path& path);
   /// Stops at once (set-points to zero), abandons any path, and acknowledges faults.
   void stop();
-  /// The odometry pose.
+  /// The odometry pose (zero once `reset_pose` is asked, even before a tick takes it).
   [[nodiscard]] Pose pose() const;
   /// Sets the odometry pose to zero.
   void reset_pose();
+  /// The loop's status as of the last tick, with a command not taken yet shown as taken (mode,
+  /// path, faults acknowledged by `stop`), so a reply never contradicts the command before it.
   [[nodiscard]] LoopStatus status() const;
   /// The last finished trial (number 0 before the first). A trial begins with a path or a timed
   /// drive and closes once the robot is at rest after it (TrialRecorder).

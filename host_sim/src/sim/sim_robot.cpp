@@ -283,9 +283,9 @@ SimulatedRobot::SimulatedRobot(const RobotSpec& spec, std::uint64_t seed)
             drive::MotorChannel{plant_.right().pwm(), plant_.right().forward()},
             plant_.critical_section(), spec.nominal),
       left_wiring_(plant_.left().channel_a(), plant_.left().channel_b(), plant_.clock(),
-                   drive::edge_sink(loop_.left_decoder())),
+                   loop_.left_decoder()),
       right_wiring_(plant_.right().channel_a(), plant_.right().channel_b(), plant_.clock(),
-                    drive::edge_sink(loop_.right_decoder())) {
+                    loop_.right_decoder()) {
   left_wiring_.attach();
   right_wiring_.attach();
   fault_pending_ =

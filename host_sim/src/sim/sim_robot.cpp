@@ -283,9 +283,9 @@ SimulatedRobot::SimulatedRobot(const RobotSpec& spec, std::uint64_t seed)
             drive::MotorChannel{plant_.right().pwm(), plant_.right().forward()},
             plant_.critical_section(), spec.nominal),
       left_wiring_(plant_.left().channel_a(), plant_.left().channel_b(), plant_.clock(),
-                   drive::edge_sink(loop_.left_decoder())),
+                   loop_.left_decoder()),
       right_wiring_(plant_.right().channel_a(), plant_.right().channel_b(), plant_.clock(),
-                    drive::edge_sink(loop_.right_decoder())) {
+                    loop_.right_decoder()) {
   left_wiring_.attach();
   right_wiring_.attach();
   fault_pending_ =
@@ -388,9 +388,11 @@ RunOutcome SimulatedRobot::run_path(const drive::Path& path, double timeout_s, c
       trace(plant_.pose());
       next_trace_ns += trace_ns;
     }
-    const drive::LoopStatus status = loop_.status();
-    if (status.mode != drive::Mode::path) {
-      completed = status.mode == drive::Mode::idle && status.faults == drive::fault_none;
+    // The procedure runs the ticks: between two of them the loop's state is settled, and the
+    // mode needs no copy of the whole status under the critical section.
+    const drive::Mode mode = loop_.mode_after_tick();
+    if (mode != drive::Mode::path) {
+      completed = mode == drive::Mode::idle && loop_.faults_after_tick() == drive::fault_none;
       break;
     }
     tick_once();

@@ -101,6 +101,11 @@ class ControlLoop {
   /// The loop's status as of the last tick, with a command not taken yet shown as taken (mode,
   /// path, faults acknowledged by `stop`), so a reply never contradicts the command before it.
   [[nodiscard]] LoopStatus status() const;
+  /// The mode and faults the last tick published, read without the critical section: only for
+  /// a caller that runs the ticks itself and asks between them (the host simulator's procedures,
+  /// which ask after every tick).
+  [[nodiscard]] Mode mode_after_tick() const { return published_.status.mode; }
+  [[nodiscard]] std::uint8_t faults_after_tick() const { return published_.status.faults; }
   /// The last finished trial (number 0 before the first). A trial begins with a path or a timed
   /// drive and closes once the robot is at rest after it (TrialRecorder).
   [[nodiscard]] TrialRecord last_trial() const;

@@ -19,6 +19,48 @@ enum class ChannelFault : std::uint8_t {
   noisy,  ///< every 5th B edge arrives with a glitch on A (both channels change at once)
 };
 
+/// What a channel-A fault does to the levels of each edge, for any wiring of one wheel's lines.
+class ChannelFilter {
+ public:
+  /// The levels at start-up (no edge seen yet).
+  void preset(bool a, bool b) {
+    a_seen_ = a;
+    b_seen_ = b;
+  }
+  /// From now on, channel A behaves as `fault` says; `a_level` is its level now.
+  void set_fault(ChannelFault fault, bool a_level) {
+    fault_ = fault;
+    stuck_a_ = a_level;
+    edges_ = 0u;
+  }
+  /// An edge left the lines at `a_line`, `b`: sets `a` to the level of A the sink sees with it
+  /// (B is never faulty). False when the edge does not reach the sink (an A edge on a dead A).
+  bool pass(bool a_line, bool b, bool& a) {
+    a = a_line;
+    if (fault_ != ChannelFault::none) {
+      if (fault_ == ChannelFault::dead) {
+        if (a_line != a_seen_) {  // an A edge: the dead channel shows none
+          a_seen_ = a_line;
+          return false;
+        }
+        a = stuck_a_;
+      } else if (b != b_seen_ && ++edges_ % 5u == 0u) {
+        a = !a;  // a glitch on A at a B edge: the decoder sees both change at once
+      }
+    }
+    a_seen_ = a_line;
+    b_seen_ = b;
+    return true;
+  }
+
+ private:
+  ChannelFault fault_ = ChannelFault::none;
+  bool stuck_a_ = false;
+  bool a_seen_ = false;
+  bool b_seen_ = false;
+  std::uint32_t edges_ = 0u;
+};
+
 /// One wheel's edge path: lines A and B -> sink. Must outlive the registration. It takes the
 /// plant's concrete line and clock types (final classes): reading them on every edge then costs
 /// no virtual call.
@@ -33,19 +75,16 @@ class EncoderWiring {
   /// Presets the sink to the current levels and registers the edge handler on both lines.
   /// Start-up only (not ISR-safe).
   void attach() {
-    a_seen_ = a_.read();
-    b_seen_ = b_.read();
-    sink_.reset(a_seen_, b_seen_);
+    const bool a = a_.read();
+    const bool b = b_.read();
+    filter_.preset(a, b);
+    sink_.reset(a, b);
     a_.on_edge(&EncoderWiring::on_edge, this);
     b_.on_edge(&EncoderWiring::on_edge, this);
   }
 
   /// From now on, channel A behaves as `fault` says. Not ISR-safe (call between edges).
-  void set_fault(ChannelFault fault) {
-    fault_ = fault;
-    stuck_a_ = a_.read();
-    edges_ = 0u;
-  }
+  void set_fault(ChannelFault fault) { filter_.set_fault(fault, a_.read()); }
 
   /// Unregisters the handler from both lines.
   void detach() {
@@ -57,34 +96,18 @@ class EncoderWiring {
   /// Edge context: latch the levels and the time into the sink, nothing else.
   static void on_edge(void* context) {
     auto* self = static_cast<EncoderWiring*>(context);
-    const bool a_line = self->a_.level();
     const bool b = self->b_.level();
-    bool a = a_line;
-    if (self->fault_ != ChannelFault::none) {
-      if (self->fault_ == ChannelFault::dead) {
-        if (a_line != self->a_seen_) {  // an A edge: the dead channel shows none
-          self->a_seen_ = a_line;
-          return;
-        }
-        a = self->stuck_a_;
-      } else if (b != self->b_seen_ && ++self->edges_ % 5u == 0u) {
-        a = !a;  // a glitch on A at a B edge: the decoder sees both change at once
-      }
+    bool a = false;
+    if (self->filter_.pass(self->a_.level(), b, a)) {
+      self->sink_.on_edge(a, b, self->clock_.now_us());
     }
-    self->a_seen_ = a_line;
-    self->b_seen_ = b;
-    self->sink_.on_edge(a, b, self->clock_.now_us());
   }
 
   EncoderLine& a_;
   EncoderLine& b_;
   SimClock& clock_;
   const hal::EdgeSink sink_;
-  ChannelFault fault_ = ChannelFault::none;
-  bool stuck_a_ = false;
-  bool a_seen_ = false;
-  bool b_seen_ = false;
-  std::uint32_t edges_ = 0u;
+  ChannelFilter filter_;
 };
 
 }  // namespace odocal::sim

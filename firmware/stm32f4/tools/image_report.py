@@ -54,6 +54,7 @@ VIRTUAL_BY_CALLER = [
     ("odocal::console::", r"do_read\(unsigned char|do_write|do_enter|do_exit"),
     ("odocal::firmware::(anonymous namespace)::BootClock", r"SysTickTimer::do_now_us"),
     ("odocal::firmware::SessionStream", r"do_read\(unsigned char|do_write"),
+    ("odocal::hal::CriticalGuard", r"do_enter|do_exit"),
 ]
 
 ROOTS = [

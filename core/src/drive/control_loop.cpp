@@ -56,7 +56,9 @@ ControlLoop::ControlLoop(MotorChannel left, MotorChannel right, hal::CriticalSec
 }
 
 void ControlLoop::apply_config(const DriveConfig& config) {
-  config_ = config;
+  if (&config != &config_) {
+    config_ = config;
+  }
   kinematics_.configure(config_);
   left_speed_.set_counts_per_rev(config_.counts_per_rev);
   right_speed_.set_counts_per_rev(config_.counts_per_rev);
@@ -218,7 +220,7 @@ void ControlLoop::tick(std::uint32_t now_us) {
     right_snap = right_decoder_.snapshot();
     inbox.config_pending = inbox_.config_pending;
     if (inbox_.config_pending) {
-      staged_config_ = inbox_.config;
+      config_ = inbox_.config;  // applied below, outside the critical section
       inbox_.config_pending = false;
     }
     inbox.command = inbox_.command;
@@ -250,7 +252,7 @@ void ControlLoop::tick(std::uint32_t now_us) {
   ++ticks_;
 
   if (inbox.config_pending) {
-    apply_config(staged_config_);
+    apply_config(config_);
   }
   take_command(inbox, left_snap, right_snap);
 
@@ -309,9 +311,10 @@ void ControlLoop::tick(std::uint32_t now_us) {
   drive_motors(left_duty, right_duty);
 
   // 8. Trial bookkeeping: a trial closes once the robot is at rest after its motion.
-  const bool trial_closed = trial_.update(
-      mode_ == Mode::path || mode_ == Mode::drive, left_speed_.position_counts(),
-      right_speed_.position_counts(), odometry_, dt_us, std::fmax(config_.settle_ms, kMinStill_ms));
+  // A closed trial's record stays in trial_ (last_trial reads it under the critical section).
+  static_cast<void>(trial_.update(mode_ == Mode::path || mode_ == Mode::drive,
+                                  left_speed_.position_counts(), right_speed_.position_counts(),
+                                  odometry_, dt_us, std::fmax(config_.settle_ms, kMinStill_ms)));
 
   // 9. Publish for the main loop.
   hal::CriticalGuard guard(critical_);
@@ -331,9 +334,6 @@ void ControlLoop::tick(std::uint32_t now_us) {
   status.trial_open = trial_.open();
   status.pose_resets = pose_resets_;
   status.clipped = clipped;
-  if (trial_closed) {
-    published_.trial = trial_.last();
-  }
   published_.counts =
       WheelCounts{clock_us_, left_speed_.position_counts(), right_speed_.position_counts()};
 }
@@ -408,7 +408,7 @@ LoopStatus ControlLoop::status() const {
 
 TrialRecord ControlLoop::last_trial() const {
   hal::CriticalGuard guard(critical_);
-  return published_.trial;
+  return trial_.last();
 }
 
 WheelCounts ControlLoop::wheel_counts() const {

@@ -132,7 +132,6 @@ class ControlLoop {
   struct Published {
     Odometry odometry{};
     LoopStatus status{};
-    TrialRecord trial{};
     WheelCounts counts{};
   };
 
@@ -161,7 +160,7 @@ class ControlLoop {
   WheelController right_controller_;
   Odometry odometry_;
   MotionExecutor motion_;
-  TrialRecorder trial_;
+  TrialRecorder trial_;  ///< its last() is also read by the main loop, under the critical section
   Mode mode_ = Mode::idle;
   std::uint8_t faults_ = fault_none;
   Twist drive_twist_{};
@@ -192,7 +191,6 @@ class ControlLoop {
 
   // Shared with the main loop under the critical section.
   Inbox inbox_{};
-  DriveConfig staged_config_{};  ///< a new configuration, taken from the mailbox this tick
   Published published_{};
 };
 

@@ -226,9 +226,6 @@ void ControlLoop::tick(std::uint32_t now_us) {
     inbox.command = inbox_.command;
     inbox.twist = inbox_.twist;
     inbox.duration_ms = inbox_.duration_ms;
-    if (inbox_.command == Command::run && mode_ != Mode::fault) {
-      motion_.load(inbox_.path);  // one copy, straight where it runs
-    }
     inbox.reset_pose = inbox_.reset_pose;
     inbox_.command = Command::none;
     inbox_.reset_pose = false;
@@ -377,7 +374,10 @@ bool ControlLoop::run(const Path& path) {
     return false;
   }
   inbox_.command = Command::run;
-  inbox_.path = path;
+  // The tick is held off (critical section) and the loop is not in a fault (mode_ is fault exactly
+  // when the published faults are set): one copy, straight where it runs. The next tick starts it,
+  // or cancels it when a later command replaces this one first.
+  motion_.load(path);
   return true;
 }
 

@@ -116,7 +116,6 @@ class ControlLoop {
     Command command = Command::none;
     Twist twist{};
     std::uint32_t duration_ms = 0u;
-    Path path{};
     bool reset_pose = false;
   };
   /// The part of the mailbox the tick takes each time (small: the path and the configuration
@@ -151,7 +150,7 @@ class ControlLoop {
   /// way), then 0 and `sign` cleared. Keeps `controller` reset.
   float brake_duty(int& sign, WheelController& controller, const VelocityEstimator& speed);
 
-  // Tick-owned state (only the tick touches it).
+  // Tick-owned state (only the tick touches it; `run` loads motion_ under the critical section).
   DriveConfig config_;
   DiffDriveKinematics kinematics_;
   VelocityEstimator left_speed_;

@@ -315,7 +315,6 @@ void ControlLoop::tick(std::uint32_t now_us) {
 
   // 9. Publish for the main loop.
   hal::CriticalGuard guard(critical_);
-  published_.odometry = odometry_;
   LoopStatus& status = published_.status;
   status.mode = mode_;
   status.path = mode_ == Mode::path ? motion_.path_id() : PathId::none;
@@ -390,7 +389,10 @@ Pose ControlLoop::pose() const {
   Odometry copy;
   {
     hal::CriticalGuard guard(critical_);
-    copy = published_.odometry;
+    if (inbox_.reset_pose) {
+      return Pose{};  // the next tick resets the odometry: it reads zero from now on
+    }
+    copy = odometry_;  // the tick's own, read under the critical section (no published copy)
   }
   return copy.pose();
 }
@@ -398,7 +400,6 @@ Pose ControlLoop::pose() const {
 void ControlLoop::reset_pose() {
   hal::CriticalGuard guard(critical_);
   inbox_.reset_pose = true;
-  published_.odometry.reset();
 }
 
 LoopStatus ControlLoop::status() const {

@@ -129,7 +129,6 @@ class ControlLoop {
   };
   /// What the tick shows the main loop; written and read only under the critical section.
   struct Published {
-    Odometry odometry{};
     LoopStatus status{};
     WheelCounts counts{};
   };
@@ -157,7 +156,7 @@ class ControlLoop {
   VelocityEstimator right_speed_;
   WheelController left_controller_;
   WheelController right_controller_;
-  Odometry odometry_;
+  Odometry odometry_;  ///< also read by `pose` under the critical section
   MotionExecutor motion_;
   TrialRecorder trial_;  ///< its last() is also read by the main loop, under the critical section
   Mode mode_ = Mode::idle;

@@ -35,20 +35,6 @@ const char* kind_name(FaultKind kind) {
   return "pure-virtual";
 }
 
-void append(char*& out, const char* end, const char* text) {
-  while (*text != '\0' && out < end) {
-    *out++ = *text++;
-  }
-}
-
-void append_hex(char*& out, const char* end, const char* key, std::uint32_t value) {
-  char digits[9];
-  format_hex32(value, digits);
-  append(out, end, key);
-  append(out, end, "0x");
-  append(out, end, digits);
-}
-
 }  // namespace
 
 void format_hex32(std::uint32_t value, char* out) {
@@ -64,21 +50,23 @@ void report_fault_and_stop(FaultKind kind, std::uint32_t pc, std::uint32_t lr) {
   static_cast<void>(hal::stm32f4::disable_interrupts());
   board_park_motors();  // first: whatever happens next, the wheels stop
   namespace scb = hal::stm32f4::scb;
-  char line[160];
-  char* out = line;
-  const char* end = line + sizeof(line) - 3;
-  append(out, end, "\r\nFAULT ");
-  append(out, end, kind_name(kind));
-  append_hex(out, end, " pc=", pc);
-  append_hex(out, end, " lr=", lr);
-  append_hex(out, end, " cfsr=", scb::cfsr.read());
-  append_hex(out, end, " hfsr=", scb::hfsr.read());
-  append_hex(out, end, " mmfar=", scb::mmfar.read());
-  append_hex(out, end, " bfar=", scb::bfar.read());
-  *out++ = '\r';
-  *out++ = '\n';
-  *out = '\0';
-  hal::stm32f4::UsartStream::emergency_write(board_info().console_usart, line);
+  // Written piece by piece as it is formatted: no line buffer on a stack that may be in trouble.
+  const hal::stm32f4::Block usart = board_info().console_usart;
+  const auto write = [usart](const char* text) {
+    hal::stm32f4::UsartStream::emergency_write(usart, text);
+  };
+  write("\r\nFAULT ");
+  write(kind_name(kind));
+  const char* const keys[] = {" pc=0x", " lr=0x", " cfsr=0x", " hfsr=0x", " mmfar=0x", " bfar=0x"};
+  const std::uint32_t values[] = {
+      pc, lr, scb::cfsr.read(), scb::hfsr.read(), scb::mmfar.read(), scb::bfar.read()};
+  for (std::size_t i = 0u; i < sizeof(values) / sizeof(values[0]); ++i) {
+    char digits[9];
+    format_hex32(values[i], digits);
+    write(keys[i]);
+    write(digits);
+  }
+  write("\r\n");
   board_exit(3);
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "norm.hpp"
+#include "odocal/drive/bounded_trig.hpp"
 
 namespace odocal::calib {
 namespace {
@@ -10,6 +11,15 @@ namespace {
 template <typename Real>
 bool positive(Real v) {
   return std::isfinite(v) && v > 0;
+}
+
+// The chord angle: the robot's float solve without newlib's atanf (drive::arctan, within 3e-7
+// rad); the host's double solve as before.
+float chord_angle(float slope) {
+  return drive::arctan(slope);
+}
+double chord_angle(double slope) {
+  return std::atan(slope);
 }
 
 }  // namespace
@@ -60,7 +70,7 @@ LateralStatus solve_lateral(const LateralInputOf<Real>& input, LateralResultOf<R
     if (p.x_mm <= 0 || norm_of(length - p.x_mm, p.y_mm) > length) {
       return LateralStatus::error_too_large;
     }
-    chord_angle_sum += std::atan(p.y_mm / p.x_mm);  // chord angle of trial i (eq. 4)
+    chord_angle_sum += chord_angle(p.y_mm / p.x_mm);  // chord angle of trial i (eq. 4)
     x_sum += p.x_mm;
     y_sum += p.y_mm;
   }

@@ -56,7 +56,9 @@ ControlLoop::ControlLoop(MotorChannel left, MotorChannel right, hal::CriticalSec
 }
 
 void ControlLoop::apply_config(const DriveConfig& config) {
-  config_ = config;
+  if (&config != &config_) {
+    config_ = config;
+  }
   kinematics_.configure(config_);
   left_speed_.set_counts_per_rev(config_.counts_per_rev);
   right_speed_.set_counts_per_rev(config_.counts_per_rev);
@@ -218,15 +220,12 @@ void ControlLoop::tick(std::uint32_t now_us) {
     right_snap = right_decoder_.snapshot();
     inbox.config_pending = inbox_.config_pending;
     if (inbox_.config_pending) {
-      staged_config_ = inbox_.config;
+      config_ = inbox_.config;  // applied below, outside the critical section
       inbox_.config_pending = false;
     }
     inbox.command = inbox_.command;
     inbox.twist = inbox_.twist;
     inbox.duration_ms = inbox_.duration_ms;
-    if (inbox_.command == Command::run && mode_ != Mode::fault) {
-      motion_.load(inbox_.path);  // one copy, straight where it runs
-    }
     inbox.reset_pose = inbox_.reset_pose;
     inbox_.command = Command::none;
     inbox_.reset_pose = false;
@@ -250,7 +249,7 @@ void ControlLoop::tick(std::uint32_t now_us) {
   ++ticks_;
 
   if (inbox.config_pending) {
-    apply_config(staged_config_);
+    apply_config(config_);
   }
   take_command(inbox, left_snap, right_snap);
 
@@ -309,13 +308,13 @@ void ControlLoop::tick(std::uint32_t now_us) {
   drive_motors(left_duty, right_duty);
 
   // 8. Trial bookkeeping: a trial closes once the robot is at rest after its motion.
-  const bool trial_closed = trial_.update(
-      mode_ == Mode::path || mode_ == Mode::drive, left_speed_.position_counts(),
-      right_speed_.position_counts(), odometry_, dt_us, std::fmax(config_.settle_ms, kMinStill_ms));
+  // A closed trial's record stays in trial_ (last_trial reads it under the critical section).
+  static_cast<void>(trial_.update(mode_ == Mode::path || mode_ == Mode::drive,
+                                  left_speed_.position_counts(), right_speed_.position_counts(),
+                                  odometry_, dt_us, std::fmax(config_.settle_ms, kMinStill_ms)));
 
   // 9. Publish for the main loop.
   hal::CriticalGuard guard(critical_);
-  published_.odometry = odometry_;
   LoopStatus& status = published_.status;
   status.mode = mode_;
   status.path = mode_ == Mode::path ? motion_.path_id() : PathId::none;
@@ -331,9 +330,6 @@ void ControlLoop::tick(std::uint32_t now_us) {
   status.trial_open = trial_.open();
   status.pose_resets = pose_resets_;
   status.clipped = clipped;
-  if (trial_closed) {
-    published_.trial = trial_.last();
-  }
   published_.counts =
       WheelCounts{clock_us_, left_speed_.position_counts(), right_speed_.position_counts()};
 }
@@ -377,7 +373,10 @@ bool ControlLoop::run(const Path& path) {
     return false;
   }
   inbox_.command = Command::run;
-  inbox_.path = path;
+  // The tick is held off (critical section) and the loop is not in a fault (mode_ is fault exactly
+  // when the published faults are set): one copy, straight where it runs. The next tick starts it,
+  // or cancels it when a later command replaces this one first.
+  motion_.load(path);
   return true;
 }
 
@@ -391,9 +390,9 @@ Pose ControlLoop::pose() const {
   {
     hal::CriticalGuard guard(critical_);
     if (inbox_.reset_pose) {
-      return Pose{};  // `odom reset` not taken by a tick yet: the pose it will be
+      return Pose{};  // the next tick resets the odometry: it reads zero from now on
     }
-    copy = published_.odometry;
+    copy = odometry_;  // the tick's own, read under the critical section (no published copy)
   }
   return copy.pose();
 }
@@ -401,7 +400,6 @@ Pose ControlLoop::pose() const {
 void ControlLoop::reset_pose() {
   hal::CriticalGuard guard(critical_);
   inbox_.reset_pose = true;
-  published_.odometry.reset();
 }
 
 LoopStatus ControlLoop::status() const {
@@ -412,7 +410,7 @@ LoopStatus ControlLoop::status() const {
   switch (inbox_.command) {
     case Command::run:
       status.mode = Mode::path;
-      status.path = inbox_.path.id;
+      status.path = motion_.path().id;  // run() loaded it already
       status.segment = 0u;
       status.trial_open = true;
       break;
@@ -437,7 +435,7 @@ LoopStatus ControlLoop::status() const {
 
 TrialRecord ControlLoop::last_trial() const {
   hal::CriticalGuard guard(critical_);
-  return published_.trial;
+  return trial_.last();
 }
 
 WheelCounts ControlLoop::wheel_counts() const {

@@ -14,7 +14,7 @@ bool field_accepts(std::size_t index, float value) {
   if (value < field.min || value > field.max) {
     return false;
   }
-  return !field.integer() || is_whole(value);
+  return !field.integer || is_whole(value);
 }
 
 ConfigCheck check(const DriveConfig& config) {

@@ -89,7 +89,7 @@ void Odometry::update(float left_m, float right_m, float wheelbase_m) {
 }
 
 Pose Odometry::pose() const {
-  return Pose{x_m_, y_m_, std::atan2(sin_, cos_)};
+  return Pose{x_m_, y_m_, arctan2(sin_, cos_)};
 }
 
 }  // namespace odocal::drive

@@ -7,9 +7,8 @@ namespace odocal::drive {
 void TrialRecorder::begin(PathId path, float length_m, std::int64_t counts_l,
                           std::int64_t counts_r) {
   phase_ = Phase::moving;
-  current_ = TrialRecord{};
-  current_.path = path;
-  current_.length_m = length_m;
+  path_ = path;
+  length_m_ = length_m;
   start_l_ = counts_l;
   start_r_ = counts_r;
   seen_l_ = counts_l;
@@ -24,8 +23,7 @@ bool TrialRecorder::update(bool moving, std::int64_t counts_l, std::int64_t coun
   if (!advance(moving, counts_l, counts_r, dt_us, still_ms)) {
     return false;
   }
-  current_.end = pose;
-  last_ = current_;
+  last_.end = pose;
   return true;
 }
 
@@ -34,8 +32,7 @@ bool TrialRecorder::update(bool moving, std::int64_t counts_l, std::int64_t coun
   if (!advance(moving, counts_l, counts_r, dt_us, still_ms)) {
     return false;
   }
-  current_.end = odometry.pose();
-  last_ = current_;
+  last_.end = odometry.pose();
   return true;
 }
 
@@ -65,10 +62,13 @@ bool TrialRecorder::advance(bool moving, std::int64_t counts_l, std::int64_t cou
   if (!at_rest && settle_us_ < max_settle_ms * 1000u) {
     return false;
   }
-  current_.number = next_number_++;
-  current_.duration_ms = static_cast<std::uint32_t>(divide_u64(elapsed_us_ + 500u, 1000u));
-  current_.count_l = counts_l - start_l_;
-  current_.count_r = counts_r - start_r_;
+  // The record is written in place: the tick owns it, readers take it under a critical section.
+  last_.number = next_number_++;
+  last_.path = path_;
+  last_.length_m = length_m_;
+  last_.duration_ms = static_cast<std::uint32_t>(divide_u64(elapsed_us_ + 500u, 1000u));
+  last_.count_l = counts_l - start_l_;
+  last_.count_r = counts_r - start_r_;
   phase_ = Phase::none;
   return true;
 }

@@ -241,27 +241,27 @@ std::size_t ParamStore::address(std::size_t sector, std::size_t slot) const {
   return (first_sector_ + sector) * device_.sector_size() + slot * record_slot_size;
 }
 
-StoreResult ParamStore::read_slot(std::size_t sector, std::size_t slot) {
-  return device_.read(address(sector, slot), buffer_.data(), buffer_.size()) == hal::StoreStatus::ok
+StoreResult ParamStore::read_slot(std::size_t sector, std::size_t slot, SlotBuffer& buffer) {
+  return device_.read(address(sector, slot), buffer.data(), buffer.size()) == hal::StoreStatus::ok
              ? StoreResult::ok
              : StoreResult::device_error;
 }
 
-StoreResult ParamStore::slot_is_blank(std::size_t sector, std::size_t slot, bool& blank) {
-  const StoreResult result = read_slot(sector, slot);
-  blank = result == StoreResult::ok && all_erased(buffer_.data(), buffer_.size());
+StoreResult ParamStore::slot_is_blank(std::size_t sector, std::size_t slot, SlotBuffer& buffer,
+                                      bool& blank) {
+  const StoreResult result = read_slot(sector, slot, buffer);
+  blank = result == StoreResult::ok && all_erased(buffer.data(), buffer.size());
   return result;
 }
 
-StoreResult ParamStore::scan(Scan& found, ParamSet* newest_set) {
+StoreResult ParamStore::scan(Scan& found, ParamSet* newest_set, SlotBuffer& buffer) {
   for (std::size_t sector = 0; sector < 2u; ++sector) {
     for (std::size_t slot = 0; slot < slots_per_sector_; ++slot) {
-      if (read_slot(sector, slot) != StoreResult::ok) {
+      if (read_slot(sector, slot, buffer) != StoreResult::ok) {
         return StoreResult::device_error;
       }
       RecordInfo info;
-      const DecodeStatus status =
-          decode(buffer_.data(), buffer_.size(), scratch_, info, guards_.crc);
+      const DecodeStatus status = decode(buffer.data(), buffer.size(), scratch_, info, guards_.crc);
       if (status == DecodeStatus::corrupt) {
         ++found.damaged;
       }
@@ -294,7 +294,8 @@ StoreResult ParamStore::load(ParamSet& out, StoreInfo& info) {
   }
   Scan found;
   ParamSet newest;
-  const StoreResult result = scan(found, &newest);
+  SlotBuffer buffer;
+  const StoreResult result = scan(found, &newest, buffer);
   if (result != StoreResult::ok) {
     return result;
   }
@@ -319,7 +320,8 @@ StoreResult ParamStore::save(const ParamSet& set, StoreInfo& info) {
     return StoreResult::device_error;
   }
   Scan found;
-  StoreResult result = scan(found, nullptr);
+  SlotBuffer buffer;
+  StoreResult result = scan(found, nullptr, buffer);
   if (result != StoreResult::ok) {
     return result;
   }
@@ -330,7 +332,7 @@ StoreResult ParamStore::save(const ParamSet& set, StoreInfo& info) {
   std::size_t slot = found.found_any ? found.newest.slot + 1u : 0u;
   bool blank = false;
   for (; slot < slots_per_sector_; ++slot) {
-    result = slot_is_blank(sector, slot, blank);
+    result = slot_is_blank(sector, slot, buffer, blank);
     if (result != StoreResult::ok) {
       return result;
     }
@@ -347,10 +349,10 @@ StoreResult ParamStore::save(const ParamSet& set, StoreInfo& info) {
     }
   }
 
-  const std::size_t length = encode_record(set, sequence, buffer_.data(), buffer_.size());
+  const std::size_t length = encode_record(set, sequence, buffer.data(), buffer.size());
   const std::size_t granularity = device_.program_granularity();
   const std::size_t programmed = (length + granularity - 1u) / granularity * granularity;
-  if (device_.program(address(sector, slot), buffer_.data(), programmed) != hal::StoreStatus::ok) {
+  if (device_.program(address(sector, slot), buffer.data(), programmed) != hal::StoreStatus::ok) {
     return StoreResult::device_error;
   }
   // Read back: a record that does not decode to itself is a failed save.
@@ -358,11 +360,10 @@ StoreResult ParamStore::save(const ParamSet& set, StoreInfo& info) {
   written.version = record_format_version;
   written.sequence = sequence;
   if (guards_.read_back) {
-    if (read_slot(sector, slot) != StoreResult::ok) {
+    if (read_slot(sector, slot, buffer) != StoreResult::ok) {
       return StoreResult::device_error;
     }
-    if (decode(buffer_.data(), buffer_.size(), scratch_, written, guards_.crc) !=
-            DecodeStatus::ok ||
+    if (decode(buffer.data(), buffer.size(), scratch_, written, guards_.crc) != DecodeStatus::ok ||
         written.sequence != sequence || !same(scratch_, set)) {
       return StoreResult::device_error;
     }

@@ -1,23 +1,12 @@
 #include "odocal/params/param_table.hpp"
 
 #include <cstring>
-#include <utility>
 
 namespace odocal::params {
 namespace {
 
 static_assert(param_count == drive::config_field_count,
               "one parameter per DriveConfig field (drive/drive_config.hpp)");
-
-// The console's view of each field of drive::config_fields, derived from it at compile time.
-template <std::size_t... I>
-constexpr std::array<ParamInfo, param_count> make_table(std::index_sequence<I...>) {
-  return {{ParamInfo{drive::config_fields[I].name, drive::config_fields[I].unit,
-                     drive::config_fields[I].min, drive::config_fields[I].max,
-                     drive::config_fields[I].integer(), drive::config_fields[I].description}...}};
-}
-constexpr std::array<ParamInfo, param_count> kTable =
-    make_table(std::make_index_sequence<param_count>{});
 
 bool same_provenance(const Provenance& a, const Provenance& b) {
   return a.method == b.method && a.runs == b.runs && a.date_unix_s == b.date_unix_s &&
@@ -28,7 +17,7 @@ bool same_provenance(const Provenance& a, const Provenance& b) {
 
 const ParamInfo& param_info(ParamId id) {
   const auto index = static_cast<std::size_t>(id);
-  return index < param_count ? kTable[index] : kTable[0];
+  return drive::config_fields[index < param_count ? index : 0u];
 }
 
 bool find_param(const char* name, std::size_t length, ParamId& id) {
@@ -36,7 +25,7 @@ bool find_param(const char* name, std::size_t length, ParamId& id) {
     return false;
   }
   for (std::size_t i = 0; i < param_count; ++i) {
-    const char* candidate = kTable[i].name;
+    const char* candidate = drive::config_fields[i].name;
     if (std::strlen(candidate) == length && std::memcmp(candidate, name, length) == 0) {
       id = static_cast<ParamId>(i);
       return true;

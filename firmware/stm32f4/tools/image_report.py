@@ -27,9 +27,9 @@ COMPONENTS = [
     (r"libodocal_hal_stm32f4\.a", "hal/stm32f4 (register-level backends)"),
     (r"libodocal_hal_sim\.a", "hal/sim (plant, RAM store: QEMU only)"),
     (r"odocal_fw_app\.dir|odocal-fw(-qemu)?\.dir", "firmware/stm32f4 (startup, boards, main)"),
-    (r"libm\.a|libm_nano\.a", "libm (atan2f, atanf; QEMU: the plant's double sin/cos/exp)"),
+    (r"libm\.a|libm_nano\.a", "libm (QEMU only: the plant's double sin/cos/exp)"),
     (r"libgcc\.a", "libgcc (QEMU: soft double for the plant)"),
-    (r"libc_nano\.a|libc\.a|libg_nano\.a", "libc (memcpy, memset, strlen, errno)"),
+    (r"libc_nano\.a|libc\.a|libg_nano\.a", "libc (QEMU only: errno for libm)"),
     (r"libstdc\+\+|libsupc\+\+", "libstdc++"),
 ]
 
@@ -54,6 +54,7 @@ VIRTUAL_BY_CALLER = [
     ("odocal::console::", r"do_read\(unsigned char|do_write|do_enter|do_exit"),
     ("odocal::firmware::(anonymous namespace)::BootClock", r"SysTickTimer::do_now_us"),
     ("odocal::firmware::SessionStream", r"do_read\(unsigned char|do_write"),
+    ("odocal::hal::CriticalGuard", r"do_enter|do_exit"),
 ]
 
 ROOTS = [

@@ -17,25 +17,6 @@ std::uint32_t load_le32(const std::uint8_t* bytes) {
 
 }  // namespace
 
-FlashStore::FlashStore(FlashBus& bus, hal::MonotonicClock& clock, std::size_t first_sector,
-                       std::size_t sector_count)
-    : bus_(bus), clock_(clock), first_sector_(first_sector), sector_count_(sector_count) {
-  valid_ = first_sector >= 1u && sector_count >= 1u && first_sector < flash::sector_count &&
-           sector_count <= flash::sector_count - first_sector;
-  if (valid_) {
-    sector_size_ = flash::sector_bytes(first_sector);
-    for (std::size_t s = first_sector; s < first_sector + sector_count; ++s) {
-      valid_ = valid_ && flash::sector_bytes(s) == sector_size_;
-    }
-  }
-  if (valid_) {
-    base_ = flash::sector_address(first_sector);
-  } else {
-    sector_size_ = 0u;
-    sector_count_ = 0u;
-  }
-}
-
 std::size_t FlashStore::do_sector_size() const {
   return sector_size_;
 }

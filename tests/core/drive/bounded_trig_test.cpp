@@ -85,5 +85,52 @@ TEST(BoundedTrig, DoubleMatchesLibmToAFewRoundings) {
   }
 }
 
+// arctan2's bound: the result is a sum of at most pi and a float atan of magnitude <= pi/2, each
+// rounded (half a rounding of pi each, 1.2e-7), plus the series' own roundings on |u| <= 0.4142
+// (a few of 0.4, < 1e-7) and its truncation (< 5e-10): 3e-7 rad covers them.
+constexpr double kAngleTolerance = 3e-7;
+
+TEST(BoundedTrig, Arctan2MatchesDoubleInEveryQuadrant) {
+  double worst = 0.0;
+  for (int i = -200000; i <= 200000; ++i) {
+    const double angle = i * 1.6e-5;  // [-3.2, 3.2] rad: every octant and the +-pi seam
+    for (const double length : {1.0, 1e-20, 3e7}) {
+      const auto y = static_cast<float>(length * std::sin(angle));
+      const auto x = static_cast<float>(length * std::cos(angle));
+      const double exact = std::atan2(static_cast<double>(y), static_cast<double>(x));
+      const double got = arctan2(y, x);
+      worst = std::fmax(worst, std::fabs(got - exact));
+      ASSERT_LE(std::fabs(got), 3.14159275) << y << " " << x;  // float pi at most
+    }
+  }
+  EXPECT_LT(worst, kAngleTolerance);
+}
+
+TEST(BoundedTrig, Arctan2AxesAndOrigin) {
+  constexpr double pi = 3.14159265358979323846;
+  EXPECT_EQ(arctan2(0.0f, 1.0f), 0.0f);
+  EXPECT_EQ(arctan2(0.0f, 0.0f), 0.0f);
+  EXPECT_NEAR(arctan2(0.0f, -1.0f), pi, kAngleTolerance);
+  EXPECT_NEAR(arctan2(1.0f, 0.0f), pi / 2, kAngleTolerance);
+  EXPECT_NEAR(arctan2(-1.0f, 0.0f), -pi / 2, kAngleTolerance);
+  EXPECT_NEAR(arctan2(-1.0f, -1.0f), -3 * pi / 4, kAngleTolerance);
+}
+
+TEST(BoundedTrig, ArctanOfSlopesMatchesDouble) {
+  // Lateral chord slopes are small (y/x ~ 1e-3..1e-1), yet any finite slope is in the contract.
+  double worst = 0.0;
+  for (double v = 1e-30; v < 1e30; v *= 1.01) {
+    for (const double slope : {v, -v}) {
+      const auto f = static_cast<float>(slope);
+      worst = std::fmax(worst, std::fabs(arctan(f) - std::atan(static_cast<double>(f))));
+    }
+  }
+  EXPECT_LT(worst, kAngleTolerance);
+  // Small slopes keep their relative accuracy (atan v ~ v).
+  for (float v = 1e-30f; v < 1e-2f; v *= 1.9f) {
+    EXPECT_NEAR(arctan(v), std::atan(static_cast<double>(v)), 4.0 * 6e-8 * v) << v;
+  }
+}
+
 }  // namespace
 }  // namespace odocal::drive

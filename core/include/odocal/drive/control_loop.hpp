@@ -123,7 +123,6 @@ class ControlLoop {
     Command command = Command::none;
     Twist twist{};
     std::uint32_t duration_ms = 0u;
-    Path path{};
     bool reset_pose = false;
   };
   /// The part of the mailbox the tick takes each time (small: the path and the configuration
@@ -137,9 +136,7 @@ class ControlLoop {
   };
   /// What the tick shows the main loop; written and read only under the critical section.
   struct Published {
-    Odometry odometry{};
     LoopStatus status{};
-    TrialRecord trial{};
     WheelCounts counts{};
   };
 
@@ -159,16 +156,16 @@ class ControlLoop {
   /// way), then 0 and `sign` cleared. Keeps `controller` reset.
   float brake_duty(int& sign, WheelController& controller, const VelocityEstimator& speed);
 
-  // Tick-owned state (only the tick touches it).
+  // Tick-owned state (only the tick touches it; `run` loads motion_ under the critical section).
   DriveConfig config_;
   DiffDriveKinematics kinematics_;
   VelocityEstimator left_speed_;
   VelocityEstimator right_speed_;
   WheelController left_controller_;
   WheelController right_controller_;
-  Odometry odometry_;
+  Odometry odometry_;  ///< also read by `pose` under the critical section
   MotionExecutor motion_;
-  TrialRecorder trial_;
+  TrialRecorder trial_;  ///< its last() is also read by the main loop, under the critical section
   Mode mode_ = Mode::idle;
   std::uint8_t faults_ = fault_none;
   Twist drive_twist_{};
@@ -199,7 +196,6 @@ class ControlLoop {
 
   // Shared with the main loop under the critical section.
   Inbox inbox_{};
-  DriveConfig staged_config_{};  ///< a new configuration, taken from the mailbox this tick
   Published published_{};
 };
 

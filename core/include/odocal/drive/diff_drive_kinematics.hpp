@@ -55,8 +55,9 @@ class DiffDriveKinematics {
   [[nodiscard]] const Eigen::Matrix2f& inverse_jacobian() const { return inverse_; }
 
  private:
-  Eigen::Matrix2f inverse_ = Eigen::Matrix2f::Identity();
-  Eigen::Matrix2f forward_ = Eigen::Matrix2f::Identity();
+  // Every element is written by `configure`, which the constructor calls.
+  Eigen::Matrix2f inverse_;
+  Eigen::Matrix2f forward_;
   float left_diameter_m_ = 0.06f;
   float right_diameter_m_ = 0.06f;
   float wheelbase_m_ = 0.15f;

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 namespace odocal::drive {
 
@@ -41,33 +42,42 @@ struct DriveConfig {
   std::uint32_t max_illegal = 16u;  ///< illegal encoder transitions before the fault trips
 };
 
-/// One field of DriveConfig as the console and the store see it. Exactly one of `real` and
-/// `whole` points at the field.
+/// One field of DriveConfig as the console and the store see it (also the console's
+/// params::ParamInfo). 20 bytes a field: the field is found by its byte offset in DriveConfig.
 struct ConfigField {
-  const char* name;         ///< console name, lower case ("c_l")
-  const char* unit;         ///< unit as printed ("mm", "1" for dimensionless)
-  float min;                ///< smallest accepted value (inclusive)
-  float max;                ///< largest accepted value (inclusive)
-  const char* description;  ///< one short phrase for `params`
-  float DriveConfig::*real;
-  std::uint32_t DriveConfig::*whole;
+  const char* name;     ///< console name, lower case ("c_l")
+  const char* unit;     ///< unit as printed ("mm", "1" for dimensionless)
+  float min;            ///< smallest accepted value (inclusive)
+  float max;            ///< largest accepted value (inclusive)
+  std::uint8_t offset;  ///< offsetof(DriveConfig, the field)
+  bool integer;         ///< a std::uint32_t field: only whole numbers are accepted; else float
 
   /// The field's value in `config`, as a float.
-  [[nodiscard]] constexpr float get(const DriveConfig& config) const {
-    return real != nullptr ? config.*real : static_cast<float>(config.*whole);
+  [[nodiscard]] float get(const DriveConfig& config) const {
+    const auto* bytes = reinterpret_cast<const unsigned char*>(&config) + offset;
+    if (integer) {
+      std::uint32_t whole = 0u;
+      std::memcpy(&whole, bytes, sizeof(whole));
+      return static_cast<float>(whole);
+    }
+    float real = 0.0f;
+    std::memcpy(&real, bytes, sizeof(real));
+    return real;
   }
   /// Writes `value` into `config` (a whole field takes the value truncated, never below 0).
-  constexpr void set(DriveConfig& config, float value) const {
-    if (real != nullptr) {
-      config.*real = value;
+  void set(DriveConfig& config, float value) const {
+    auto* bytes = reinterpret_cast<unsigned char*>(&config) + offset;
+    if (integer) {
+      const std::uint32_t whole = value > 0.0f ? static_cast<std::uint32_t>(value) : 0u;
+      std::memcpy(bytes, &whole, sizeof(whole));
     } else {
-      config.*whole = value > 0.0f ? static_cast<std::uint32_t>(value) : 0u;
+      std::memcpy(bytes, &value, sizeof(value));
     }
   }
   /// Default: the member initialiser of the field.
-  [[nodiscard]] constexpr float default_value() const { return get(DriveConfig{}); }
-  [[nodiscard]] constexpr bool integer() const { return whole != nullptr; }
+  [[nodiscard]] float default_value() const { return get(DriveConfig{}); }
 };
+static_assert(sizeof(DriveConfig) < 256u, "field offsets fit ConfigField::offset");
 
 /// Number of fields (= number of console parameters).
 inline constexpr std::size_t config_field_count = 21u;
@@ -75,37 +85,27 @@ inline constexpr std::size_t config_field_count = 21u;
 /// The table, in the order of the stored parameter ids (params::ParamId): never reorder, only
 /// append. Ranges are what a robot can run with; one cross-field rule comes on top (`check`).
 inline constexpr std::array<ConfigField, config_field_count> config_fields{{
-    {"wheel_diameter_mm", "mm", 5.0f, 1000.0f, "average wheel diameter D_a",
-     &DriveConfig::wheel_diameter_mm, nullptr},
-    {"wheelbase_mm", "mm", 10.0f, 5000.0f, "wheelbase b (UMBmark corrected)",
-     &DriveConfig::wheelbase_mm, nullptr},
-    {"counts_per_rev", "counts", 4.0f, 1.0e6f, "encoder counts per wheel rev (x4)",
-     &DriveConfig::counts_per_rev, nullptr},
-    {"c_l", "1", 0.5f, 2.0f, "UMBmark left wheel factor", &DriveConfig::c_l, nullptr},
-    {"c_r", "1", 0.5f, 2.0f, "UMBmark right wheel factor", &DriveConfig::c_r, nullptr},
-    {"f_lat", "1", 0.5f, 2.0f, "Maddahi lateral factor", &DriveConfig::f_lat, nullptr},
-    {"f_lon", "1", 0.5f, 2.0f, "Maddahi longitudinal factor", &DriveConfig::f_lon, nullptr},
-    {"control_hz", "Hz", 50.0f, 20000.0f, "control tick rate", &DriveConfig::control_hz, nullptr},
-    {"kp", "duty*s/rad", 0.0f, 100.0f, "wheel PI proportional gain", &DriveConfig::kp, nullptr},
-    {"ki", "duty/rad", 0.0f, 10000.0f, "wheel PI integral gain", &DriveConfig::ki, nullptr},
-    {"kff", "duty*s/rad", 0.0f, 10.0f, "wheel speed feed-forward", &DriveConfig::kff, nullptr},
-    {"max_wheel_radps", "rad/s", 0.1f, 1000.0f, "wheel speed set-point limit",
-     &DriveConfig::max_wheel_radps, nullptr},
-    {"cmd_timeout_ms", "ms", 10.0f, 60000.0f, "drive command timeout", &DriveConfig::cmd_timeout_ms,
-     nullptr},
-    {"v_max_mps", "m/s", 0.001f, 10.0f, "path cruise speed", &DriveConfig::v_max_mps, nullptr},
-    {"w_max_radps", "rad/s", 0.01f, 50.0f, "path turn rate", &DriveConfig::w_max_radps, nullptr},
-    {"accel_mps2", "m/s2", 0.01f, 50.0f, "path linear acceleration", &DriveConfig::accel_mps2,
-     nullptr},
-    {"alpha_radps2", "rad/s2", 0.01f, 500.0f, "path angular acceleration",
-     &DriveConfig::alpha_radps2, nullptr},
-    {"settle_ms", "ms", 0.0f, 10000.0f, "standstill between segments", &DriveConfig::settle_ms,
-     nullptr},
-    {"stall_ms", "ms", 10.0f, 60000.0f, "stall fault delay", &DriveConfig::stall_ms, nullptr},
-    {"stall_duty", "1", 0.0f, 1.0f, "duty above which a wheel must turn", &DriveConfig::stall_duty,
-     nullptr},
-    {"max_illegal", "count", 0.0f, 1.0e6f, "illegal encoder transitions before fault", nullptr,
-     &DriveConfig::max_illegal},
+    {"wheel_diameter_mm", "mm", 5.0f, 1000.0f, offsetof(DriveConfig, wheel_diameter_mm), false},
+    {"wheelbase_mm", "mm", 10.0f, 5000.0f, offsetof(DriveConfig, wheelbase_mm), false},
+    {"counts_per_rev", "counts", 4.0f, 1.0e6f, offsetof(DriveConfig, counts_per_rev), false},
+    {"c_l", "1", 0.5f, 2.0f, offsetof(DriveConfig, c_l), false},
+    {"c_r", "1", 0.5f, 2.0f, offsetof(DriveConfig, c_r), false},
+    {"f_lat", "1", 0.5f, 2.0f, offsetof(DriveConfig, f_lat), false},
+    {"f_lon", "1", 0.5f, 2.0f, offsetof(DriveConfig, f_lon), false},
+    {"control_hz", "Hz", 50.0f, 20000.0f, offsetof(DriveConfig, control_hz), false},
+    {"kp", "duty*s/rad", 0.0f, 100.0f, offsetof(DriveConfig, kp), false},
+    {"ki", "duty/rad", 0.0f, 10000.0f, offsetof(DriveConfig, ki), false},
+    {"kff", "duty*s/rad", 0.0f, 10.0f, offsetof(DriveConfig, kff), false},
+    {"max_wheel_radps", "rad/s", 0.1f, 1000.0f, offsetof(DriveConfig, max_wheel_radps), false},
+    {"cmd_timeout_ms", "ms", 10.0f, 60000.0f, offsetof(DriveConfig, cmd_timeout_ms), false},
+    {"v_max_mps", "m/s", 0.001f, 10.0f, offsetof(DriveConfig, v_max_mps), false},
+    {"w_max_radps", "rad/s", 0.01f, 50.0f, offsetof(DriveConfig, w_max_radps), false},
+    {"accel_mps2", "m/s2", 0.01f, 50.0f, offsetof(DriveConfig, accel_mps2), false},
+    {"alpha_radps2", "rad/s2", 0.01f, 500.0f, offsetof(DriveConfig, alpha_radps2), false},
+    {"settle_ms", "ms", 0.0f, 10000.0f, offsetof(DriveConfig, settle_ms), false},
+    {"stall_ms", "ms", 10.0f, 60000.0f, offsetof(DriveConfig, stall_ms), false},
+    {"stall_duty", "1", 0.0f, 1.0f, offsetof(DriveConfig, stall_duty), false},
+    {"max_illegal", "count", 0.0f, 1.0e6f, offsetof(DriveConfig, max_illegal), true},
 }};
 
 /// Why a configuration was refused.

@@ -62,7 +62,8 @@ class TrialRecorder {
                float still_ms);
 
   Phase phase_ = Phase::none;
-  TrialRecord current_{};
+  PathId path_ = PathId::none;  ///< of the open trial
+  float length_m_ = 0.0f;
   TrialRecord last_{};
   std::uint32_t next_number_ = 1u;
   std::int64_t start_l_ = 0;

@@ -123,15 +123,19 @@ class ParamStore {
     std::size_t damaged = 0u;  ///< slots neither blank nor a CRC-valid record
   };
 
-  [[nodiscard]] StoreResult scan(Scan& scan, ParamSet* newest_set);
-  [[nodiscard]] StoreResult read_slot(std::size_t sector, std::size_t slot);
-  [[nodiscard]] StoreResult slot_is_blank(std::size_t sector, std::size_t slot, bool& blank);
+  /// One slot's bytes. On the stack of `load` and `save` (main loop, well below the console's
+  /// deepest path), not a member: 256 B of static RAM that only those two calls use.
+  using SlotBuffer = std::array<std::uint8_t, record_slot_size>;
+
+  [[nodiscard]] StoreResult scan(Scan& scan, ParamSet* newest_set, SlotBuffer& buffer);
+  [[nodiscard]] StoreResult read_slot(std::size_t sector, std::size_t slot, SlotBuffer& buffer);
+  [[nodiscard]] StoreResult slot_is_blank(std::size_t sector, std::size_t slot, SlotBuffer& buffer,
+                                          bool& blank);
   [[nodiscard]] std::size_t address(std::size_t sector, std::size_t slot) const;
 
   hal::BlockStore& device_;
   std::size_t first_sector_;
   std::size_t slots_per_sector_ = 0u;
-  std::array<std::uint8_t, record_slot_size> buffer_{};
   ParamSet scratch_{};
   StoreGuards guards_{};
 };

@@ -41,15 +41,9 @@ enum class ParamId : std::uint8_t {
 /// Number of parameters.
 inline constexpr std::size_t param_count = static_cast<std::size_t>(ParamId::count);
 
-/// Static description of one parameter.
-struct ParamInfo {
-  const char* name;         ///< console name, lower case ("c_l")
-  const char* unit;         ///< unit as printed ("mm", "1" for dimensionless)
-  float min;                ///< smallest accepted value (inclusive)
-  float max;                ///< largest accepted value (inclusive)
-  bool integer;             ///< only whole numbers are accepted
-  const char* description;  ///< one short phrase for `params`
-};
+/// Static description of one parameter: name, unit, range, whole or real (the drive's own
+/// table entry, so the robot image holds one table).
+using ParamInfo = drive::ConfigField;
 
 /// Description of parameter `id` (`id` < count; anything else returns the first entry).
 [[nodiscard]] const ParamInfo& param_info(ParamId id);

@@ -7,6 +7,7 @@
 
 #include "odocal/hal/block_store.hpp"
 #include "odocal/hal/monotonic_clock.hpp"
+#include "odocal/hal/stm32f4/flash_registers.hpp"
 
 namespace odocal::hal::stm32f4 {
 
@@ -48,8 +49,24 @@ class MemoryBus final : public FlashBus {
 class FlashStore final : public hal::BlockStore {
  public:
   /// @param clock for operation timeouts (erase 2 s, program 10 ms per word).
-  FlashStore(FlashBus& bus, hal::MonotonicClock& clock, std::size_t first_sector,
-             std::size_t sector_count);
+  constexpr FlashStore(FlashBus& bus, hal::MonotonicClock& clock, std::size_t first_sector,
+                       std::size_t sector_count)
+      : bus_(bus), clock_(clock), first_sector_(first_sector), sector_count_(sector_count) {
+    valid_ = first_sector >= 1u && sector_count >= 1u && first_sector < flash::sector_count &&
+             sector_count <= flash::sector_count - first_sector;
+    if (valid_) {
+      sector_size_ = flash::sector_bytes(first_sector);
+      for (std::size_t s = first_sector; s < first_sector + sector_count; ++s) {
+        valid_ = valid_ && flash::sector_bytes(s) == sector_size_;
+      }
+    }
+    if (valid_) {
+      base_ = flash::sector_address(first_sector);
+    } else {
+      sector_size_ = 0u;
+      sector_count_ = 0u;
+    }
+  }
 
   /// True when the sectors exist, are all the same size, and exclude sector 0 (the vectors).
   /// An invalid store has no sectors: every operation is refused with `out_of_range`.

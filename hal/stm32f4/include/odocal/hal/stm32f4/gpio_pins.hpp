@@ -20,7 +20,7 @@ void configure_pin(gpio::Pin pin, gpio::Mode mode, gpio::Pull pull = gpio::Pull:
 class GpioOutput final : public hal::DigitalOutput {
  public:
   /// @param initial the level driven from `start()` on.
-  GpioOutput(gpio::Pin pin, bool initial) : pin_(pin), initial_(initial) {}
+  constexpr GpioOutput(gpio::Pin pin, bool initial) : pin_(pin), initial_(initial) {}
   /// Sets the initial level, then makes the pin an output. Start-up only.
   void start();
 
@@ -36,7 +36,7 @@ class GpioOutput final : public hal::DigitalOutput {
 /// inputs may share a vector only if the board attaches both).
 class ExtiInput final : public hal::DigitalInput {
  public:
-  ExtiInput(gpio::Pin pin, gpio::Pull pull) : pin_(pin), pull_(pull) {}
+  constexpr ExtiInput(gpio::Pin pin, gpio::Pull pull) : pin_(pin), pull_(pull) {}
 
   /// Configures the pin, routes it to its EXTI line (SYSCFG), enables both edges and the NVIC
   /// interrupt at `priority`. Start-up only; `on_edge` must have been called.

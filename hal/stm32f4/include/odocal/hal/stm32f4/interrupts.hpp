@@ -29,7 +29,8 @@ inline constexpr std::uint32_t systick_exception = 15u;
 void attach_interrupt(std::uint32_t exception, InterruptHandler handler, void* context);
 
 /// Sets the priority of device interrupt `irq` (0 = most urgent, upper four bits used) and
-/// enables it in the NVIC. Not ISR-safe (read-modify-write of a shared priority word).
+/// enables it in the NVIC; nothing for `irq` >= irq::count (no vector). Not ISR-safe
+/// (read-modify-write of a shared priority word).
 void enable_irq(std::uint32_t irq, std::uint8_t priority);
 /// Disables device interrupt `irq` in the NVIC. ISR-safe (single write).
 void disable_irq(std::uint32_t irq);

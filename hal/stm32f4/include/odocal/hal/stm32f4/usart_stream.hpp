@@ -50,9 +50,11 @@ class UsartStream final : public hal::ByteStream {
 
   UsartConfig config_;
   // Small: the console drains rx into its own line buffer every main-loop pass (~11.5 B/ms
-  // arrive at 115200 baud) and keeps its replies in its own output queue until tx has room.
+  // arrive at 115200 baud) and keeps its replies in its own output queue until tx has room; the
+  // main loop runs at least every tick (1 ms), so 128 B of tx (11 ms of line time) keep the line
+  // busy.
   SpscRing<128> rx_;
-  SpscRing<256> tx_;
+  SpscRing<128> tx_;
   std::atomic<std::uint32_t> rx_dropped_{0u};
 };
 

@@ -31,12 +31,11 @@ const char* to_string(LateralStatus status) {
     case LateralStatus::too_few_trials:
       return "too few trials (need 2 to 1024)";
     case LateralStatus::bad_geometry:
-      return "length, wheelbase, diameters and theta_L must be finite and > 0";
+      return "length, wheelbase, diameters, theta_L must be > 0";
     case LateralStatus::non_finite:
       return "a value is NaN or infinite";
     case LateralStatus::error_too_large:
-      return "a stop point is farther from the commanded end than the path length, or not ahead "
-             "of the start";
+      return "a stop point is beyond the path length from its end, or behind the start";
     case LateralStatus::degenerate:
       return "no finite positive factor fits these values";
   }

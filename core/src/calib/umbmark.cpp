@@ -267,10 +267,9 @@ const char* to_string(UmbmarkStatus status) {
     case UmbmarkStatus::non_finite:
       return "a return error is NaN or infinite";
     case UmbmarkStatus::error_too_large:
-      return "a return error is larger than the path (4 sides)";
+      return "a return error exceeds the path (4 sides)";
     case UmbmarkStatus::degenerate:
-      return "degenerate: the errors fit no square geometry (curvature radius below half the "
-             "wheelbase, or a turn error of 90 degrees or more)";
+      return "degenerate: no square fits (radius < wheelbase/2 or turn error >= 90 deg)";
   }
   return "unknown status";
 }

@@ -448,8 +448,7 @@ bool Console::config_accepted(const drive::ConfigCheck& check) {
     reply.text(" (outside its range)");
     send_refusal(reply);
   } else {
-    send_error(ErrorCode::rejected,
-               "drive refused the values (wheelbase_mm > wheel_diameter_mm/4)");
+    send_error(ErrorCode::rejected, "drive refused (need wheelbase_mm > wheel_diameter_mm/4)");
   }
   return false;
 }

@@ -143,6 +143,7 @@ hal::StoreStatus FlashStore::do_read(std::size_t address, std::uint8_t* out, std
   return hal::StoreStatus::ok;
 }
 
+#if !defined(ODOCAL_FLASH_BUS_DIRECT)
 std::uint32_t MemoryBus::do_read32(std::uintptr_t address) {
   return Register{address}.read();
 }
@@ -150,5 +151,7 @@ std::uint32_t MemoryBus::do_read32(std::uintptr_t address) {
 void MemoryBus::do_write32(std::uintptr_t address, std::uint32_t value) {
   Register{address}.write(value);
 }
+
+#endif
 
 }  // namespace odocal::hal::stm32f4

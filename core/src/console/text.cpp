@@ -4,6 +4,8 @@
 #include <cstring>
 #include <limits>
 
+#include "odocal/drive/numeric.hpp"
+
 namespace odocal::console {
 namespace {
 
@@ -30,41 +32,19 @@ int decimal_digits(std::uint32_t value) {
   return digits;
 }
 
-/// Decimal powers for the division-free conversion of 64-bit integers.
-constexpr std::uint64_t kPowers[20] = {10000000000000000000ull,
-                                       1000000000000000000ull,
-                                       100000000000000000ull,
-                                       10000000000000000ull,
-                                       1000000000000000ull,
-                                       100000000000000ull,
-                                       10000000000000ull,
-                                       1000000000000ull,
-                                       100000000000ull,
-                                       10000000000ull,
-                                       1000000000ull,
-                                       100000000ull,
-                                       10000000ull,
-                                       1000000ull,
-                                       100000ull,
-                                       10000ull,
-                                       1000ull,
-                                       100ull,
-                                       10ull,
-                                       1ull};
-
 /// Writes `value` as exactly `width` digits (leading zeros) when width > 0, else as few as it
-/// needs. Repeated subtraction: the Cortex-M4 has no 64-bit divide, and libgcc's costs ~0.7 KB.
+/// needs. The Cortex-M4 has no 64-bit divide (libgcc's costs ~0.7 KB): digits by the drive's
+/// long division in 16-bit steps, which the robot links anyway.
 std::size_t put_decimal(std::uint64_t value, std::size_t width, char* out) {
+  char reversed[20];
   std::size_t n = 0;
-  for (std::size_t i = 0; i < 20u; ++i) {
-    char digit = '0';
-    while (value >= kPowers[i]) {
-      value -= kPowers[i];
-      ++digit;
-    }
-    if (n > 0u || digit != '0' || 20u - i <= (width > 0u ? width : 1u)) {
-      out[n++] = digit;
-    }
+  do {
+    const std::uint64_t quotient = drive::divide_u64(value, 10u);
+    reversed[n++] = static_cast<char>('0' + static_cast<int>(value - quotient * 10u));
+    value = quotient;
+  } while (value != 0u || n < width);
+  for (std::size_t i = 0; i < n; ++i) {
+    out[i] = reversed[n - 1u - i];
   }
   return n;
 }

@@ -69,7 +69,7 @@ void Console::cmd_load() {
   if (load.store == params::StoreResult::corrupt) {
     // Nothing loaded and nothing erased: the damaged image stays until the next `save`.
     ErrLine reply(out_, ErrorCode::store_corrupt);
-    reply.text("every stored record is damaged (").unsigned_number(load.info.damaged);
+    reply.text(params::to_string(load.store)).text(" (").unsigned_number(load.info.damaged);
     reply.text(" slots); nothing changed, save writes a new one");
     send_refusal(reply);
     return;

@@ -128,7 +128,7 @@ void Console::cmd_lateral_add(const Token* words) {
   // its left-wheel counts give θ_L (eq. 4).
   const KeptTrial* trial = trials_.latest();
   if (trial == nullptr || trial->path != drive::PathId::line) {
-    send_error(ErrorCode::no_trial, "the latest trial is no line (run line <m> first)");
+    send_error(ErrorCode::no_trial, "latest trial is no line (run line <m>)");
     return;
   }
   if (trial->number == lateral_used_) {
@@ -146,10 +146,10 @@ void Console::cmd_lateral_add(const Token* words) {
       send_error(ErrorCode::lateral_full, "32 trials at most");
       return;
     case calib::LateralSession::AddStatus::length_mismatch:
-      send_error(ErrorCode::bad_argument, "the line's length differs from the trials entered");
+      send_error(ErrorCode::bad_argument, "line length differs from earlier trials");
       return;
     case calib::LateralSession::AddStatus::bad_trial:
-      send_error(ErrorCode::no_trial, "the line trial turned the left wheel backwards");
+      send_error(ErrorCode::no_trial, "the line turned the left wheel backwards");
       return;
   }
   lateral_used_ = trial->number;

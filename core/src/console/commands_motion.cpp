@@ -166,7 +166,7 @@ void Console::cmd_trial(const Token* words, std::size_t count) {
   } else {
     trial = trials_.latest();
     if (trial == nullptr) {
-      send_error(ErrorCode::no_trial, "no trial yet (run a path or a timed drive)");
+      send_error(ErrorCode::no_trial, "no trial yet (run a path or drive)");
       return;
     }
   }

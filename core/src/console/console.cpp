@@ -481,7 +481,7 @@ bool Console::date_arg(const Token* words, std::size_t count, std::size_t index,
                        std::uint32_t& date) {
   date = 0u;
   if (count > index && !parse_unsigned(words[index], date)) {
-    send_error(ErrorCode::bad_number, "unix_s is a whole number of seconds");
+    send_error(ErrorCode::bad_number, "unix_s must be whole seconds");
     return false;
   }
   return true;

@@ -14,51 +14,9 @@
 
 namespace odocal::host {
 
-/// One wheel's encoder lines wired straight to the firmware's decoder (sim::EncoderWiring does the
-/// same through a hal::EdgeSink, for a build that must not know the core's types): one indirect
-/// call per edge instead of two, and the decoder inlines into the handler. Same levels, same
-/// instants, same channel faults (sim::ChannelFilter).
-class DecoderWiring {
- public:
-  DecoderWiring(sim::EncoderLine& a, sim::EncoderLine& b, sim::SimClock& clock,
-                drive::QuadratureDecoder& decoder)
-      : a_(a), b_(b), clock_(clock), decoder_(decoder) {}
-  DecoderWiring(const DecoderWiring&) = delete;
-  DecoderWiring& operator=(const DecoderWiring&) = delete;
-
-  /// Presets the decoder to the current levels and registers the edge handler on both lines.
-  void attach() {
-    const bool a = a_.level();
-    const bool b = b_.level();
-    filter_.preset(a, b);
-    decoder_.reset(a, b);
-    a_.on_edge(&DecoderWiring::on_edge, this);
-    b_.on_edge(&DecoderWiring::on_edge, this);
-  }
-  /// From now on, channel A behaves as `fault` says (call between edges).
-  void set_fault(sim::ChannelFault fault) { filter_.set_fault(fault, a_.level()); }
-  /// Unregisters the handler from both lines.
-  void detach() {
-    a_.on_edge(nullptr, nullptr);
-    b_.on_edge(nullptr, nullptr);
-  }
-
- private:
-  static void on_edge(void* context) {
-    auto* self = static_cast<DecoderWiring*>(context);
-    const bool b = self->b_.level();
-    bool a = false;
-    if (self->filter_.pass(self->a_.level(), b, a)) {
-      self->decoder_.on_edge(a, b, self->clock_.now_us());
-    }
-  }
-
-  sim::EncoderLine& a_;
-  sim::EncoderLine& b_;
-  sim::SimClock& clock_;
-  drive::QuadratureDecoder& decoder_;
-  sim::ChannelFilter filter_;
-};
+/// One wheel's encoder lines wired straight to the firmware's decoder (no hal::EdgeSink between):
+/// same levels, same instants, same channel faults as sim::EncoderWiring.
+using DecoderWiring = sim::BasicEncoderWiring<drive::QuadratureDecoder&>;
 
 /// An encoder that fails (robot file `encoder_fault`, `encoder_fault_after_s`).
 struct EncoderFaultSpec {

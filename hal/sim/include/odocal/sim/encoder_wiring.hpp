@@ -63,14 +63,17 @@ class ChannelFilter {
 
 /// One wheel's edge path: lines A and B -> sink. Must outlive the registration. It takes the
 /// plant's concrete line and clock types (final classes): reading them on every edge then costs
-/// no virtual call.
-class EncoderWiring {
+/// no virtual call. `Sink` has `reset(a, b)` and `on_edge(a, b, t_us)`: a hal::EdgeSink (held by
+/// value: a build that must not know the core's types) or a reference to a decoder (the host
+/// simulator, where the decoder then inlines into the handler: one indirect call per edge).
+template <class Sink>
+class BasicEncoderWiring {
  public:
-  EncoderWiring(EncoderLine& a, EncoderLine& b, SimClock& clock, const hal::EdgeSink& sink)
+  BasicEncoderWiring(EncoderLine& a, EncoderLine& b, SimClock& clock, Sink sink)
       : a_(a), b_(b), clock_(clock), sink_(sink) {}
 
-  EncoderWiring(const EncoderWiring&) = delete;
-  EncoderWiring& operator=(const EncoderWiring&) = delete;
+  BasicEncoderWiring(const BasicEncoderWiring&) = delete;
+  BasicEncoderWiring& operator=(const BasicEncoderWiring&) = delete;
 
   /// Presets the sink to the current levels and registers the edge handler on both lines.
   /// Start-up only (not ISR-safe).
@@ -79,8 +82,8 @@ class EncoderWiring {
     const bool b = b_.read();
     filter_.preset(a, b);
     sink_.reset(a, b);
-    a_.on_edge(&EncoderWiring::on_edge, this);
-    b_.on_edge(&EncoderWiring::on_edge, this);
+    a_.on_edge(&BasicEncoderWiring::on_edge, this);
+    b_.on_edge(&BasicEncoderWiring::on_edge, this);
   }
 
   /// From now on, channel A behaves as `fault` says. Not ISR-safe (call between edges).
@@ -95,7 +98,7 @@ class EncoderWiring {
  private:
   /// Edge context: latch the levels and the time into the sink, nothing else.
   static void on_edge(void* context) {
-    auto* self = static_cast<EncoderWiring*>(context);
+    auto* self = static_cast<BasicEncoderWiring*>(context);
     const bool b = self->b_.level();
     bool a = false;
     if (self->filter_.pass(self->a_.level(), b, a)) {
@@ -106,8 +109,11 @@ class EncoderWiring {
   EncoderLine& a_;
   EncoderLine& b_;
   SimClock& clock_;
-  const hal::EdgeSink sink_;
+  Sink sink_;
   ChannelFilter filter_;
 };
+
+/// Through a hal::EdgeSink (the QEMU image, hal tests).
+using EncoderWiring = BasicEncoderWiring<hal::EdgeSink>;
 
 }  // namespace odocal::sim

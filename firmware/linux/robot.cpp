@@ -36,7 +36,13 @@ SetupResult MotorPwm::open(ChipSet& chips, const PwmSpec& spec, const LinuxConfi
 void Robot::on_tick(void* context) {
   auto* robot = static_cast<Robot*>(context);
   const std::uint32_t start = robot->clock.now_us();
-  robot->loop->tick(start);
+  {
+    // A thread, not an interrupt: the whole tick inside the critical section, so the console's
+    // reads of tick-owned state (pose, last trial) and a path load never interleave with it
+    // (ControlLoop's contract). Edges wait in the kernel's queue with their timestamps meanwhile.
+    hal::CriticalGuard guard(robot->critical);
+    robot->loop->tick(start);
+  }
   robot->loop->note_tick_duration_us(static_cast<float>(robot->clock.now_us() - start));
 }
 

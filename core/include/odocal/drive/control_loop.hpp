@@ -68,7 +68,10 @@ struct MotorChannel {
 
 /// Owns the drive pipeline. The edge contexts feed `left_decoder()` / `right_decoder()`; the
 /// tick context calls `tick()`; the main loop calls the command methods, which take the critical
-/// section so the tick never sees half a command.
+/// section so the tick never sees half a command. Those methods also read tick-owned state (the
+/// pose, the last trial) and load a new path into the executor under the section, so a tick must
+/// never run while the main loop holds it: true for a tick interrupt on one core; a target whose
+/// tick is a thread runs each `tick()` inside the critical section (firmware/linux does).
 class ControlLoop {
  public:
   ControlLoop(MotorChannel left, MotorChannel right, hal::CriticalSection& critical,

@@ -14,6 +14,17 @@
 #include "odocal/hal/pwm_output.hpp"
 #include "odocal/hal/stm32f4/clock.hpp"
 #include "odocal/hal/stm32f4/mmio.hpp"
+#include "odocal/hal/stm32f4/systick_timer.hpp"
+
+/// The vectors of EXTI lines 0 and 1 (one function for both) and of lines 2 and 3, which the
+/// board serves itself (the vector table points at them, not at the HAL's dispatch table): the
+/// robot's encoder edges, a wheel's two channels on a pair of lines, so an edge costs no table
+/// lookup and no indirect call. A board without such lines forwards them to
+/// `hal::stm32f4::dispatch_interrupt`.
+extern "C" {
+void board_exti01_vector();
+void board_exti23_vector();
+}
 
 namespace odocal::firmware {
 
@@ -39,11 +50,15 @@ struct BoardParts {
 BoardParts board_init();
 /// Info filled by `board_init`.
 const BoardInfo& board_info();
+/// The application's microsecond clock, started: what the tick, the console and the edge stamps
+/// all read. Robot: TIM5 free-running at 1 MHz (one register load per edge); QEMU: `systick`'s
+/// own clock (QEMU's timers count at a fixed 1 GHz whatever their prescaler). After `board_init`.
+hal::MonotonicClock& board_clock(hal::stm32f4::SysTickTimer& systick);
 /// Starts the encoder edges: every edge of a wheel's A or B line feeds that wheel's decoder from
-/// the edge interrupt, stamped with `clock`. Robot: EXTI lines; QEMU: the simulated plant,
-/// advanced to the time of `clock` in a timer interrupt. Call before interrupts are enabled.
-void board_start_encoders(drive::QuadratureDecoder& left, drive::QuadratureDecoder& right,
-                          hal::MonotonicClock& clock);
+/// the edge interrupt, stamped with `board_clock`'s time. Robot: EXTI lines 0..3; QEMU: the
+/// simulated plant, advanced to the clock's time in a timer interrupt. Call after `board_clock`,
+/// before interrupts are enabled.
+void board_start_encoders(drive::QuadratureDecoder& left, drive::QuadratureDecoder& right);
 /// Runs at the start of every control tick, before it samples the encoders (tick context).
 /// QEMU: brings the simulated plant up to now; robot: nothing.
 void board_before_tick();

@@ -101,16 +101,27 @@ BoardParts board_init() {
                     plant.right().forward()};
 }
 
-void board_start_encoders(drive::QuadratureDecoder& left, drive::QuadratureDecoder& right,
-                          hal::MonotonicClock& clock) {
+extern "C" void board_exti01_vector() {
+  f4::dispatch_interrupt();  // no EXTI lines here: unattached, so reported as unexpected
+}
+extern "C" void board_exti23_vector() {
+  f4::dispatch_interrupt();
+}
+
+hal::MonotonicClock& board_clock(f4::SysTickTimer& systick) {
+  static f4::SysTickClock clock{systick};
+  driver.clock = &clock;
+  return clock;
+}
+
+void board_start_encoders(drive::QuadratureDecoder& left, drive::QuadratureDecoder& right) {
   // The decoders take the plant's clock, which the plant sets to each edge's crossing instant.
   static sim::EncoderWiring left_wiring{plant.left().channel_a(), plant.left().channel_b(),
                                         plant.clock(), drive::edge_sink(left)};
   static sim::EncoderWiring right_wiring{plant.right().channel_a(), plant.right().channel_b(),
                                          plant.clock(), drive::edge_sink(right)};
   // Plant time = firmware time (same epoch), so edge stamps and tick stamps compare directly.
-  driver.clock = &clock;
-  driver.last_us = clock.now_us();
+  driver.last_us = driver.clock->now_us();
   driver.t_ns = static_cast<std::uint64_t>(driver.last_us) * 1000u;
   plant.advance_to_ns(driver.t_ns);
   left_wiring.attach();

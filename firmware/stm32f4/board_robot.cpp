@@ -6,9 +6,11 @@
 
 #include "board.hpp"
 #include "odocal/hal/stm32f4/cortex_m4.hpp"
+#include "odocal/hal/stm32f4/exti.hpp"
 #include "odocal/hal/stm32f4/flash_store.hpp"
 #include "odocal/hal/stm32f4/gpio_pins.hpp"
 #include "odocal/hal/stm32f4/irq.hpp"
+#include "odocal/hal/stm32f4/microsecond_timer.hpp"
 #include "odocal/hal/stm32f4/rcc.hpp"
 #include "odocal/hal/stm32f4/tim.hpp"
 #include "odocal/hal/stm32f4/timer_pwm.hpp"
@@ -54,41 +56,42 @@ f4::GpioOutput right_forward{right_dir_pin, true};
 f4::GpioOutput driver_enable{driver_enable_pin, false};
 f4::MemoryBus flash_bus;
 
-/// A clock stub for the flash store until the application's clock exists (see board_init).
-class BootClock final : public hal::MonotonicClock {
- public:
-  hal::MonotonicClock* real = nullptr;
+/// The application's clock: TIM5 counting microseconds, started first thing in board_init (the
+/// flash store's timeouts read it too).
+constexpr f4::Block us_timer = f4::tim::tim5;
+f4::MicrosecondTimer us_clock{us_timer, f4::rcc::apb1enr_tim5};
+f4::FlashStore store{flash_bus, us_clock, store_first_sector, store_sectors};
 
- private:
-  std::uint32_t do_now_us() override { return real != nullptr ? real->now_us() : ++fallback_; }
-  std::uint32_t fallback_ = 0u;
-};
-BootClock store_clock;
-f4::FlashStore store{flash_bus, store_clock, store_first_sector, store_sectors};
+drive::QuadratureDecoder* left_decoder = nullptr;
+drive::QuadratureDecoder* right_decoder = nullptr;
 
-/// One wheel's edge path: an edge on A or B samples both pins with one IDR read.
-struct EncoderPins {
-  std::uint8_t a_bit;
-  std::uint8_t b_bit;
-  drive::QuadratureDecoder* decoder;
-  hal::MonotonicClock* clock;
-};
-EncoderPins left_pins{left_a_pin.number, left_b_pin.number, nullptr, nullptr};
-EncoderPins right_pins{right_a_pin.number, right_b_pin.number, nullptr, nullptr};
-f4::ExtiInput left_a{left_a_pin, f4::gpio::Pull::up};
-f4::ExtiInput left_b{left_b_pin, f4::gpio::Pull::up};
-f4::ExtiInput right_a{right_a_pin, f4::gpio::Pull::up};
-f4::ExtiInput right_b{right_b_pin, f4::gpio::Pull::up};
-
-/// Edge context: latch levels and time into the decoder, nothing else.
-void on_encoder_edge(void* context) {
-  const auto& pins = *static_cast<const EncoderPins*>(context);
+/// One wheel's edge, served straight from its EXTI vector (each vector is flattened: the decoder
+/// is inlined, the whole edge path is one function without a call): clear both of the wheel's
+/// pending bits first (an edge from here on pends the vector again), then one IDR read samples A
+/// and B and one TIM5 read stamps them. Lines = pin numbers (port C, EXTICR routes them).
+template <std::uint8_t a_line, std::uint8_t b_line>
+inline void serve_edge(drive::QuadratureDecoder& decoder) {
+  f4::exti::pr.write((1u << a_line) | (1u << b_line));
   const std::uint32_t levels = f4::gpio::idr(encoder_port).read();
-  pins.decoder->on_edge(((levels >> pins.a_bit) & 1u) != 0u, ((levels >> pins.b_bit) & 1u) != 0u,
-                        pins.clock->now_us());
+  decoder.on_edge(((levels >> a_line) & 1u) != 0u, ((levels >> b_line) & 1u) != 0u,
+                  f4::MicrosecondTimer::read(us_timer));
+}
+
+/// TIM3 and TIM5 input clock, from the clock actually reached: 2 · PCLK1 unless APB1 is
+/// undivided (the 16 MHz HSI fallback, no PLL: the PWM is then coarser, 800 steps not 4200).
+std::uint32_t apb1_timer_hz() {
+  return info.clock.pclk1_hz == info.clock.sysclk_hz ? info.clock.pclk1_hz
+                                                     : 2u * info.clock.pclk1_hz;
 }
 
 }  // namespace
+
+extern "C" [[gnu::flatten]] void board_exti01_vector() {
+  serve_edge<left_a_pin.number, left_b_pin.number>(*left_decoder);
+}
+extern "C" [[gnu::flatten]] void board_exti23_vector() {
+  serve_edge<right_a_pin.number, right_b_pin.number>(*right_decoder);
+}
 
 const BoardInfo& board_info() {
   return info;
@@ -96,13 +99,11 @@ const BoardInfo& board_info() {
 
 BoardParts board_init() {
   info.clock = f4::configure_clock(clock_plan);
-  // Built from the clock actually reached: on the 16 MHz HSI fallback (no PLL) the baud rate is
-  // the same and the PWM coarser (800 steps instead of 4200).
-  const std::uint32_t apb1_timer_hz =
-      info.clock.pclk1_hz == info.clock.sysclk_hz ? info.clock.pclk1_hz : 2u * info.clock.pclk1_hz;
+  us_clock.start(apb1_timer_hz());
+  // Built from the clock actually reached: on the 16 MHz HSI fallback the baud rate is the same.
   static f4::UsartStream console{f4::UsartConfig{
       f4::usart::usart1, f4::irq::usart1, info.clock.pclk2_hz, 115200u, f4::irq::priority_console}};
-  static const f4::PwmTimerConfig pwm_timer{f4::tim::tim3, apb1_timer_hz, pwm_carrier_hz};
+  static const f4::PwmTimerConfig pwm_timer{f4::tim::tim3, apb1_timer_hz(), pwm_carrier_hz};
   static f4::TimerPwm left_pwm{pwm_timer, left_pwm_channel};
   static f4::TimerPwm right_pwm{pwm_timer, right_pwm_channel};
   driver_enable.start();  // low: H-bridges off until the PWM runs at duty 0
@@ -126,21 +127,17 @@ BoardParts board_init() {
   return BoardParts{console, store, left_pwm, left_forward, right_pwm, right_forward};
 }
 
-void board_start_encoders(drive::QuadratureDecoder& left, drive::QuadratureDecoder& right,
-                          hal::MonotonicClock& clock) {
-  store_clock.real = &clock;
-  left_pins.decoder = &left;
-  left_pins.clock = &clock;
-  right_pins.decoder = &right;
-  right_pins.clock = &clock;
-  left_a.on_edge(&on_encoder_edge, &left_pins);
-  left_b.on_edge(&on_encoder_edge, &left_pins);
-  right_a.on_edge(&on_encoder_edge, &right_pins);
-  right_b.on_edge(&on_encoder_edge, &right_pins);
-  left_a.start(f4::irq::priority_edges);
-  left_b.start(f4::irq::priority_edges);
-  right_a.start(f4::irq::priority_edges);
-  right_b.start(f4::irq::priority_edges);
+hal::MonotonicClock& board_clock(f4::SysTickTimer& /*systick*/) {
+  return us_clock;  // started by board_init
+}
+
+void board_start_encoders(drive::QuadratureDecoder& left, drive::QuadratureDecoder& right) {
+  left_decoder = &left;
+  right_decoder = &right;
+  f4::start_exti_line(left_a_pin, f4::gpio::Pull::up, f4::irq::priority_edges);
+  f4::start_exti_line(left_b_pin, f4::gpio::Pull::up, f4::irq::priority_edges);
+  f4::start_exti_line(right_a_pin, f4::gpio::Pull::up, f4::irq::priority_edges);
+  f4::start_exti_line(right_b_pin, f4::gpio::Pull::up, f4::irq::priority_edges);
   // Levels as they are now, before the first edge interrupt.
   const std::uint32_t levels = f4::gpio::idr(encoder_port).read();
   left.reset(((levels >> left_a_pin.number) & 1u) != 0u,

@@ -31,6 +31,7 @@ constexpr std::uint32_t main_loop_deadline_us = 1'000'000u;
 struct TickContext {
   drive::ControlLoop& loop;
   f4::SysTickTimer& timer;
+  hal::MonotonicClock& clock;
   bool use_cycle_counter;
   float cycles_per_us;
   std::atomic<std::uint32_t> main_alive_us{0u};
@@ -45,7 +46,7 @@ void on_tick(void* raw) {
   auto& context = *static_cast<TickContext*>(raw);
   board_before_tick();
   const std::uint32_t start = cycles_now(context);
-  const std::uint32_t now_us = context.timer.now_us();
+  const std::uint32_t now_us = context.clock.now_us();
   context.loop.tick(now_us);
   std::uint32_t cycles = cycles_now(context) - start;
   if (!context.use_cycle_counter && cycles > context.timer.period_cycles()) {
@@ -87,7 +88,8 @@ std::uint32_t tick_rate_hz(const drive::ControlLoop& loop) {
   static drive::ControlLoop loop{drive::MotorChannel{parts.left_pwm, parts.left_forward},
                                  drive::MotorChannel{parts.right_pwm, parts.right_forward},
                                  critical};
-  static TickContext tick{loop, timer, info.has_cycle_counter,
+  hal::MonotonicClock& clock = board_clock(timer);
+  static TickContext tick{loop, timer, clock, info.has_cycle_counter,
                           static_cast<float>(info.clock.sysclk_hz) * 1.0e-6f};
   static SessionStream session{parts.console};
   static params::ParamStore store{parts.store};
@@ -98,7 +100,7 @@ std::uint32_t tick_rate_hz(const drive::ControlLoop& loop) {
   if (info.has_cycle_counter) {
     f4::CycleCounter::start();
   }
-  board_start_encoders(loop.left_decoder(), loop.right_decoder(), timer);
+  board_start_encoders(loop.left_decoder(), loop.right_decoder());
   f4::enable_interrupts();  // the console UART from here on; the tick starts below
 
   const char* const boot[] = {"\r\n# odocal-fw ",
@@ -111,14 +113,14 @@ std::uint32_t tick_rate_hz(const drive::ControlLoop& loop) {
                               "\r\n"};
   write_line(session, boot, sizeof(boot) / sizeof(boot[0]));
   // Loads the saved parameters into the loop (the flash is read before the tick runs).
-  static_cast<void>(console.start(timer.now_us()));
+  static_cast<void>(console.start(clock.now_us()));
   std::uint32_t rate_hz = tick_rate_hz(loop);
   static_cast<void>(timer.start(rate_hz, &on_tick, &tick));
   f4::Watchdog::start(watchdog_timeout_ms);
 
-  std::uint32_t last_rate_check_us = timer.now_us();
+  std::uint32_t last_rate_check_us = clock.now_us();
   for (;;) {
-    const std::uint32_t now_us = timer.now_us();
+    const std::uint32_t now_us = clock.now_us();
     tick.main_alive_us.store(now_us, std::memory_order_relaxed);
     console.poll(now_us);
     if (now_us - last_rate_check_us > 100'000u) {

@@ -1,9 +1,11 @@
 // Reset handler and vector table of the STM32F405/407 (RM0090 table 61: 16 system exceptions,
-// 82 device interrupts). Every device interrupt and SysTick go through the HAL's dispatch table.
+// 82 device interrupts). Every device interrupt and SysTick go through the HAL's dispatch table,
+// except EXTI lines 0..3, which the board serves straight from their vectors (board.hpp).
 
 #include <array>
 #include <cstdint>
 
+#include "board.hpp"
 #include "odocal/hal/stm32f4/cortex_m4.hpp"
 #include "odocal/hal/stm32f4/interrupts.hpp"
 #include "odocal/hal/stm32f4/irq.hpp"
@@ -79,6 +81,11 @@ constexpr std::array<Vector, handler_count> make_handlers() {
   for (std::uint32_t i = 14u; i < handler_count; ++i) {
     h[i] = odocal::hal::stm32f4::dispatch_interrupt;  // SysTick and IRQ 0..81
   }
+  namespace irq = odocal::hal::stm32f4::irq;
+  h[15u + irq::exti0] = board_exti01_vector;
+  h[15u + irq::exti1] = board_exti01_vector;
+  h[15u + irq::exti2] = board_exti23_vector;
+  h[15u + irq::exti3] = board_exti23_vector;
   return h;
 }
 

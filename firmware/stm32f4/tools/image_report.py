@@ -45,14 +45,13 @@ HANDLER_TARGETS = {
 VIRTUAL_TARGETS = r"::do_[a-z_0-9]+\(|non-virtual thunk to .*::do_"
 # Which HAL virtuals a caller can reach (by the caller's name prefix); others may reach any.
 VIRTUAL_BY_CALLER = [
-    ("odocal::firmware::(anonymous namespace)::on_encoder_edge", r"do_now_us"),
     ("odocal::sim::EncoderWiring", r"do_now_us|do_read\(\)"),
     ("odocal::drive::", r"do_set_duty|do_set\(|do_enter|do_exit"),
     ("odocal::params::", r"do_erase|do_program|do_read\(unsigned|do_sector|do_program_gran"),
     ("odocal::hal::BlockStore", r"do_erase|do_program|do_read\(unsigned|do_sector|do_program_gran"),
     ("odocal::hal::stm32f4::FlashStore", r"do_now_us|do_read32|do_write32"),
     ("odocal::console::", r"do_read\(unsigned char|do_write|do_enter|do_exit"),
-    ("odocal::firmware::(anonymous namespace)::BootClock", r"SysTickTimer::do_now_us"),
+    ("odocal::hal::stm32f4::SysTickClock", r"SysTickTimer::microseconds"),
     ("odocal::firmware::SessionStream", r"do_read\(unsigned char|do_write"),
     ("odocal::hal::CriticalGuard", r"do_enter|do_exit"),
 ]
@@ -60,7 +59,7 @@ VIRTUAL_BY_CALLER = [
 ROOTS = [
     ("main loop (reset_handler -> main)", r"^reset_handler$", None),
     ("SysTick: control tick", r"^dispatch_interrupt$", r"SysTickTimer::on_interrupt"),
-    ("EXTI: encoder edge (robot)", r"^dispatch_interrupt$", r"ExtiInput::on_interrupt"),
+    ("EXTI: encoder edge (robot)", r"^board_exti(01|23)_vector$", None),
     ("TIM2: plant (QEMU)", r"^dispatch_interrupt$", r"on_plant_timer"),
     ("USART: console bytes", r"^dispatch_interrupt$", r"UsartStream::on_interrupt"),
     ("faults", r"^fault_report$", None),
@@ -139,13 +138,15 @@ def parse_disassembly(objdump, elf):
     for line in text.splitlines():
         head = re.match(r"^([0-9a-f]{8}) <(.+)>:$", line)
         if head:
-            current = {"name": head.group(2), "insns": [], "calls": set(), "indirect": False}
+            current = {"name": head.group(2), "insns": [], "addrs": [], "calls": set(),
+                       "indirect": False}
             functions[head.group(2)] = current
             continue
         ins = re.match(r"^\s+([0-9a-f]+):\s+(\S+)\s*(.*)$", line)
         if ins and current is not None:
             op, args = ins.group(2), ins.group(3)
             current["insns"].append((op, args))
+            current["addrs"].append(int(ins.group(1), 16))
             call = re.match(r"^[0-9a-f]+ <([^+>]+)>", args)
             if op in ("bl", "b.w", "b") and call and call.group(1) != current["name"]:
                 if op == "bl" or (op in ("b.w", "b") and call.group(1) in functions or True):
@@ -155,6 +156,42 @@ def parse_disassembly(objdump, elf):
             if op == "blx" or (op == "bx" and args.strip() != "lr"):
                 current["indirect"] = True
     return functions
+
+
+CONDITIONAL = re.compile(r"^(b(eq|ne|cs|hs|cc|lo|mi|pl|vs|vc|hi|ls|ge|lt|gt|le)|cbn?z)$")
+
+
+def longest_run(function):
+    """Instructions executed on the longest way from entry to return, following branches (for
+    loop-free interrupt code; literal-pool words are not instructions). A tail call counts as
+    its branch only."""
+    code = [(a, op, args) for a, (op, args) in zip(function["addrs"], function["insns"])
+            if not op.startswith(".")]
+    index = {a: i for i, (a, _, _) in enumerate(code)}
+    memo = {}
+
+    def walk(i, depth):
+        if i >= len(code) or depth > len(code):
+            return 0
+        if i in memo:
+            return memo[i]
+        _, op, args = code[i]
+        base = op.split(".")[0]
+        target = re.match(r"^([0-9a-f]+) <", args)
+        inside = index.get(int(target.group(1), 16)) if target else None
+        if base == "bx" or (base in ("pop", "ldmia") and "pc" in args):
+            n = 1
+        elif base == "b":
+            n = 1 + (walk(inside, depth + 1) if inside is not None else 0)
+        elif CONDITIONAL.match(base):
+            n = 1 + max(walk(i + 1, depth + 1),
+                        walk(inside, depth + 1) if inside is not None else 0)
+        else:
+            n = 1 + walk(i + 1, depth + 1)
+        memo[i] = n
+        return n
+
+    return walk(0, 0)
 
 
 def frame_bytes(function):
@@ -191,6 +228,8 @@ def main():
     parser.add_argument("--elf", required=True)
     parser.add_argument("--map", required=True)
     parser.add_argument("--objdump", default="arm-none-eabi-objdump")
+    parser.add_argument("--edge-max", type=int, default=0,
+                        help="fail when an edge vector runs more instructions than this (robot)")
     args = parser.parse_args()
     headers = run(args.objdump, "-h", args.elf)
     stack = re.search(r"\.stack\s+([0-9a-f]+)", headers)
@@ -294,13 +333,19 @@ def main():
           f"reserved {args.stack_reserved} B")
 
     print()
-    print("instructions per function on the edge path (straight-line count; the ISR path runs each once)")
-    for pattern in (r"^dispatch_interrupt$", r"ExtiInput::on_interrupt", r"ExtiInput::service",
-                    r"on_encoder_edge", r"QuadratureDecoder::on_edge", r"SysTickTimer::do_now_us"):
-        for n in functions:
-            if re.search(pattern, names[n]) and not names[n].startswith("non-virtual"):
-                print(f"{len(functions[n]['insns']):6d}  {names[n]}")
-    return 1 if nested > args.stack_reserved else 0
+    edge_over = False
+    print("edge path: instructions of each EXTI vector the board serves itself (whole path: "
+          "pending clear, pin sample, time stamp, decoder; executed = longest way through)")
+    for n in functions:
+        if re.search(r"^board_exti(01|23)_vector$", names[n]):
+            code = [op for op, _ in functions[n]["insns"] if not op.startswith(".")]
+            calls = len(functions[n]["calls"])
+            executed = longest_run(functions[n])
+            print(f"{executed:6d} executed, {len(code)} in all, {calls} calls  {names[n]}")
+            if args.edge_max and (executed > args.edge_max or calls):
+                print(f"edge path over its budget of {args.edge_max} instructions (or calls out)")
+                edge_over = True
+    return 1 if nested > args.stack_reserved or edge_over else 0
 
 
 if __name__ == "__main__":

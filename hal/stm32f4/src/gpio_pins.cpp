@@ -50,18 +50,22 @@ void ExtiInput::do_on_edge(hal::EdgeHandler handler, void* context) {
   context_ = context;
 }
 
-void ExtiInput::start(std::uint8_t priority) {
-  configure_pin(pin_, gpio::Mode::input, pull_);
+void start_exti_line(gpio::Pin pin, gpio::Pull pull, std::uint8_t priority) {
+  configure_pin(pin, gpio::Mode::input, pull);
   rcc::apb2enr.set(rcc::apb2enr_syscfg.mask());
-  const std::uint8_t line = pin_.number;
-  syscfg::exticr(line).modify(syscfg::exticr_field(line), static_cast<std::uint32_t>(pin_.port));
+  const std::uint8_t line = pin.number;
+  syscfg::exticr(line).modify(syscfg::exticr_field(line), static_cast<std::uint32_t>(pin.port));
   const std::uint32_t line_bit = 1u << line;
   exti::rtsr.set(line_bit);
   exti::ftsr.set(line_bit);
   exti::pr.write(line_bit);
   exti::imr.set(line_bit);
-  attach_interrupt(exception_of_irq(exti_irq(line)), &ExtiInput::on_interrupt, this);
   enable_irq(exti_irq(line), priority);
+}
+
+void ExtiInput::start(std::uint8_t priority) {
+  attach_interrupt(exception_of_irq(exti_irq(pin_.number)), &ExtiInput::on_interrupt, this);
+  start_exti_line(pin_, pull_, priority);
 }
 
 void ExtiInput::service() {

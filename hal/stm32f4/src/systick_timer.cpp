@@ -49,7 +49,7 @@ std::uint32_t SysTickTimer::cycles_into_period() const {
   return systick::load.read() - systick::val.read();
 }
 
-std::uint32_t SysTickTimer::do_now_us() {
+std::uint32_t SysTickTimer::microseconds() const {
   std::uint32_t base = 0u;
   std::uint32_t rem = 0u;
   std::uint32_t value = 0u;

@@ -8,6 +8,27 @@
 
 namespace odocal::drive {
 
+namespace quadrature {
+
+/// Marks a transition where both channels changed: direction unknown, an edge was missed.
+inline constexpr std::int8_t illegal = 2;
+
+/// Index: (previous state << 2) | new state, a state being (A << 1) | B.
+/// Forward (A leads B) walks 0 -> 2 -> 3 -> 1 -> 0; backward walks the other way.
+inline constexpr std::int8_t transition[16] = {
+    // to:  00       01       10       11
+    0,       -1,      +1,      illegal,  // from 00
+    +1,      0,       illegal, -1,       // from 01
+    -1,      illegal, 0,       +1,       // from 10
+    illegal, +1,      -1,      0,        // from 11
+};
+
+constexpr std::uint8_t state_of(bool a, bool b) {
+  return static_cast<std::uint8_t>((a ? 2u : 0u) | (b ? 1u : 0u));
+}
+
+}  // namespace quadrature
+
 /// What the tick reads from a decoder: a consistent copy taken under a critical section.
 struct EncoderSnapshot {
   std::uint32_t count = 0u;         ///< position in counts, modulo 2^32 (wraps; take differences)
@@ -27,8 +48,21 @@ class QuadratureDecoder {
   void reset(bool a, bool b);
 
   /// Feeds the pin levels sampled after an edge of A or B, with the edge timestamp.
-  /// ISR-safe: constant time, no branches on history beyond the table.
-  void on_edge(bool a, bool b, std::uint32_t now_us);
+  /// ISR-safe: constant time, no branches on history beyond the table. Inline: the robot's edge
+  /// vectors take it into their own body (the whole edge path is one function).
+  void on_edge(bool a, bool b, std::uint32_t now_us) {
+    const std::uint8_t next = quadrature::state_of(a, b);
+    const std::int8_t step = quadrature::transition[(state_ << 2) | next];
+    state_ = next;
+    if (step == quadrature::illegal) {
+      ++illegal_;
+    } else if (step != 0) {
+      // Modular arithmetic: the raw count wraps at 2^32 and readers take differences.
+      count_ += static_cast<std::uint32_t>(static_cast<std::int32_t>(step));
+      ++edges_;
+      last_edge_us_ = now_us;
+    }
+  }
 
   /// The current state. Not atomic: call it where edges cannot interrupt (under a
   /// `hal::CriticalGuard`, or from the edge context itself).

@@ -16,6 +16,12 @@ namespace odocal::hal::stm32f4 {
 void configure_pin(gpio::Pin pin, gpio::Mode mode, gpio::Pull pull = gpio::Pull::none,
                    gpio::Speed speed = gpio::Speed::low, std::uint8_t alternate_function = 0u);
 
+/// Makes `pin` an input whose both edges raise EXTI line `pin.number` (SYSCFG routing, both
+/// triggers, pending bit cleared, line unmasked) and enables that line's NVIC interrupt at
+/// `priority`. The board serves the interrupt itself (its vector, or `ExtiInput` below), clearing
+/// the pending bit. Start-up only, with interrupts disabled.
+void start_exti_line(gpio::Pin pin, gpio::Pull pull, std::uint8_t priority);
+
 /// A push-pull output pin.
 class GpioOutput final : public hal::DigitalOutput {
  public:

@@ -201,6 +201,53 @@ UmbmarkStatus check_runs(const ReturnErrorOf<Real>* runs, std::size_t count, Rea
   return UmbmarkStatus::ok;
 }
 
+/// The four modelled return-error coordinates: cw x, y, then ccw x, y.
+template <typename T, typename Real>
+void model_ends(const UmbmarkInputOf<Real>& input, T e_d, T e_b, T (&out)[4]) {
+  square_end(input.side_mm, input.wheelbase_mm, e_d, e_b, true, out[0], out[1]);
+  square_end(input.side_mm, input.wheelbase_mm, e_d, e_b, false, out[2], out[3]);
+}
+
+/// The model at (E_d, E_b) and its Jacobian columns ∂/∂E_d, ∂/∂E_b. Double (host): dual numbers,
+/// exact. Float (the robot's console): central differences of the plain model, which keeps a
+/// second, dual-number copy of the square model out of the robot's flash (~0.6 KB). With steps of
+/// 2^-9 relative the derivative's error is ~1e-4 relative (float rounding of the ~mm-sized
+/// differences; the truncation error is far below it): that only slows Gauss-Newton slightly, and
+/// the point it converges to moves by (Jacobian error) x (residual), a few 1e-8 of E_d for
+/// millimetre residuals — below float's own resolution of E_d.
+template <typename Real>
+void model_and_jacobian(const UmbmarkInputOf<Real>& input, Real e_d, Real e_b, Real (&value)[4],
+                        Real (&d0)[4], Real (&d1)[4]) {
+  if constexpr (sizeof(Real) == sizeof(float)) {
+    model_ends(input, e_d, e_b, value);
+    constexpr Real relative_step = Real(1) / 512;
+    Real up[4];
+    Real down[4];
+    const Real d_hi = e_d + relative_step * e_d;
+    const Real d_lo = e_d - relative_step * e_d;
+    model_ends(input, d_hi, e_b, up);
+    model_ends(input, d_lo, e_b, down);
+    for (int i = 0; i < 4; ++i) {
+      d0[i] = (up[i] - down[i]) / (d_hi - d_lo);  // the steps as represented, not as intended
+    }
+    const Real b_hi = e_b + relative_step * e_b;
+    const Real b_lo = e_b - relative_step * e_b;
+    model_ends(input, e_d, b_hi, up);
+    model_ends(input, e_d, b_lo, down);
+    for (int i = 0; i < 4; ++i) {
+      d1[i] = (up[i] - down[i]) / (b_hi - b_lo);
+    }
+  } else {
+    Dual<Real> model[4];
+    model_ends(input, Dual<Real>{e_d, 1, 0}, Dual<Real>{e_b, 0, 1}, model);
+    for (int i = 0; i < 4; ++i) {
+      value[i] = model[i].v;
+      d0[i] = model[i].d0;
+      d1[i] = model[i].d1;
+    }
+  }
+}
+
 /// Gauss-Newton on the exact square geometry: (E_d, E_b) such that the modelled cw and ccw
 /// return errors match the two centres of gravity in the least-squares sense. The 2x2 normal
 /// equations are solved by Cramer's rule.
@@ -215,19 +262,18 @@ bool solve_exact(const UmbmarkInputOf<Real>& input, const Real (&observed)[4], R
   // float's cancellation in det is ~1e-7 of the size.
   const Real singular = single ? Real(1e-5) : Real(1e-30);
   for (int it = 1; it <= max_iterations; ++it) {
-    const Dual<Real> ed{e_d, 1, 0};
-    const Dual<Real> eb{e_b, 0, 1};
-    Dual<Real> model[4];
-    square_end(input.side_mm, input.wheelbase_mm, ed, eb, true, model[0], model[1]);
-    square_end(input.side_mm, input.wheelbase_mm, ed, eb, false, model[2], model[3]);
+    Real value[4];
+    Real d0[4];
+    Real d1[4];
+    model_and_jacobian(input, e_d, e_b, value, d0, d1);
     Real n00 = 0, n01 = 0, n11 = 0, g0 = 0, g1 = 0;  // JᵀJ and Jᵀr
     for (int i = 0; i < 4; ++i) {
-      const Real r = model[i].v - observed[i];
-      n00 += model[i].d0 * model[i].d0;
-      n01 += model[i].d0 * model[i].d1;
-      n11 += model[i].d1 * model[i].d1;
-      g0 += model[i].d0 * r;
-      g1 += model[i].d1 * r;
+      const Real r = value[i] - observed[i];
+      n00 += d0[i] * d0[i];
+      n01 += d0[i] * d1[i];
+      n11 += d1[i] * d1[i];
+      g0 += d0[i] * r;
+      g1 += d1[i] * r;
     }
     const Real det = n00 * n11 - n01 * n01;
     const Real size = n00 * n00 + 2 * n01 * n01 + n11 * n11;

@@ -9,6 +9,7 @@
 #include "board.hpp"
 #include "odocal/hal/stm32f4/interrupts.hpp"
 #include "odocal/hal/stm32f4/irq.hpp"
+#include "odocal/hal/stm32f4/microsecond_timer.hpp"
 #include "odocal/hal/stm32f4/rcc.hpp"
 #include "odocal/hal/stm32f4/tim.hpp"
 #include "odocal/hal/stm32f4/usart.hpp"
@@ -55,11 +56,14 @@ struct PlantDriver {
 };
 PlantDriver driver;
 
-/// Ticks seen and TIM2 time elapsed since the encoders started (for the tick-rate check).
+/// Ticks seen, TIM2 time and application-clock (TIM5) time elapsed from the first tick to the
+/// last (for the tick-rate and clock-rate checks).
 struct Session {
   std::uint32_t ticks = 0u;
   std::uint32_t last_count = 0u;
   std::uint64_t timer_ns = 0u;
+  std::uint32_t first_clock_us = 0u;
+  std::uint32_t last_clock_us = 0u;
   bool started = false;
 };
 Session session;
@@ -108,8 +112,11 @@ extern "C" void board_exti23_vector() {
   f4::dispatch_interrupt();
 }
 
-hal::MonotonicClock& board_clock(f4::SysTickTimer& systick) {
-  static f4::SysTickClock clock{systick};
+hal::MonotonicClock& board_clock(f4::SysTickTimer& /*systick*/) {
+  // The robot's clock class on the same TIM5: QEMU's timers count at 1 GHz, so a "1 GHz timer
+  // clock" makes PSC = 999 and the count 1 MHz, as on the robot with PSC = 83.
+  static f4::MicrosecondTimer clock{f4::tim::tim5, f4::rcc::apb1enr_tim5};
+  clock.start(1'000'000'000u);
   driver.clock = &clock;
   return clock;
 }
@@ -140,12 +147,16 @@ void board_before_tick() {
   // virtual clock at 1 GHz (PSC = 0; reading it is exact, only its alarms are broken).
   // Counted from the first tick on: periods between ticks against TIM2 time.
   const std::uint32_t count = f4::tim::cnt(f4::tim::tim2).read();
+  const std::uint32_t clock_us = driver.clock->now_us();
   if (session.started) {
     session.timer_ns += count - session.last_count;
     ++session.ticks;
+  } else {
+    session.first_clock_us = clock_us;
   }
   session.started = true;
   session.last_count = count;
+  session.last_clock_us = clock_us;
   // Pending a more urgent interrupt from the tick preempts it at once: the plant (and its
   // edges) catch up to now before the control tick samples the decoders.
   f4::pend_irq(plant_irq);
@@ -158,15 +169,20 @@ void board_park_motors() {
 }
 
 void board_exit(int status) {
-  // The session's tick count against TIM2's time: the test checks the tick kept its rate.
+  // The session's tick count and the application clock's time against TIM2's time: the test
+  // checks that the tick kept its rate and that the µs clock (TIM5, prescaled) counts µs.
   char ticks[11];
   char micros[11];
+  char clock[11];
   format_decimal(session.ticks, ticks);
   format_decimal(static_cast<std::uint32_t>(session.timer_ns / 1000u), micros);
+  format_decimal(session.last_clock_us - session.first_clock_us, clock);
   f4::UsartStream::emergency_write(f4::usart::usart1, "# qemu-session ticks=");
   f4::UsartStream::emergency_write(f4::usart::usart1, ticks);
   f4::UsartStream::emergency_write(f4::usart::usart1, " timer_us=");
   f4::UsartStream::emergency_write(f4::usart::usart1, micros);
+  f4::UsartStream::emergency_write(f4::usart::usart1, " clock_us=");
+  f4::UsartStream::emergency_write(f4::usart::usart1, clock);
   f4::UsartStream::emergency_write(f4::usart::usart1, "\r\n");
   semihosting_exit(status);
 }

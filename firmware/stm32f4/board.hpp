@@ -32,9 +32,12 @@ namespace odocal::firmware {
 struct BoardInfo {
   const char* name;                   ///< "robot" or "qemu"
   hal::stm32f4::ClockReport clock;    ///< after `board_init`
-  bool has_cycle_counter;             ///< DWT->CYCCNT counts (not in QEMU)
   hal::stm32f4::Block console_usart;  ///< for fault reports by polling
 };
+
+/// DWT->CYCCNT counts (not in QEMU). A constant of the board, so the link folds the other branch
+/// of every test of it away.
+extern const bool board_has_cycle_counter;
 
 /// The board's HAL objects, for the application to wire into the core.
 struct BoardParts {

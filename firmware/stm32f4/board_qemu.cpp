@@ -42,7 +42,7 @@ constexpr f4::UsartConfig console_config{f4::usart::usart1, f4::irq::usart1, cor
 
 const BoardInfo info{"qemu",
                      f4::ClockReport{f4::ClockSource::hse_pll, core_hz, core_hz / 4u, core_hz / 2u},
-                     false, f4::usart::usart1};
+                     f4::usart::usart1};
 
 f4::UsartStream console{console_config};
 sim::StaticRamBlockStore<store_sector_bytes, 2u, 4u> store;
@@ -90,6 +90,8 @@ void on_plant_timer(void* context) {
 }
 
 }  // namespace
+
+const bool board_has_cycle_counter = false;
 
 const BoardInfo& board_info() {
   return info;

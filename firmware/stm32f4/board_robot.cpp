@@ -49,7 +49,7 @@ constexpr std::uint8_t right_pwm_channel = 2u;
 constexpr std::size_t store_first_sector = 1u;  // sectors 1 and 2, 16 KiB each (linker script)
 constexpr std::size_t store_sectors = 2u;
 
-BoardInfo info{"robot", f4::ClockReport{}, true, f4::usart::usart1};
+BoardInfo info{"robot", f4::ClockReport{}, f4::usart::usart1};
 
 f4::GpioOutput left_forward{left_dir_pin, true};
 f4::GpioOutput right_forward{right_dir_pin, true};
@@ -92,6 +92,8 @@ extern "C" [[gnu::flatten]] void board_exti01_vector() {
 extern "C" [[gnu::flatten]] void board_exti23_vector() {
   serve_edge<right_a_pin.number, right_b_pin.number>(*right_decoder);
 }
+
+const bool board_has_cycle_counter = true;
 
 const BoardInfo& board_info() {
   return info;

@@ -32,13 +32,12 @@ struct TickContext {
   drive::ControlLoop& loop;
   f4::SysTickTimer& timer;
   hal::MonotonicClock& clock;
-  bool use_cycle_counter;
   float cycles_per_us;
   std::atomic<std::uint32_t> main_alive_us{0u};
 };
 
 std::uint32_t cycles_now(const TickContext& context) {
-  return context.use_cycle_counter ? f4::CycleCounter::now() : context.timer.cycles_into_period();
+  return board_has_cycle_counter ? f4::CycleCounter::now() : context.timer.cycles_into_period();
 }
 
 /// The control tick. Tick context (SysTick, priority above the console, below the edges).
@@ -49,7 +48,7 @@ void on_tick(void* raw) {
   const std::uint32_t now_us = context.clock.now_us();
   context.loop.tick(now_us);
   std::uint32_t cycles = cycles_now(context) - start;
-  if (!context.use_cycle_counter && cycles > context.timer.period_cycles()) {
+  if (!board_has_cycle_counter && cycles > context.timer.period_cycles()) {
     cycles += context.timer.period_cycles();  // SysTick reloaded meanwhile (tick overran)
   }
   context.loop.note_tick_duration_us(static_cast<float>(cycles) / context.cycles_per_us);
@@ -89,15 +88,14 @@ std::uint32_t tick_rate_hz(const drive::ControlLoop& loop) {
                                  drive::MotorChannel{parts.right_pwm, parts.right_forward},
                                  critical};
   hal::MonotonicClock& clock = board_clock(timer);
-  static TickContext tick{loop, timer, clock, info.has_cycle_counter,
-                          static_cast<float>(info.clock.sysclk_hz) * 1.0e-6f};
+  static TickContext tick{loop, timer, clock, static_cast<float>(info.clock.sysclk_hz) * 1.0e-6f};
   static SessionStream session{parts.console};
   static params::ParamStore store{parts.store};
   // Echo switches itself on when a person types (picocom/screen send CR for Enter).
   static console::Console console{
       session, loop, store, console::ConsoleOptions{console::EchoMode::automatic, true, true}};
 
-  if (info.has_cycle_counter) {
+  if (board_has_cycle_counter) {
     f4::CycleCounter::start();
   }
   board_start_encoders(loop.left_decoder(), loop.right_decoder());

@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "board.hpp"
+#include "built_once.hpp"
 #include "odocal/hal/stm32f4/cortex_m4.hpp"
 #include "odocal/hal/stm32f4/exti.hpp"
 #include "odocal/hal/stm32f4/flash_store.hpp"
@@ -77,6 +78,11 @@ inline void serve_edge(drive::QuadratureDecoder& decoder) {
                   f4::MicrosecondTimer::read(us_timer));
 }
 
+// What board_init builds once, from the clock it reached (BuiltOnce: no guard variables).
+BuiltOnce<f4::UsartStream> console_storage;
+BuiltOnce<f4::TimerPwm> left_pwm_storage;
+BuiltOnce<f4::TimerPwm> right_pwm_storage;
+
 /// TIM3 and TIM5 input clock, from the clock actually reached: 2 · PCLK1 unless APB1 is
 /// undivided (the 16 MHz HSI fallback, no PLL: the PWM is then coarser, 800 steps not 4200).
 std::uint32_t apb1_timer_hz() {
@@ -103,11 +109,11 @@ BoardParts board_init() {
   info.clock = f4::configure_clock(clock_plan);
   us_clock.start(apb1_timer_hz());
   // Built from the clock actually reached: on the 16 MHz HSI fallback the baud rate is the same.
-  static f4::UsartStream console{f4::UsartConfig{
-      f4::usart::usart1, f4::irq::usart1, info.clock.pclk2_hz, 115200u, f4::irq::priority_console}};
-  static const f4::PwmTimerConfig pwm_timer{f4::tim::tim3, apb1_timer_hz(), pwm_carrier_hz};
-  static f4::TimerPwm left_pwm{pwm_timer, left_pwm_channel};
-  static f4::TimerPwm right_pwm{pwm_timer, right_pwm_channel};
+  f4::UsartStream& console = console_storage.make(f4::UsartConfig{
+      f4::usart::usart1, f4::irq::usart1, info.clock.pclk2_hz, 115200u, f4::irq::priority_console});
+  const f4::PwmTimerConfig pwm_timer{f4::tim::tim3, apb1_timer_hz(), pwm_carrier_hz};
+  f4::TimerPwm& left_pwm = left_pwm_storage.make(pwm_timer, left_pwm_channel);
+  f4::TimerPwm& right_pwm = right_pwm_storage.make(pwm_timer, right_pwm_channel);
   driver_enable.start();  // low: H-bridges off until the PWM runs at duty 0
   left_forward.start();
   right_forward.start();

@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "board.hpp"
+#include "built_once.hpp"
 #include "odocal/console/console.hpp"
 #include "odocal/console/version.hpp"
 #include "odocal/drive/control_loop.hpp"
@@ -77,23 +78,32 @@ std::uint32_t tick_rate_hz(const drive::ControlLoop& loop) {
   return static_cast<std::uint32_t>(loop.config().control_hz + 0.5f);
 }
 
+// What run() builds once (BuiltOnce: no guard variables).
+BuiltOnce<f4::SysTickTimer> timer_storage;
+BuiltOnce<drive::ControlLoop> loop_storage;
+BuiltOnce<TickContext> tick_storage;
+BuiltOnce<SessionStream> session_storage;
+BuiltOnce<params::ParamStore> store_storage;
+BuiltOnce<console::Console> console_storage;
+
 [[noreturn]] void run() {
   const bool watchdog_reset = f4::Watchdog::caused_last_reset();
   BoardParts parts = board_init();
   const BoardInfo& info = board_info();
 
   static f4::InterruptCriticalSection critical;
-  static f4::SysTickTimer timer{info.clock.sysclk_hz, f4::irq::priority_tick};
-  static drive::ControlLoop loop{drive::MotorChannel{parts.left_pwm, parts.left_forward},
-                                 drive::MotorChannel{parts.right_pwm, parts.right_forward},
-                                 critical};
+  f4::SysTickTimer& timer = timer_storage.make(info.clock.sysclk_hz, f4::irq::priority_tick);
+  drive::ControlLoop& loop =
+      loop_storage.make(drive::MotorChannel{parts.left_pwm, parts.left_forward},
+                        drive::MotorChannel{parts.right_pwm, parts.right_forward}, critical);
   hal::MonotonicClock& clock = board_clock(timer);
-  static TickContext tick{loop, timer, clock, static_cast<float>(info.clock.sysclk_hz) * 1.0e-6f};
-  static SessionStream session{parts.console};
-  static params::ParamStore store{parts.store};
+  TickContext& tick =
+      tick_storage.make(loop, timer, clock, static_cast<float>(info.clock.sysclk_hz) * 1.0e-6f);
+  SessionStream& session = session_storage.make(parts.console);
+  params::ParamStore& store = store_storage.make(parts.store);
   // Echo switches itself on when a person types (picocom/screen send CR for Enter).
-  static console::Console console{
-      session, loop, store, console::ConsoleOptions{console::EchoMode::automatic, true, true}};
+  console::Console& console = console_storage.make(
+      session, loop, store, console::ConsoleOptions{console::EchoMode::automatic, true, true});
 
   if (board_has_cycle_counter) {
     f4::CycleCounter::start();

@@ -32,59 +32,66 @@ int decimal_digits(std::uint32_t value) {
   return digits;
 }
 
-/// Writes `value` as exactly `width` digits (leading zeros) when width > 0, else as few as it
-/// needs. The Cortex-M4 has no 64-bit divide (libgcc's costs ~0.7 KB): digits by the drive's
-/// long division in 16-bit steps, which the robot links anyway.
-std::size_t put_decimal(std::uint64_t value, std::size_t width, char* out) {
-  char reversed[20];
-  std::size_t n = 0;
+/// Writes backwards, ending before `end`: the decimal digits of `value` followed by `zeros` 0s
+/// (zeros <= point), with a point before the last `point` digits when point > 0 and at least one
+/// digit before that point. @return the first character. The Cortex-M4 has no 64-bit divide
+/// (libgcc's costs ~0.7 KB): digits by the drive's long division in 16-bit steps, which the robot
+/// links anyway.
+char* put_digits(char* end, std::uint64_t value, int zeros, int point) {
+  int i = 0;
   do {
-    const std::uint64_t quotient = drive::divide_u64(value, 10u);
-    reversed[n++] = static_cast<char>('0' + static_cast<int>(value - quotient * 10u));
-    value = quotient;
-  } while (value != 0u || n < width);
-  for (std::size_t i = 0; i < n; ++i) {
-    out[i] = reversed[n - 1u - i];
-  }
-  return n;
+    if (i == point && i != 0) {
+      *--end = '.';
+    }
+    std::uint32_t digit = 0u;
+    if (i >= zeros) {
+      const std::uint64_t quotient = drive::divide_u64(value, 10u);
+      digit = static_cast<std::uint32_t>(value) - static_cast<std::uint32_t>(quotient) * 10u;
+      value = quotient;
+    }
+    *--end = static_cast<char>('0' + digit);
+    ++i;
+  } while (value != 0u || i <= point);
+  return end;
 }
 
-/// Exact digits of a non-negative float below 2^40: magnitude = m · 2^e with a 24-bit integer m,
-/// so the integer part and the fraction rounded to `decimals` (0..9) digits follow from integer
-/// arithmetic on m, correctly rounded (half up) on the float's exact binary value.
-/// @return 10^decimals (the unit of `digits`).
-std::uint64_t fixed_digits(float magnitude, int decimals, std::uint64_t& whole,
-                           std::uint64_t& digits) {
-  std::uint32_t bits = 0u;
-  std::memcpy(&bits, &magnitude, sizeof bits);
+/// The exact magnitude of a float below 2^40 in units of 10^-decimals (0..9), correctly rounded
+/// (half up) on its binary value: magnitude = m · 2^-k with a 24-bit integer m, so the units are
+/// (m · 10^decimals + 2^(k-1)) >> k, below 2^54 for k > 0. A whole float (k <= 0) may not fit
+/// once scaled: it comes back unscaled with `zeros` = decimals (units = result · 10^zeros).
+std::uint64_t fixed_units(std::uint32_t bits, int decimals, int& zeros) {
   const std::uint32_t biased = (bits >> 23u) & 0xFFu;
-  const std::uint64_t m = biased == 0u ? (bits & 0x7FFFFFu) : ((bits & 0x7FFFFFu) | 0x800000u);
-  const int k = biased == 0u ? 149 : 150 - static_cast<int>(biased);  // fraction bits
-  std::uint64_t fraction = 0u;                                        // numerator over 2^k
-  whole = 0u;
-  if (k <= 0) {
-    whole = m << static_cast<unsigned>(-k);  // < 2^40: fits
-  } else if (k < 64) {
-    whole = m >> static_cast<unsigned>(k);
-    fraction = m - (whole << static_cast<unsigned>(k));
-  } else {
-    fraction = m;
+  std::uint32_t m = bits & 0x7FFFFFu;
+  int k = 149;  // fraction bits
+  if (biased != 0u) {
+    m |= 0x800000u;
+    k = 150 - static_cast<int>(biased);
   }
-  std::uint64_t scale = 1u;
+  zeros = 0;
+  if (k <= 0) {
+    zeros = decimals;
+    return static_cast<std::uint64_t>(m) << static_cast<unsigned>(-k);  // < 2^40: fits
+  }
+  if (k >= 64) {
+    return 0u;  // below 2^-40: rounds to 0 at 9 decimals or fewer
+  }
+  std::uint32_t scale = 1u;
   for (int i = 0; i < decimals; ++i) {
     scale *= 10u;
   }
-  digits = 0u;
-  if (k > 0 && k < 64) {
-    // fraction < 2^24 and scale <= 10^9 < 2^30: the product fits in 54 bits.
-    digits =
-        (fraction * scale + (1ull << static_cast<unsigned>(k - 1))) >> static_cast<unsigned>(k);
-  }  // k >= 64: below 2^-40, rounds to 0 at 9 decimals or fewer
-  if (digits >= scale) {
-    digits -= scale;
-    ++whole;
+  // m < 2^24 and scale <= 10^9 < 2^30: the product and the half unit fit in 63 bits.
+  return (static_cast<std::uint64_t>(m) * scale + (1ull << static_cast<unsigned>(k - 1))) >>
+         static_cast<unsigned>(k);
+}
+
+/// Copies [begin, end) to `out` when it fits; @return its length, else 0 (nothing written).
+std::size_t copy_out(const char* begin, const char* end, char* out, std::size_t capacity) {
+  const auto n = static_cast<std::size_t>(end - begin);
+  if (out == nullptr || n > capacity) {
+    return 0u;
   }
-  return scale;
+  std::memcpy(out, begin, n);
+  return n;
 }
 
 }  // namespace
@@ -230,11 +237,14 @@ bool parse_number(const Token& token, float& value) {
 
 int compare(const Decimal& value, float bound, int decimals) {
   // The bound as printed: an integer B of 10^-decimals units (exact digits, correctly rounded).
-  std::uint64_t whole = 0u;
-  std::uint64_t digits = 0u;
-  const std::uint64_t scale = fixed_digits(bound < 0.0f ? -bound : bound, decimals, whole, digits);
-  const std::int64_t units = static_cast<std::int64_t>(whole * scale + digits);
-  const std::int64_t b = bound < 0.0f ? -units : units;
+  std::uint32_t bits = 0u;
+  std::memcpy(&bits, &bound, sizeof bits);
+  int zeros = 0;
+  std::uint64_t units = fixed_units(bits, decimals, zeros);
+  for (; zeros > 0; --zeros) {
+    units *= 10u;
+  }
+  const auto b = static_cast<std::int64_t>(bound < 0.0f ? 0u - units : units);
   // The value in the same units: q + f with q whole and f in [0, 1) (f > 0 when `fraction`).
   std::int64_t q = 0;
   bool fraction = value.inexact;
@@ -286,85 +296,64 @@ bool parse_unsigned(const Token& token, std::uint32_t& value) {
 }
 
 std::size_t format_unsigned(std::uint64_t value, char* out, std::size_t capacity) {
-  char digits[20];
-  const std::size_t n = put_decimal(value, 0u, digits);
-  if (out == nullptr || n > capacity) {
-    return 0u;
-  }
-  std::memcpy(out, digits, n);
-  return n;
+  char text[20];
+  char* const end = text + sizeof text;
+  return copy_out(put_digits(end, value, 0, 0), end, out, capacity);
 }
 
 std::size_t format_fixed(float value, int decimals, char* out, std::size_t capacity) {
-  if (out == nullptr) {
-    return 0u;
-  }
   if (decimals < 0) {
     decimals = 0;
   } else if (decimals > 9) {
     decimals = 9;
   }
+  // Written backwards from the end: the digits first, the sign last.
   char text[48];
-  std::size_t n = 0;
-  if (std::isnan(value)) {
-    std::memcpy(text, "nan", 3);
-    n = 3;
-  } else if (std::isinf(value)) {
-    if (value < 0.0f) {
-      text[n++] = '-';
+  char* const end = text + sizeof text;
+  char* p = end;
+  std::uint32_t bits = 0u;
+  std::memcpy(&bits, &value, sizeof bits);
+  bool negative = (bits >> 31u) != 0u;
+  const float magnitude = std::fabs(value);
+  if ((bits & 0x7F800000u) == 0x7F800000u) {
+    const bool nan = (bits & 0x7FFFFFu) != 0u;
+    p -= 3;
+    std::memcpy(p, nan ? "nan" : "inf", 3);
+    negative = negative && !nan;
+  } else if (magnitude >= 1.0e12f) {
+    // Exponent form with 6 decimals in the mantissa: never reached by a parameter or a pose
+    // on a working robot, but a value must never be printed as garbage.
+    // One division by the (once-rounded) power of ten: repeated /10 would compound roundings.
+    int exponent = 12;
+    while (exponent < 38 && magnitude >= power_of_ten(exponent + 1)) {
+      ++exponent;
     }
-    std::memcpy(text + n, "inf", 3);
-    n += 3;
+    std::uint32_t scaled =
+        static_cast<std::uint32_t>(magnitude / power_of_ten(exponent) * 1.0e6f + 0.5f);
+    if (scaled >= 10000000u) {
+      scaled /= 10u;
+      ++exponent;
+    } else if (scaled < 1000000u) {  // the power of ten rounded up past the value
+      scaled = 1000000u;
+    }
+    // The exponent is 12..39: two digits.
+    *--p = static_cast<char>('0' + exponent % 10);
+    *--p = static_cast<char>('0' + exponent / 10);
+    *--p = '+';
+    *--p = 'e';
+    p = put_digits(p, scaled, 0, 6);  // 7 digits: "d.dddddd"
   } else {
-    const bool negative = std::signbit(value);
-    float magnitude = negative ? -value : value;
-    if (magnitude >= 1.0e12f) {
-      // Exponent form with 6 decimals in the mantissa: never reached by a parameter or a pose
-      // on a working robot, but a value must never be printed as garbage.
-      // One division by the (once-rounded) power of ten: repeated /10 would compound roundings.
-      int exponent = 12;
-      while (exponent < 38 && magnitude >= power_of_ten(exponent + 1)) {
-        ++exponent;
-      }
-      std::uint32_t scaled =
-          static_cast<std::uint32_t>(magnitude / power_of_ten(exponent) * 1.0e6f + 0.5f);
-      if (scaled >= 10000000u) {
-        scaled /= 10u;
-        ++exponent;
-      } else if (scaled < 1000000u) {  // the power of ten rounded up past the value
-        scaled = 1000000u;
-      }
-      if (negative) {
-        text[n++] = '-';
-      }
-      text[n++] = static_cast<char>('0' + scaled / 1000000u);
-      text[n++] = '.';
-      n += put_decimal(scaled % 1000000u, 6u, text + n);
-      text[n++] = 'e';
-      text[n++] = '+';
-      n += put_decimal(static_cast<std::uint64_t>(exponent), 0u, text + n);
-    } else {
-      // Exact: magnitude = m · 2^e with a 24-bit integer m; the integer part and the rounded
-      // `decimals` digits of the fraction follow from integer arithmetic on m, correctly rounded
-      // (half away from zero) on the float's exact binary value.
-      std::uint64_t whole = 0u;
-      std::uint64_t digits = 0u;
-      fixed_digits(magnitude, decimals, whole, digits);
-      if (negative && (whole != 0u || digits != 0u)) {
-        text[n++] = '-';
-      }
-      n += put_decimal(whole, 0u, text + n);
-      if (decimals > 0) {
-        text[n++] = '.';
-        n += put_decimal(digits, static_cast<std::size_t>(decimals), text + n);
-      }
-    }
+    // Exact: the float's binary value in units of the last decimal, correctly rounded (half
+    // away from zero on the magnitude). Never a "-" before an all-zero result.
+    int zeros = 0;
+    const std::uint64_t units = fixed_units(bits, decimals, zeros);
+    negative = negative && units != 0u;
+    p = put_digits(p, units, zeros, decimals);
   }
-  if (n > capacity) {
-    return 0u;
+  if (negative) {
+    *--p = '-';
   }
-  std::memcpy(out, text, n);
-  return n;
+  return copy_out(p, end, out, capacity);
 }
 
 std::size_t split(const char* line, std::size_t length, Token* tokens, std::size_t capacity) {

@@ -84,6 +84,18 @@ std::uint64_t fixed_units(std::uint32_t bits, int decimals, int& zeros) {
          static_cast<unsigned>(k);
 }
 
+/// x · 10^n (n <= 0: x), or the largest uint64 when that does not fit: more than any bound's units.
+// Not inlined: compare calls it three times.
+[[gnu::noinline]] std::uint64_t times_power_of_ten(std::uint64_t x, int n) {
+  for (; n > 0; --n) {
+    if (x > std::numeric_limits<std::uint64_t>::max() / 10u) {
+      return std::numeric_limits<std::uint64_t>::max();
+    }
+    x *= 10u;
+  }
+  return x;
+}
+
 /// Copies [begin, end) to `out` when it fits; @return its length, else 0 (nothing written).
 std::size_t copy_out(const char* begin, const char* end, char* out, std::size_t capacity) {
   const auto n = static_cast<std::size_t>(end - begin);
@@ -183,17 +195,15 @@ bool is_whole(const Decimal& value) {
   if (value.fraction_dropped) {
     return false;  // a nonzero digit after the point beyond the 9 kept
   }
-  if (value.mantissa == 0u || value.exp10 >= 0) {
-    return true;
+  // Whole when the last -exp10 digits of the mantissa are all 0.
+  std::uint32_t mantissa = value.mantissa;
+  for (int n = value.exp10; n < 0; ++n) {
+    if (mantissa % 10u != 0u) {
+      return false;
+    }
+    mantissa /= 10u;
   }
-  if (value.exp10 < -9) {
-    return false;  // mantissa < 10^9: a nonzero fraction
-  }
-  std::uint32_t divisor = 1u;
-  for (int i = 0; i < -value.exp10; ++i) {
-    divisor *= 10u;
-  }
-  return value.mantissa % divisor == 0u;
+  return true;
 }
 
 float to_float(const Decimal& decimal) {
@@ -236,45 +246,24 @@ bool parse_number(const Token& token, float& value) {
 }
 
 int compare(const Decimal& value, float bound, int decimals) {
-  // The bound as printed: an integer B of 10^-decimals units (exact digits, correctly rounded).
+  // The bound as printed: B units of 10^-decimals (exact digits, correctly rounded).
   std::uint32_t bits = 0u;
   std::memcpy(&bits, &bound, sizeof bits);
   int zeros = 0;
   std::uint64_t units = fixed_units(bits, decimals, zeros);
-  for (; zeros > 0; --zeros) {
-    units *= 10u;
-  }
-  const auto b = static_cast<std::int64_t>(bound < 0.0f ? 0u - units : units);
-  // The value in the same units: q + f with q whole and f in [0, 1) (f > 0 when `fraction`).
-  std::int64_t q = 0;
-  bool fraction = value.inexact;
+  units = times_power_of_ten(units, zeros);
+  // The typed magnitude is mantissa · 10^k units (a little more when inexact): compared with B
+  // exactly by scaling whichever side has the power of ten (saturating: beyond any bound).
   const int k = value.exp10 + decimals;
-  if (value.mantissa == 0u) {
-    fraction = false;
-  } else if (k >= 0) {
-    std::int64_t scaled = value.mantissa;
-    for (int i = 0; i < k; ++i) {
-      if (scaled > 922337203685477580) {  // beyond any printed bound: compare by sign only
-        return value.negative ? -1 : 1;
-      }
-      scaled *= 10;
-    }
-    q = scaled;
-  } else if (k >= -9) {
-    std::uint32_t divisor = 1u;
-    for (int i = 0; i < -k; ++i) {
-      divisor *= 10u;
-    }
-    q = value.mantissa / divisor;
-    fraction = fraction || value.mantissa % divisor != 0u;
-  } else {
-    fraction = true;  // below one unit
+  const std::uint64_t x = times_power_of_ten(value.mantissa, k);
+  const std::uint64_t y = times_power_of_ten(units, -k);
+  const bool value_negative = value.negative && value.mantissa != 0u;
+  const bool bound_negative = (bits >> 31u) != 0u && units != 0u;
+  int order = 1;  // of the magnitudes; opposite signs: the value is the farther from -inf
+  if (value_negative == bound_negative) {
+    order = x < y ? -1 : ((x > y || value.inexact) ? 1 : 0);
   }
-  if (!value.negative) {
-    return q < b ? -1 : ((q > b || (q == b && fraction)) ? 1 : 0);
-  }
-  // value = −(q + f)
-  return (q > -b || (q == -b && fraction)) ? -1 : (q < -b ? 1 : 0);
+  return value_negative ? -order : order;
 }
 
 bool parse_unsigned(const Token& token, std::uint32_t& value) {

@@ -207,30 +207,24 @@ bool is_whole(const Decimal& value) {
 }
 
 float to_float(const Decimal& decimal) {
-  const std::uint32_t mantissa = decimal.mantissa;
-  const int exponent10 = decimal.exp10;
-  float result = 0.0f;
-  if (mantissa != 0u) {
-    const int magnitude =
-        decimal_digits(mantissa) - 1 + exponent10;  // value = d.ddd × 10^magnitude
-    if (magnitude > 38) {
-      // Finite as written but beyond float: the largest float, so that range checks name it as
-      // out of range rather than as not a number.
-      result = std::numeric_limits<float>::max();
-    } else if (magnitude < -46) {
-      result = 0.0f;  // below float's smallest denormal
-    } else {
-      result = static_cast<float>(mantissa);
-      if (exponent10 >= 0) {
-        result *= power_of_ten(exponent10);
-        if (!std::isfinite(result)) {
-          result = std::numeric_limits<float>::max();
-        }
-      } else if (exponent10 >= -38) {
-        result /= power_of_ten(-exponent10);
-      } else {
-        result = result / power_of_ten(38) / power_of_ten(-exponent10 - 38);
+  int exponent10 = decimal.exp10;
+  auto result = static_cast<float>(decimal.mantissa);
+  if (decimal.mantissa != 0u) {  // 0 · inf would be nan
+    if (exponent10 < -38) {      // 10^-exponent10 is beyond float: in two divisions
+      result /= power_of_ten(38);
+      exponent10 += 38;
+    }
+    if (exponent10 >= 0) {
+      // 10^39 and above are inf in float, so is any product of 10^39 or more: a value finite as
+      // written but beyond float reads as the largest float, so that range checks name it as out
+      // of range rather than as not a number.
+      result *= power_of_ten(exponent10);
+      if (!std::isfinite(result)) {
+        result = std::numeric_limits<float>::max();
       }
+    } else {
+      // Below float's smallest denormal (under 10^-46): the quotient rounds to 0.
+      result /= power_of_ten(-exponent10);
     }
   }
   return decimal.negative ? -result : result;

@@ -212,6 +212,27 @@ TEST(TextEquivalence, ParseAndCompareRandomNumbers) {
   }
 }
 
+TEST(TextEquivalence, ParseAtTheEdgesOfFloatsRange) {
+  // Mantissas of 1 to 9 digits (float's largest, smallest normal and smallest denormal among
+  // them) at every exponent around float's range and far beyond it: overflow to the largest
+  // float, underflow to 0 and the two-division path below 10^-38.
+  const char* mantissas[] = {"1",        "9",         "5",          "34028234",  "340282357",
+                             "34028236", "117549435", "1175494",    "14",        "140129846",
+                             "7006492",  "7",         "999999999",  "100000000", "123456789",
+                             "0",        "2",         "4999999999", "1.5",       "0.0000001"};
+  std::mt19937 rng(7u);
+  for (const char* mantissa : mantissas) {
+    for (int exponent = -130; exponent <= 130; ++exponent) {
+      for (const char* sign : {"", "-"}) {
+        expect_same_parse(sign + std::string(mantissa) + "e" + std::to_string(exponent), rng);
+      }
+    }
+    for (int exponent : {-100000, -99999, -10000, -9999, 300, 301, 307, 308, 309, 99999}) {
+      expect_same_parse(std::string(mantissa) + "e" + std::to_string(exponent), rng);
+    }
+  }
+}
+
 TEST(TextEquivalence, CompareEveryPrintedBoundWithItsNeighbours) {
   // The typed text of a bound as `params` prints it, one unit of its last digit either side
   // and digits beyond: the comparisons that decide `out_of_range`.

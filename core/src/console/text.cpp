@@ -23,15 +23,6 @@ float power_of_ten(int n) {
   return result * small[n];
 }
 
-/// Number of decimal digits of a nonzero value.
-int decimal_digits(std::uint32_t value) {
-  int digits = 0;
-  for (; value != 0u; value /= 10u) {
-    ++digits;
-  }
-  return digits;
-}
-
 /// Writes backwards, ending before `end`: the decimal digits of `value` followed by `zeros` 0s
 /// (zeros <= point), with a point before the last `point` digits when point > 0 and at least one
 /// digit before that point. @return the first character. The Cortex-M4 has no 64-bit divide
@@ -180,11 +171,12 @@ bool parse_decimal(const Token& token, Decimal& value) {
     }
     exponent10 += exponent_negative ? -written : written;
   }
-  if (mantissa != 0u) {
-    if (decimal_digits(mantissa) - 1 + exponent10 > 308) {
-      return false;  // not a finite number in any usual reading (a double overflows too)
-    }
-  } else {
+  // Beyond 1e308 (mantissa · 10^exponent10 >= 10^309): not a finite number in any usual reading
+  // (a double overflows too).
+  if (times_power_of_ten(1u, 309 - exponent10) <= mantissa) {
+    return false;
+  }
+  if (mantissa == 0u) {
     exponent10 = 0;
   }
   value = Decimal{mantissa, exponent10, negative, inexact, fraction_dropped};

@@ -75,12 +75,16 @@ std::uint64_t fixed_units(std::uint32_t bits, int decimals, int& zeros) {
          static_cast<unsigned>(k);
 }
 
-/// x · 10^n (n <= 0: x), or the largest uint64 when that does not fit: more than any bound's units.
-// Not inlined: compare calls it three times.
+/// Where times_power_of_ten saturates: above any bound's units (below 2^40 · 10^6, or 10^9 ·
+/// 10^9 at 9 decimals), with room to double.
+constexpr std::uint64_t kSaturated = 1ull << 60u;
+
+/// min(x · 10^n, kSaturated) for x <= kSaturated (n <= 0: x).
+// Not inlined: called four times.
 [[gnu::noinline]] std::uint64_t times_power_of_ten(std::uint64_t x, int n) {
   for (; n > 0; --n) {
-    if (x > std::numeric_limits<std::uint64_t>::max() / 10u) {
-      return std::numeric_limits<std::uint64_t>::max();
+    if (x > kSaturated / 10u) {
+      return kSaturated;
     }
     x *= 10u;
   }
@@ -238,18 +242,21 @@ int compare(const Decimal& value, float bound, int decimals) {
   int zeros = 0;
   std::uint64_t units = fixed_units(bits, decimals, zeros);
   units = times_power_of_ten(units, zeros);
-  // The typed magnitude is mantissa · 10^k units (a little more when inexact): compared with B
-  // exactly by scaling whichever side has the power of ten (saturating: beyond any bound).
+  // The typed magnitude is mantissa · 10^k units, a little more when inexact: compared with B
+  // exactly by scaling whichever side has the power of ten, both doubled so that the dropped
+  // digits count as half a unit (x + a fraction lies between x and x + 1). Saturated sides stay
+  // below 2^61: signed arithmetic is safe.
   const int k = value.exp10 + decimals;
-  const std::uint64_t x = times_power_of_ten(value.mantissa, k);
-  const std::uint64_t y = times_power_of_ten(units, -k);
-  const bool value_negative = value.negative && value.mantissa != 0u;
-  const bool bound_negative = (bits >> 31u) != 0u && units != 0u;
-  int order = 1;  // of the magnitudes; opposite signs: the value is the farther from -inf
-  if (value_negative == bound_negative) {
-    order = x < y ? -1 : ((x > y || value.inexact) ? 1 : 0);
+  auto x = static_cast<std::int64_t>(2u * times_power_of_ten(value.mantissa, k) +
+                                     (value.inexact ? 1u : 0u));
+  auto y = static_cast<std::int64_t>(2u * times_power_of_ten(units, -k));
+  if (value.negative) {
+    x = -x;
   }
-  return value_negative ? -order : order;
+  if (bound < 0.0f) {
+    y = -y;
+  }
+  return (x > y) - (x < y);
 }
 
 bool parse_unsigned(const Token& token, std::uint32_t& value) {

@@ -46,35 +46,6 @@ char* put_digits(char* end, std::uint64_t value, int zeros, int point) {
   return end;
 }
 
-/// The exact magnitude of a float below 2^40 in units of 10^-decimals (0..9), correctly rounded
-/// (half up) on its binary value: magnitude = m · 2^-k with a 24-bit integer m, so the units are
-/// (m · 10^decimals + 2^(k-1)) >> k, below 2^54 for k > 0. A whole float (k <= 0) may not fit
-/// once scaled: it comes back unscaled with `zeros` = decimals (units = result · 10^zeros).
-std::uint64_t fixed_units(std::uint32_t bits, int decimals, int& zeros) {
-  const std::uint32_t biased = (bits >> 23u) & 0xFFu;
-  std::uint32_t m = bits & 0x7FFFFFu;
-  int k = 149;  // fraction bits
-  if (biased != 0u) {
-    m |= 0x800000u;
-    k = 150 - static_cast<int>(biased);
-  }
-  zeros = 0;
-  if (k <= 0) {
-    zeros = decimals;
-    return static_cast<std::uint64_t>(m) << static_cast<unsigned>(-k);  // < 2^40: fits
-  }
-  if (k >= 64) {
-    return 0u;  // below 2^-40: rounds to 0 at 9 decimals or fewer
-  }
-  std::uint32_t scale = 1u;
-  for (int i = 0; i < decimals; ++i) {
-    scale *= 10u;
-  }
-  // m < 2^24 and scale <= 10^9 < 2^30: the product and the half unit fit in 63 bits.
-  return (static_cast<std::uint64_t>(m) * scale + (1ull << static_cast<unsigned>(k - 1))) >>
-         static_cast<unsigned>(k);
-}
-
 /// Where times_power_of_ten saturates: above any bound's units (below 2^40 · 10^6, or 10^9 ·
 /// 10^9 at 9 decimals), with room to double.
 constexpr std::uint64_t kSaturated = 1ull << 60u;
@@ -89,6 +60,28 @@ constexpr std::uint64_t kSaturated = 1ull << 60u;
     x *= 10u;
   }
   return x;
+}
+
+/// The exact magnitude of a float below 2^40 in units of 10^-decimals (0..9), correctly rounded
+/// (half up) on its binary value: magnitude = m · 2^-k with a 24-bit integer m, so the units are
+/// (m · 10^decimals + 2^(k-1)) >> k, below 2^54 for k > 0. A whole float (k <= 0) may not fit
+/// once scaled: it comes back unscaled with `zeros` = decimals (units = result · 10^zeros).
+std::uint64_t fixed_units(std::uint32_t bits, int decimals, int& zeros) {
+  // A denormal (biased exponent 0) gets k = 150 and a wrong m: it is below 2^-126, and anything
+  // below 2^-40 rounds to 0 at 9 decimals or fewer.
+  const std::uint32_t m = (bits & 0x7FFFFFu) | 0x800000u;
+  const int k = 150 - static_cast<int>((bits >> 23u) & 0xFFu);  // fraction bits
+  zeros = 0;
+  if (k <= 0) {
+    zeros = decimals;
+    return static_cast<std::uint64_t>(m) << static_cast<unsigned>(-k);  // < 2^40: fits
+  }
+  if (k >= 64) {
+    return 0u;
+  }
+  // m < 2^24 and 10^decimals <= 10^9 < 2^30: the product fits in 54 bits (never saturated).
+  // Rounded half up in two shifts: (x + 2^(k-1)) >> k = ((x >> (k-1)) + 1) >> 1.
+  return ((times_power_of_ten(m, decimals) >> static_cast<unsigned>(k - 1)) + 1u) >> 1u;
 }
 
 /// Copies [begin, end) to `out` when it fits; @return its length, else 0 (nothing written).

@@ -79,16 +79,12 @@ Reply& Reply::unsigned_number(std::uint64_t value) {
 
 Reply& Reply::pair_i(const char* k, std::int64_t value) {
   key(k);
+  auto magnitude = static_cast<std::uint64_t>(value);
   if (value < 0) {
     text("-");
-    // Negate in unsigned arithmetic: correct for INT64_MIN too.
-    const std::uint64_t magnitude = ~static_cast<std::uint64_t>(value) + 1u;
-    length_ += format_unsigned(magnitude, buffer_ + length_, capacity_ - length_);
-  } else {
-    length_ +=
-        format_unsigned(static_cast<std::uint64_t>(value), buffer_ + length_, capacity_ - length_);
+    magnitude = 0u - magnitude;  // in unsigned arithmetic: correct for INT64_MIN too
   }
-  return *this;
+  return unsigned_number(magnitude);
 }
 
 }  // namespace odocal::console

@@ -299,9 +299,11 @@ std::size_t format_fixed(float value, int decimals, char* out, std::size_t capac
     // Exponent form with 6 decimals in the mantissa: never reached by a parameter or a pose
     // on a working robot, but a value must never be printed as garbage.
     // One division by the (once-rounded) power of ten: repeated /10 would compound roundings.
-    int exponent = 12;
-    while (exponent < 38 && magnitude >= power_of_ten(exponent + 1)) {
-      ++exponent;
+    // The largest exponent in 12..38 whose power of ten is at most the value (the powers rise
+    // with the exponent; power_of_ten(12) is 1e12f itself).
+    int exponent = 38;
+    while (magnitude < power_of_ten(exponent)) {
+      --exponent;
     }
     std::uint32_t scaled =
         static_cast<std::uint32_t>(magnitude / power_of_ten(exponent) * 1.0e6f + 0.5f);

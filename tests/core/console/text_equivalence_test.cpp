@@ -83,6 +83,26 @@ TEST(TextEquivalence, FormatFixedOnEveryFloatOfSomeRanges) {
   }
 }
 
+TEST(TextEquivalence, FormatFixedAroundEveryPowerOfTenOfTheExponentForm) {
+  // Where the exponent form picks its exponent and where its 7 digits carry over (9.9999995e+n).
+  for (int exponent = 12; exponent <= 38; ++exponent) {
+    for (double mantissa : {1.0, 9.9999995, 9.99999949, 9.9999996}) {
+      const double value = mantissa * std::pow(10.0, exponent);
+      if (value > std::numeric_limits<float>::max()) {
+        continue;
+      }
+      const auto center = static_cast<float>(value);
+      const std::uint32_t bits = to_bits(center);
+      for (std::uint32_t b = bits - 300u; b <= bits + 300u; ++b) {
+        expect_same_fixed(from_bits(b), 6);
+        expect_same_fixed(-from_bits(b), 2);
+      }
+    }
+  }
+  expect_same_fixed(std::numeric_limits<float>::max(), 6);
+  expect_same_fixed(-std::numeric_limits<float>::max(), 0);
+}
+
 TEST(TextEquivalence, FormatUnsigned) {
   std::mt19937_64 rng(3u);
   for (int i = 0; i < 200000; ++i) {

@@ -13,14 +13,18 @@ bool is_digit(char c) {
   return c >= '0' && c <= '9';
 }
 
-/// 10^n for 0 <= n <= 38 in float: exact up to 10^10 (5^10 < 2^24), then one rounding per step.
+/// 10^n for n >= 0 in float: exact up to 10^10 (5^10 < 2^24), then one rounding per step (inf
+/// from 10^39 on).
 float power_of_ten(int n) {
   float result = 1.0f;
   for (; n >= 10; n -= 10) {
     result *= 1e10f;
   }
-  constexpr float small[10] = {1e0f, 1e1f, 1e2f, 1e3f, 1e4f, 1e5f, 1e6f, 1e7f, 1e8f, 1e9f};
-  return result * small[n];
+  float small = 1.0f;  // 10^(n mod 10), exact (5^9 < 2^24): the one rounding stays the last step
+  for (; n > 0; --n) {
+    small *= 10.0f;
+  }
+  return result * small;
 }
 
 /// Writes backwards, ending before `end`: the decimal digits of `value` followed by `zeros` 0s

@@ -1,5 +1,6 @@
 // Numbers appended to a reply line, at every free space: a number is whole or absent, the text
-// before it (key, sign) is cut off byte by byte, as the reply has always done.
+// before it (key, sign) is cut off byte by byte, as the reply has always done. And the names of
+// the error codes.
 
 #include <gtest/gtest.h>
 
@@ -84,6 +85,22 @@ TEST(ReplyNumbers, UnsignedAndFixedPairsAtEveryFreeSpace) {
       }
     }
   }
+}
+
+TEST(ReplyNumbers, ErrorCodeNamesByCode) {
+  // Each code's name, as the switch that named them before wrote them.
+  const char* names[] = {"line_too_long", "non_ascii",     "unknown_command", "unknown_parameter",
+                         "wrong_arity",   "bad_argument",  "bad_number",      "out_of_range",
+                         "busy",          "fault",         "rejected",        "store_error",
+                         "store_empty",   "store_version", "umbmark_full",    "umbmark_failed",
+                         "not_solved",    "no_trial",      "lateral_full",    "lateral_failed",
+                         "store_corrupt"};
+  for (int code = 0; code < 21; ++code) {
+    EXPECT_STREQ(error_code_name(static_cast<ErrorCode>(code)), names[code]) << code;
+  }
+  EXPECT_EQ(ErrorCode::store_corrupt, static_cast<ErrorCode>(20));
+  EXPECT_STREQ(error_code_name(static_cast<ErrorCode>(21)), "unknown");
+  EXPECT_STREQ(error_code_name(static_cast<ErrorCode>(255)), "unknown");
 }
 
 }  // namespace

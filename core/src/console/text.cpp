@@ -120,24 +120,22 @@ bool parse_decimal(const Token& token, Decimal& value) {
   // digits), so what is dropped is below 1e-9 relative, far under half a unit of its last bit.
   std::uint32_t mantissa = 0u;
   int exponent10 = 0;  // value = mantissa * 10^exponent10
-  int digits = 0;
+  const char* const digits = p;
   bool point = false;
   bool inexact = false;
   bool fraction_dropped = false;
   for (; p != end; ++p) {
-    if (is_digit(*p)) {
-      ++digits;
+    const auto digit = static_cast<std::uint32_t>(*p - '0');
+    if (digit <= 9u) {
       if (mantissa < 100000000u) {
-        mantissa = mantissa * 10u + static_cast<std::uint32_t>(*p - '0');
-        if (point) {
-          --exponent10;
-        }
+        mantissa = mantissa * 10u + digit;
+        exponent10 -= point ? 1 : 0;
       } else {
-        inexact = inexact || *p != '0';
-        fraction_dropped = fraction_dropped || (point && *p != '0');
-        if (!point) {
-          ++exponent10;  // a dropped integer digit still scales the value
+        if (digit != 0u) {
+          inexact = true;
+          fraction_dropped = fraction_dropped || point;
         }
+        exponent10 += point ? 0 : 1;  // a dropped integer digit still scales the value
       }
     } else if (*p == '.' && !point) {
       point = true;
@@ -145,11 +143,11 @@ bool parse_decimal(const Token& token, Decimal& value) {
       break;
     }
   }
-  if (digits == 0) {
-    return false;
+  if (p - digits == (point ? 1 : 0)) {
+    return false;  // no digit
   }
   if (p != end) {
-    if (*p != 'e' && *p != 'E') {
+    if ((*p | 0x20) != 'e') {  // 'e' or 'E'
       return false;
     }
     ++p;
@@ -163,11 +161,12 @@ bool parse_decimal(const Token& token, Decimal& value) {
     }
     int written = 0;
     for (; p != end; ++p) {
-      if (!is_digit(*p)) {
+      const int digit = *p - '0';
+      if (digit < 0 || digit > 9) {
         return false;
       }
       if (written < 10000) {  // saturate: anything this large over- or underflows anyway
-        written = written * 10 + (*p - '0');
+        written = written * 10 + digit;
       }
     }
     exponent10 += exponent_negative ? -written : written;
@@ -311,11 +310,10 @@ std::size_t format_fixed(float value, int decimals, char* out, std::size_t capac
     }
     std::uint32_t scaled =
         static_cast<std::uint32_t>(magnitude / power_of_ten(exponent) * 1.0e6f + 0.5f);
-    if (scaled >= 10000000u) {
+    // At least 1e6: value >= power_of_ten(exponent), so the rounded quotient is at least 1.
+    if (scaled >= 10000000u) {  // rounded up to 10
       scaled /= 10u;
       ++exponent;
-    } else if (scaled < 1000000u) {  // the power of ten rounded up past the value
-      scaled = 1000000u;
     }
     // The exponent is 12..39: two digits.
     *--p = static_cast<char>('0' + exponent % 10);

@@ -50,9 +50,10 @@ char* put_digits(char* end, std::uint64_t value, int zeros, int point) {
   return end;
 }
 
-/// Where times_power_of_ten saturates: above any bound's units (below 2^40 · 10^6, or 10^9 ·
-/// 10^9 at 9 decimals), with room to double.
-constexpr std::uint64_t kSaturated = 1ull << 60u;
+/// Where times_power_of_ten saturates: above the units of any bound compare takes (|bound| ·
+/// 10^decimals below 2^62, e.g. every bound printed in fixed form at 6 decimals), with room to
+/// double in an int64.
+constexpr std::uint64_t kSaturated = (1ull << 62u) - 1u;
 
 /// min(x · 10^n, kSaturated) for x <= kSaturated (n <= 0: x).
 // Not inlined: called four times.
@@ -241,7 +242,7 @@ int compare(const Decimal& value, float bound, int decimals) {
   // The typed magnitude is mantissa · 10^k units, a little more when inexact: compared with B
   // exactly by scaling whichever side has the power of ten, both doubled so that the dropped
   // digits count as half a unit (x + a fraction lies between x and x + 1). Saturated sides stay
-  // below 2^61: signed arithmetic is safe.
+  // below 2^63: signed arithmetic is safe.
   const int k = value.exp10 + decimals;
   auto x = static_cast<std::int64_t>(2u * times_power_of_ten(value.mantissa, k) +
                                      (value.inexact ? 1u : 0u));

@@ -160,7 +160,7 @@ std::string random_number(std::mt19937& rng) {
 
 /// A bound as parameter tables hold them: small decimals, whole numbers, their floats.
 float random_bound(std::mt19937& rng, int decimals) {
-  const double limit = decimals <= 6 ? 1e11 : 1e9;  // the units fit in 63 bits
+  const double limit = 8e18 / std::pow(10.0, decimals);  // the units stay below 2^62
   switch (rng() % 4u) {
     case 0u:
       return 0.0f;
@@ -170,7 +170,9 @@ float random_bound(std::mt19937& rng, int decimals) {
       return static_cast<float>((static_cast<double>(rng()) / 4294967296.0 - 0.5) *
                                 std::pow(10.0, static_cast<int>(rng() % 12u) - 6));
     default:
-      return static_cast<float>((static_cast<double>(rng()) / 4294967296.0 - 0.5) * limit);
+      // Any size up to the largest compare takes.
+      return static_cast<float>((static_cast<double>(rng()) / 4294967296.0 - 0.5) * limit *
+                                std::pow(10.0, -static_cast<int>(rng() % 16u)));
   }
 }
 
@@ -204,9 +206,9 @@ void expect_same_parse(const std::string& text, std::mt19937& rng) {
   ASSERT_EQ(to_bits(to_float(actual)), to_bits(reference::to_float(expected))) << text;
   for (int i = 0; i < 4; ++i) {
     const int decimals = static_cast<int>(rng() % 10u);
-    // The typed value's own float as a bound, where its units fit in 63 bits as bounds do.
+    // The typed value's own float as a bound, where its units stay below 2^62 as bounds' do.
     const float typed = reference::to_float(expected);
-    const bool fits = std::fabs(typed) < (decimals <= 6 ? 1e11f : 1e9f);
+    const bool fits = std::fabs(static_cast<double>(typed)) < 4e18 / std::pow(10.0, decimals);
     const float bound = i == 0 && fits ? typed : random_bound(rng, decimals);
     ASSERT_EQ(compare(actual, bound, decimals), reference::compare(expected, bound, decimals))
         << text << " against " << bound << " at " << decimals << " decimals";

@@ -3,51 +3,24 @@
 namespace odocal::console {
 
 const char* error_code_name(ErrorCode code) {
-  switch (code) {
-    case ErrorCode::line_too_long:
-      return "line_too_long";
-    case ErrorCode::non_ascii:
-      return "non_ascii";
-    case ErrorCode::unknown_command:
-      return "unknown_command";
-    case ErrorCode::unknown_parameter:
-      return "unknown_parameter";
-    case ErrorCode::wrong_arity:
-      return "wrong_arity";
-    case ErrorCode::bad_argument:
-      return "bad_argument";
-    case ErrorCode::bad_number:
-      return "bad_number";
-    case ErrorCode::out_of_range:
-      return "out_of_range";
-    case ErrorCode::busy:
-      return "busy";
-    case ErrorCode::fault:
-      return "fault";
-    case ErrorCode::rejected:
-      return "rejected";
-    case ErrorCode::store_error:
-      return "store_error";
-    case ErrorCode::store_empty:
-      return "store_empty";
-    case ErrorCode::store_version:
-      return "store_version";
-    case ErrorCode::store_corrupt:
-      return "store_corrupt";
-    case ErrorCode::umbmark_full:
-      return "umbmark_full";
-    case ErrorCode::umbmark_failed:
-      return "umbmark_failed";
-    case ErrorCode::not_solved:
-      return "not_solved";
-    case ErrorCode::no_trial:
-      return "no_trial";
-    case ErrorCode::lateral_full:
-      return "lateral_full";
-    case ErrorCode::lateral_failed:
-      return "lateral_failed";
+  // The names in the enumeration's order, each ended by a NUL: the n-th follows n NULs. One
+  // string instead of a table of 21 pointers.
+  static constexpr char names[] =
+      "line_too_long\0non_ascii\0unknown_command\0unknown_parameter\0wrong_arity\0"
+      "bad_argument\0bad_number\0out_of_range\0busy\0fault\0rejected\0store_error\0"
+      "store_empty\0store_version\0umbmark_full\0umbmark_failed\0not_solved\0no_trial\0"
+      "lateral_full\0lateral_failed\0store_corrupt";
+  auto n = static_cast<unsigned>(code);
+  if (n > static_cast<unsigned>(ErrorCode::store_corrupt)) {
+    return "unknown";
   }
-  return "unknown";
+  const char* name = names;
+  while (n > 0u) {
+    if (*name++ == '\0') {
+      --n;
+    }
+  }
+  return name;
 }
 
 ErrLine::ErrLine(OutputQueue& queue, ErrorCode code) : ReplyLine(queue) {
@@ -79,16 +52,12 @@ Reply& Reply::unsigned_number(std::uint64_t value) {
 
 Reply& Reply::pair_i(const char* k, std::int64_t value) {
   key(k);
+  auto magnitude = static_cast<std::uint64_t>(value);
   if (value < 0) {
     text("-");
-    // Negate in unsigned arithmetic: correct for INT64_MIN too.
-    const std::uint64_t magnitude = ~static_cast<std::uint64_t>(value) + 1u;
-    length_ += format_unsigned(magnitude, buffer_ + length_, capacity_ - length_);
-  } else {
-    length_ +=
-        format_unsigned(static_cast<std::uint64_t>(value), buffer_ + length_, capacity_ - length_);
+    magnitude = 0u - magnitude;  // in unsigned arithmetic: correct for INT64_MIN too
   }
-  return *this;
+  return unsigned_number(magnitude);
 }
 
 }  // namespace odocal::console

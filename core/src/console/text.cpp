@@ -13,78 +13,90 @@ bool is_digit(char c) {
   return c >= '0' && c <= '9';
 }
 
-/// 10^n for 0 <= n <= 38 in float: exact up to 10^10 (5^10 < 2^24), then one rounding per step.
+/// 10^n for n >= 0 in float: exact up to 10^10 (5^10 < 2^24), then one rounding per step (inf
+/// from 10^39 on).
 float power_of_ten(int n) {
   float result = 1.0f;
   for (; n >= 10; n -= 10) {
     result *= 1e10f;
   }
-  constexpr float small[10] = {1e0f, 1e1f, 1e2f, 1e3f, 1e4f, 1e5f, 1e6f, 1e7f, 1e8f, 1e9f};
-  return result * small[n];
-}
-
-/// Number of decimal digits of a nonzero value.
-int decimal_digits(std::uint32_t value) {
-  int digits = 0;
-  for (; value != 0u; value /= 10u) {
-    ++digits;
+  float small = 1.0f;  // 10^(n mod 10), exact (5^9 < 2^24): the one rounding stays the last step
+  for (; n > 0; --n) {
+    small *= 10.0f;
   }
-  return digits;
+  return result * small;
 }
 
-/// Writes `value` as exactly `width` digits (leading zeros) when width > 0, else as few as it
-/// needs. The Cortex-M4 has no 64-bit divide (libgcc's costs ~0.7 KB): digits by the drive's
-/// long division in 16-bit steps, which the robot links anyway.
-std::size_t put_decimal(std::uint64_t value, std::size_t width, char* out) {
-  char reversed[20];
-  std::size_t n = 0;
+/// Writes backwards, ending before `end`: the decimal digits of `value` followed by `zeros` 0s
+/// (zeros <= point), with a point before the last `point` digits when point > 0 and at least one
+/// digit before that point. @return the first character. The Cortex-M4 has no 64-bit divide
+/// (libgcc's costs ~0.7 KB): digits by the drive's long division in 16-bit steps, which the robot
+/// links anyway.
+char* put_digits(char* end, std::uint64_t value, int zeros, int point) {
+  int i = 0;
   do {
-    const std::uint64_t quotient = drive::divide_u64(value, 10u);
-    reversed[n++] = static_cast<char>('0' + static_cast<int>(value - quotient * 10u));
-    value = quotient;
-  } while (value != 0u || n < width);
-  for (std::size_t i = 0; i < n; ++i) {
-    out[i] = reversed[n - 1u - i];
-  }
-  return n;
+    if (i == point && i != 0) {
+      *--end = '.';
+    }
+    std::uint32_t digit = 0u;
+    if (i >= zeros) {
+      const std::uint64_t quotient = drive::divide_u64(value, 10u);
+      digit = static_cast<std::uint32_t>(value) - static_cast<std::uint32_t>(quotient) * 10u;
+      value = quotient;
+    }
+    *--end = static_cast<char>('0' + digit);
+    ++i;
+  } while (value != 0u || i <= point);
+  return end;
 }
 
-/// Exact digits of a non-negative float below 2^40: magnitude = m · 2^e with a 24-bit integer m,
-/// so the integer part and the fraction rounded to `decimals` (0..9) digits follow from integer
-/// arithmetic on m, correctly rounded (half up) on the float's exact binary value.
-/// @return 10^decimals (the unit of `digits`).
-std::uint64_t fixed_digits(float magnitude, int decimals, std::uint64_t& whole,
-                           std::uint64_t& digits) {
-  std::uint32_t bits = 0u;
-  std::memcpy(&bits, &magnitude, sizeof bits);
-  const std::uint32_t biased = (bits >> 23u) & 0xFFu;
-  const std::uint64_t m = biased == 0u ? (bits & 0x7FFFFFu) : ((bits & 0x7FFFFFu) | 0x800000u);
-  const int k = biased == 0u ? 149 : 150 - static_cast<int>(biased);  // fraction bits
-  std::uint64_t fraction = 0u;                                        // numerator over 2^k
-  whole = 0u;
+/// Where times_power_of_ten saturates: above the units of any bound compare takes (|bound| ·
+/// 10^decimals below 2^62, e.g. every bound printed in fixed form at 6 decimals), with room to
+/// double in an int64.
+constexpr std::uint64_t kSaturated = (1ull << 62u) - 1u;
+
+/// min(x · 10^n, kSaturated) for x <= kSaturated (n <= 0: x).
+// Not inlined: called four times.
+[[gnu::noinline]] std::uint64_t times_power_of_ten(std::uint64_t x, int n) {
+  for (; n > 0; --n) {
+    if (x > kSaturated / 10u) {
+      return kSaturated;
+    }
+    x *= 10u;
+  }
+  return x;
+}
+
+/// The exact magnitude of a float below 2^40 in units of 10^-decimals (0..9), correctly rounded
+/// (half up) on its binary value: magnitude = m · 2^-k with a 24-bit integer m, so the units are
+/// (m · 10^decimals + 2^(k-1)) >> k, below 2^54 for k > 0. A whole float (k <= 0) may not fit
+/// once scaled: it comes back unscaled with `zeros` = decimals (units = result · 10^zeros).
+std::uint64_t fixed_units(std::uint32_t bits, int decimals, int& zeros) {
+  // A denormal (biased exponent 0) gets k = 150 and a wrong m: it is below 2^-126, and anything
+  // below 2^-40 rounds to 0 at 9 decimals or fewer.
+  const std::uint32_t m = (bits & 0x7FFFFFu) | 0x800000u;
+  const int k = 150 - static_cast<int>((bits >> 23u) & 0xFFu);  // fraction bits
+  zeros = 0;
   if (k <= 0) {
-    whole = m << static_cast<unsigned>(-k);  // < 2^40: fits
-  } else if (k < 64) {
-    whole = m >> static_cast<unsigned>(k);
-    fraction = m - (whole << static_cast<unsigned>(k));
-  } else {
-    fraction = m;
+    zeros = decimals;
+    return static_cast<std::uint64_t>(m) << static_cast<unsigned>(-k);  // < 2^40: fits
   }
-  std::uint64_t scale = 1u;
-  for (int i = 0; i < decimals; ++i) {
-    scale *= 10u;
+  if (k >= 64) {
+    return 0u;
   }
-  digits = 0u;
-  if (k > 0 && k < 64) {
-    // fraction < 2^24 and scale <= 10^9 < 2^30: the product fits in 54 bits.
-    digits =
-        (fraction * scale + (1ull << static_cast<unsigned>(k - 1))) >> static_cast<unsigned>(k);
-  }  // k >= 64: below 2^-40, rounds to 0 at 9 decimals or fewer
-  if (digits >= scale) {
-    digits -= scale;
-    ++whole;
+  // m < 2^24 and 10^decimals <= 10^9 < 2^30: the product fits in 54 bits (never saturated).
+  // Rounded half up in two shifts: (x + 2^(k-1)) >> k = ((x >> (k-1)) + 1) >> 1.
+  return ((times_power_of_ten(m, decimals) >> static_cast<unsigned>(k - 1)) + 1u) >> 1u;
+}
+
+/// Copies [begin, end) to `out` when it fits; @return its length, else 0 (nothing written).
+std::size_t copy_out(const char* begin, const char* end, char* out, std::size_t capacity) {
+  const auto n = static_cast<std::size_t>(end - begin);
+  if (out == nullptr || n > capacity) {
+    return 0u;
   }
-  return scale;
+  std::memcpy(out, begin, n);
+  return n;
 }
 
 }  // namespace
@@ -109,24 +121,22 @@ bool parse_decimal(const Token& token, Decimal& value) {
   // digits), so what is dropped is below 1e-9 relative, far under half a unit of its last bit.
   std::uint32_t mantissa = 0u;
   int exponent10 = 0;  // value = mantissa * 10^exponent10
-  int digits = 0;
+  const char* const digits = p;
   bool point = false;
   bool inexact = false;
   bool fraction_dropped = false;
   for (; p != end; ++p) {
-    if (is_digit(*p)) {
-      ++digits;
+    const auto digit = static_cast<std::uint32_t>(*p - '0');
+    if (digit <= 9u) {
       if (mantissa < 100000000u) {
-        mantissa = mantissa * 10u + static_cast<std::uint32_t>(*p - '0');
-        if (point) {
-          --exponent10;
-        }
+        mantissa = mantissa * 10u + digit;
+        exponent10 -= point ? 1 : 0;
       } else {
-        inexact = inexact || *p != '0';
-        fraction_dropped = fraction_dropped || (point && *p != '0');
-        if (!point) {
-          ++exponent10;  // a dropped integer digit still scales the value
+        if (digit != 0u) {
+          inexact = true;
+          fraction_dropped = fraction_dropped || point;
         }
+        exponent10 += point ? 0 : 1;  // a dropped integer digit still scales the value
       }
     } else if (*p == '.' && !point) {
       point = true;
@@ -134,11 +144,11 @@ bool parse_decimal(const Token& token, Decimal& value) {
       break;
     }
   }
-  if (digits == 0) {
-    return false;
+  if (p - digits == (point ? 1 : 0)) {
+    return false;  // no digit
   }
   if (p != end) {
-    if (*p != 'e' && *p != 'E') {
+    if ((*p | 0x20) != 'e') {  // 'e' or 'E'
       return false;
     }
     ++p;
@@ -152,20 +162,22 @@ bool parse_decimal(const Token& token, Decimal& value) {
     }
     int written = 0;
     for (; p != end; ++p) {
-      if (!is_digit(*p)) {
+      const int digit = *p - '0';
+      if (digit < 0 || digit > 9) {
         return false;
       }
       if (written < 10000) {  // saturate: anything this large over- or underflows anyway
-        written = written * 10 + (*p - '0');
+        written = written * 10 + digit;
       }
     }
     exponent10 += exponent_negative ? -written : written;
   }
-  if (mantissa != 0u) {
-    if (decimal_digits(mantissa) - 1 + exponent10 > 308) {
-      return false;  // not a finite number in any usual reading (a double overflows too)
-    }
-  } else {
+  // Beyond 1e308 (mantissa · 10^exponent10 >= 10^309): not a finite number in any usual reading
+  // (a double overflows too).
+  if (times_power_of_ten(1u, 309 - exponent10) <= mantissa) {
+    return false;
+  }
+  if (mantissa == 0u) {
     exponent10 = 0;
   }
   value = Decimal{mantissa, exponent10, negative, inexact, fraction_dropped};
@@ -176,44 +188,36 @@ bool is_whole(const Decimal& value) {
   if (value.fraction_dropped) {
     return false;  // a nonzero digit after the point beyond the 9 kept
   }
-  if (value.mantissa == 0u || value.exp10 >= 0) {
-    return true;
+  // Whole when the last -exp10 digits of the mantissa are all 0.
+  std::uint32_t mantissa = value.mantissa;
+  for (int n = value.exp10; n < 0; ++n) {
+    if (mantissa % 10u != 0u) {
+      return false;
+    }
+    mantissa /= 10u;
   }
-  if (value.exp10 < -9) {
-    return false;  // mantissa < 10^9: a nonzero fraction
-  }
-  std::uint32_t divisor = 1u;
-  for (int i = 0; i < -value.exp10; ++i) {
-    divisor *= 10u;
-  }
-  return value.mantissa % divisor == 0u;
+  return true;
 }
 
 float to_float(const Decimal& decimal) {
-  const std::uint32_t mantissa = decimal.mantissa;
-  const int exponent10 = decimal.exp10;
-  float result = 0.0f;
-  if (mantissa != 0u) {
-    const int magnitude =
-        decimal_digits(mantissa) - 1 + exponent10;  // value = d.ddd × 10^magnitude
-    if (magnitude > 38) {
-      // Finite as written but beyond float: the largest float, so that range checks name it as
-      // out of range rather than as not a number.
-      result = std::numeric_limits<float>::max();
-    } else if (magnitude < -46) {
-      result = 0.0f;  // below float's smallest denormal
-    } else {
-      result = static_cast<float>(mantissa);
-      if (exponent10 >= 0) {
-        result *= power_of_ten(exponent10);
-        if (!std::isfinite(result)) {
-          result = std::numeric_limits<float>::max();
-        }
-      } else if (exponent10 >= -38) {
-        result /= power_of_ten(-exponent10);
-      } else {
-        result = result / power_of_ten(38) / power_of_ten(-exponent10 - 38);
+  int exponent10 = decimal.exp10;
+  auto result = static_cast<float>(decimal.mantissa);
+  if (decimal.mantissa != 0u) {  // 0 · inf would be nan
+    if (exponent10 < -38) {      // 10^-exponent10 is beyond float: in two divisions
+      result /= power_of_ten(38);
+      exponent10 += 38;
+    }
+    if (exponent10 >= 0) {
+      // 10^39 and above are inf in float, so is any product of 10^39 or more: a value finite as
+      // written but beyond float reads as the largest float, so that range checks name it as out
+      // of range rather than as not a number.
+      result *= power_of_ten(exponent10);
+      if (!std::isfinite(result)) {
+        result = std::numeric_limits<float>::max();
       }
+    } else {
+      // Below float's smallest denormal (under 10^-46): the quotient rounds to 0.
+      result /= power_of_ten(-exponent10);
     }
   }
   return decimal.negative ? -result : result;
@@ -229,42 +233,27 @@ bool parse_number(const Token& token, float& value) {
 }
 
 int compare(const Decimal& value, float bound, int decimals) {
-  // The bound as printed: an integer B of 10^-decimals units (exact digits, correctly rounded).
-  std::uint64_t whole = 0u;
-  std::uint64_t digits = 0u;
-  const std::uint64_t scale = fixed_digits(bound < 0.0f ? -bound : bound, decimals, whole, digits);
-  const std::int64_t units = static_cast<std::int64_t>(whole * scale + digits);
-  const std::int64_t b = bound < 0.0f ? -units : units;
-  // The value in the same units: q + f with q whole and f in [0, 1) (f > 0 when `fraction`).
-  std::int64_t q = 0;
-  bool fraction = value.inexact;
+  // The bound as printed: B units of 10^-decimals (exact digits, correctly rounded).
+  std::uint32_t bits = 0u;
+  std::memcpy(&bits, &bound, sizeof bits);
+  int zeros = 0;
+  std::uint64_t units = fixed_units(bits, decimals, zeros);
+  units = times_power_of_ten(units, zeros);
+  // The typed magnitude is mantissa · 10^k units, a little more when inexact: compared with B
+  // exactly by scaling whichever side has the power of ten, both doubled so that the dropped
+  // digits count as half a unit (x + a fraction lies between x and x + 1). Saturated sides stay
+  // below 2^63: signed arithmetic is safe.
   const int k = value.exp10 + decimals;
-  if (value.mantissa == 0u) {
-    fraction = false;
-  } else if (k >= 0) {
-    std::int64_t scaled = value.mantissa;
-    for (int i = 0; i < k; ++i) {
-      if (scaled > 922337203685477580) {  // beyond any printed bound: compare by sign only
-        return value.negative ? -1 : 1;
-      }
-      scaled *= 10;
-    }
-    q = scaled;
-  } else if (k >= -9) {
-    std::uint32_t divisor = 1u;
-    for (int i = 0; i < -k; ++i) {
-      divisor *= 10u;
-    }
-    q = value.mantissa / divisor;
-    fraction = fraction || value.mantissa % divisor != 0u;
-  } else {
-    fraction = true;  // below one unit
+  auto x = static_cast<std::int64_t>(2u * times_power_of_ten(value.mantissa, k) +
+                                     (value.inexact ? 1u : 0u));
+  auto y = static_cast<std::int64_t>(2u * times_power_of_ten(units, -k));
+  if (value.negative) {
+    x = -x;
   }
-  if (!value.negative) {
-    return q < b ? -1 : ((q > b || (q == b && fraction)) ? 1 : 0);
+  if (bound < 0.0f) {
+    y = -y;
   }
-  // value = −(q + f)
-  return (q > -b || (q == -b && fraction)) ? -1 : (q < -b ? 1 : 0);
+  return (x > y) - (x < y);
 }
 
 bool parse_unsigned(const Token& token, std::uint32_t& value) {
@@ -286,85 +275,65 @@ bool parse_unsigned(const Token& token, std::uint32_t& value) {
 }
 
 std::size_t format_unsigned(std::uint64_t value, char* out, std::size_t capacity) {
-  char digits[20];
-  const std::size_t n = put_decimal(value, 0u, digits);
-  if (out == nullptr || n > capacity) {
-    return 0u;
-  }
-  std::memcpy(out, digits, n);
-  return n;
+  char text[20];
+  char* const end = text + sizeof text;
+  return copy_out(put_digits(end, value, 0, 0), end, out, capacity);
 }
 
 std::size_t format_fixed(float value, int decimals, char* out, std::size_t capacity) {
-  if (out == nullptr) {
-    return 0u;
-  }
   if (decimals < 0) {
     decimals = 0;
   } else if (decimals > 9) {
     decimals = 9;
   }
+  // Written backwards from the end: the digits first, the sign last.
   char text[48];
-  std::size_t n = 0;
-  if (std::isnan(value)) {
-    std::memcpy(text, "nan", 3);
-    n = 3;
-  } else if (std::isinf(value)) {
-    if (value < 0.0f) {
-      text[n++] = '-';
+  char* const end = text + sizeof text;
+  char* p = end;
+  std::uint32_t bits = 0u;
+  std::memcpy(&bits, &value, sizeof bits);
+  bool negative = (bits >> 31u) != 0u;
+  const float magnitude = std::fabs(value);
+  if ((bits & 0x7F800000u) == 0x7F800000u) {
+    const bool nan = (bits & 0x7FFFFFu) != 0u;
+    p -= 3;
+    std::memcpy(p, nan ? "nan" : "inf", 3);
+    negative = negative && !nan;
+  } else if (magnitude >= 1.0e12f) {
+    // Exponent form with 6 decimals in the mantissa: never reached by a parameter or a pose
+    // on a working robot, but a value must never be printed as garbage.
+    // One division by the (once-rounded) power of ten: repeated /10 would compound roundings.
+    // The largest exponent in 12..38 whose power of ten is at most the value (the powers rise
+    // with the exponent; power_of_ten(12) is 1e12f itself).
+    int exponent = 38;
+    while (magnitude < power_of_ten(exponent)) {
+      --exponent;
     }
-    std::memcpy(text + n, "inf", 3);
-    n += 3;
+    std::uint32_t scaled =
+        static_cast<std::uint32_t>(magnitude / power_of_ten(exponent) * 1.0e6f + 0.5f);
+    // At least 1e6: value >= power_of_ten(exponent), so the rounded quotient is at least 1.
+    if (scaled >= 10000000u) {  // rounded up to 10
+      scaled /= 10u;
+      ++exponent;
+    }
+    // The exponent is 12..39: two digits.
+    *--p = static_cast<char>('0' + exponent % 10);
+    *--p = static_cast<char>('0' + exponent / 10);
+    *--p = '+';
+    *--p = 'e';
+    p = put_digits(p, scaled, 0, 6);  // 7 digits: "d.dddddd"
   } else {
-    const bool negative = std::signbit(value);
-    float magnitude = negative ? -value : value;
-    if (magnitude >= 1.0e12f) {
-      // Exponent form with 6 decimals in the mantissa: never reached by a parameter or a pose
-      // on a working robot, but a value must never be printed as garbage.
-      // One division by the (once-rounded) power of ten: repeated /10 would compound roundings.
-      int exponent = 12;
-      while (exponent < 38 && magnitude >= power_of_ten(exponent + 1)) {
-        ++exponent;
-      }
-      std::uint32_t scaled =
-          static_cast<std::uint32_t>(magnitude / power_of_ten(exponent) * 1.0e6f + 0.5f);
-      if (scaled >= 10000000u) {
-        scaled /= 10u;
-        ++exponent;
-      } else if (scaled < 1000000u) {  // the power of ten rounded up past the value
-        scaled = 1000000u;
-      }
-      if (negative) {
-        text[n++] = '-';
-      }
-      text[n++] = static_cast<char>('0' + scaled / 1000000u);
-      text[n++] = '.';
-      n += put_decimal(scaled % 1000000u, 6u, text + n);
-      text[n++] = 'e';
-      text[n++] = '+';
-      n += put_decimal(static_cast<std::uint64_t>(exponent), 0u, text + n);
-    } else {
-      // Exact: magnitude = m · 2^e with a 24-bit integer m; the integer part and the rounded
-      // `decimals` digits of the fraction follow from integer arithmetic on m, correctly rounded
-      // (half away from zero) on the float's exact binary value.
-      std::uint64_t whole = 0u;
-      std::uint64_t digits = 0u;
-      fixed_digits(magnitude, decimals, whole, digits);
-      if (negative && (whole != 0u || digits != 0u)) {
-        text[n++] = '-';
-      }
-      n += put_decimal(whole, 0u, text + n);
-      if (decimals > 0) {
-        text[n++] = '.';
-        n += put_decimal(digits, static_cast<std::size_t>(decimals), text + n);
-      }
-    }
+    // Exact: the float's binary value in units of the last decimal, correctly rounded (half
+    // away from zero on the magnitude). Never a "-" before an all-zero result.
+    int zeros = 0;
+    const std::uint64_t units = fixed_units(bits, decimals, zeros);
+    negative = negative && units != 0u;
+    p = put_digits(p, units, zeros, decimals);
   }
-  if (n > capacity) {
-    return 0u;
+  if (negative) {
+    *--p = '-';
   }
-  std::memcpy(out, text, n);
-  return n;
+  return copy_out(p, end, out, capacity);
 }
 
 std::size_t split(const char* line, std::size_t length, Token* tokens, std::size_t capacity) {

@@ -35,6 +35,8 @@ struct Decimal {
 /// Compares a typed decimal with `bound` as it prints with `decimals` (0..9) digits after the
 /// point (`params` prints 6): −1, 0 or 1 for less, equal, greater. Exact: no float rounding of
 /// the typed value, so 2.0000001 is above a bound printed 2.000000 although both are the float 2.
+/// For a finite bound with |bound| · 10^decimals below 2^62 (every bound printed in fixed form,
+/// below 1e12, at 6 decimals or fewer).
 [[nodiscard]] int compare(const Decimal& value, float bound, int decimals);
 
 /// Parses a whole token as a decimal number, strictly: an optional sign, digits with at most one

@@ -247,14 +247,8 @@ StoreResult ParamStore::read_slot(std::size_t sector, std::size_t slot, SlotBuff
              : StoreResult::device_error;
 }
 
-StoreResult ParamStore::slot_is_blank(std::size_t sector, std::size_t slot, SlotBuffer& buffer,
-                                      bool& blank) {
-  const StoreResult result = read_slot(sector, slot, buffer);
-  blank = result == StoreResult::ok && all_erased(buffer.data(), buffer.size());
-  return result;
-}
-
 StoreResult ParamStore::scan(Scan& found, ParamSet* newest_set, SlotBuffer& buffer) {
+  found.next_blank = slots_per_sector_;
   for (std::size_t sector = 0; sector < 2u; ++sector) {
     for (std::size_t slot = 0; slot < slots_per_sector_; ++slot) {
       if (read_slot(sector, slot, buffer) != StoreResult::ok) {
@@ -262,25 +256,28 @@ StoreResult ParamStore::scan(Scan& found, ParamSet* newest_set, SlotBuffer& buff
       }
       RecordInfo info;
       const DecodeStatus status = decode(buffer.data(), buffer.size(), scratch_, info, guards_.crc);
+      if (status == DecodeStatus::blank) {
+        // The slots are scanned in order, so every slot of the newest record's sector seen after
+        // it is after it: the first blank one is where save goes (no second pass over the flash).
+        if (sector == found.newest.sector && slot < found.next_blank) {
+          found.next_blank = slot;
+        }
+        continue;
+      }
       if (status == DecodeStatus::corrupt) {
         ++found.damaged;
-      }
-      if (status != DecodeStatus::ok && status != DecodeStatus::newer_version) {
         continue;
       }
       if (!found.found_any || !guards_.sequence ||
           later(info.sequence, found.newest.record.sequence)) {
         found.found_any = true;
         found.newest.record = info;
-        found.newest.sector = first_sector_ + sector;
+        found.newest.sector = sector;
         found.newest.slot = slot;
+        found.next_blank = slots_per_sector_;
         found.newest_is_newer_version = status == DecodeStatus::newer_version;
-        found.max_sequence = info.sequence;
-        if (status == DecodeStatus::ok) {
-          found.found_valid = true;
-          if (newest_set != nullptr) {
-            *newest_set = scratch_;
-          }
+        if (status == DecodeStatus::ok && newest_set != nullptr) {
+          *newest_set = scratch_;
         }
       }
     }
@@ -304,6 +301,7 @@ StoreResult ParamStore::load(ParamSet& out, StoreInfo& info) {
     return found.damaged > 0u ? StoreResult::corrupt : StoreResult::empty;
   }
   info = found.newest;
+  info.sector += first_sector_;
   info.damaged = found.damaged;
   if (found.newest_is_newer_version) {
     return StoreResult::newer_version;
@@ -321,28 +319,21 @@ StoreResult ParamStore::save(const ParamSet& set, StoreInfo& info) {
   }
   Scan found;
   SlotBuffer buffer;
-  StoreResult result = scan(found, nullptr, buffer);
+  const StoreResult result = scan(found, nullptr, buffer);
   if (result != StoreResult::ok) {
     return result;
   }
-  const std::uint32_t sequence = found.found_any ? found.max_sequence + 1u : 1u;
+  // With nothing found, the newest "record" is sequence 0 in sector 0.
+  const std::uint32_t sequence = found.newest.record.sequence + 1u;
 
-  // The first blank slot after the newest record, in the newest record's sector.
-  std::size_t sector = found.found_any ? found.newest.sector - first_sector_ : 0u;
-  std::size_t slot = found.found_any ? found.newest.slot + 1u : 0u;
-  bool blank = false;
-  for (; slot < slots_per_sector_; ++slot) {
-    result = slot_is_blank(sector, slot, buffer, blank);
-    if (result != StoreResult::ok) {
-      return result;
-    }
-    if (blank) {
-      break;
-    }
-  }
-  if (!blank) {
+  // The first blank slot after the newest record, in the newest record's sector (found by scan).
+  std::size_t sector = found.newest.sector;
+  std::size_t slot = found.next_blank;
+  if (slot == slots_per_sector_) {
     // Full: erase the other sector. It holds only older records, so the newest survives a cut.
-    sector = found.found_any ? 1u - sector : 0u;
+    if (found.found_any) {
+      sector = 1u - sector;
+    }
     slot = 0u;
     if (device_.erase(first_sector_ + sector) != hal::StoreStatus::ok) {
       return StoreResult::device_error;

@@ -115,11 +115,12 @@ class ParamStore {
 
  private:
   struct Scan {
-    bool found_valid = false;  ///< a loadable record exists
-    bool found_any = false;    ///< a CRC-valid record of any version exists (for sequencing)
+    bool found_any = false;  ///< a CRC-valid record of any version exists (for sequencing)
     bool newest_is_newer_version = false;
-    StoreInfo newest{};  ///< newest loadable or newer-version record
-    std::uint32_t max_sequence = 0u;
+    StoreInfo newest{};  ///< newest loadable or newer-version record (sector relative here)
+    /// The first blank slot after the newest record in its sector (in sector 0 when there is no
+    /// record): where save puts the next one. slots_per_sector_ when there is none.
+    std::size_t next_blank = 0u;
     std::size_t damaged = 0u;  ///< slots neither blank nor a CRC-valid record
   };
 
@@ -129,8 +130,6 @@ class ParamStore {
 
   [[nodiscard]] StoreResult scan(Scan& scan, ParamSet* newest_set, SlotBuffer& buffer);
   [[nodiscard]] StoreResult read_slot(std::size_t sector, std::size_t slot, SlotBuffer& buffer);
-  [[nodiscard]] StoreResult slot_is_blank(std::size_t sector, std::size_t slot, SlotBuffer& buffer,
-                                          bool& blank);
   [[nodiscard]] std::size_t address(std::size_t sector, std::size_t slot) const;
 
   hal::BlockStore& device_;

@@ -37,6 +37,9 @@ constexpr std::array<ParamId, 13> kVersion1Order{{
 }};
 
 static_assert(param_count <= kMaxEntries, "the current record must fit one slot");
+static_assert(param_count < 32u, "decode keeps the ids it has seen in the bits of a u32");
+constexpr std::uint32_t kAllSeen = (1u << param_count) - 1u;
+static_assert(kVersion1Order.size() < param_count, "a version-1 record is always migrated");
 
 std::uint16_t get16(const std::uint8_t* p) {
   return static_cast<std::uint16_t>(p[0] | (p[1] << 8));
@@ -56,9 +59,13 @@ void put16(std::uint8_t* p, std::uint16_t v) {
   p[1] = static_cast<std::uint8_t>(v >> 8);
 }
 void put32(std::uint8_t* p, std::uint32_t v) {
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  std::memcpy(p, &v, sizeof v);  // one (unaligned) store on the robot
+#else
   for (int i = 0; i < 4; ++i) {
     p[i] = static_cast<std::uint8_t>((v >> (8 * i)) & 0xFFu);
   }
+#endif
 }
 void put_float(std::uint8_t* p, float value) {
   std::uint32_t bits;
@@ -124,46 +131,39 @@ DecodeStatus decode(const std::uint8_t* data, std::size_t size, ParamSet& out, R
     return DecodeStatus::newer_version;
   }
 
+  // One loop for both versions: a version-1 entry is the bare value, its id given by its place
+  // (kVersion1Order); a version-2 entry carries its id. Version 0 was never written.
+  const bool version1 = version == 1u;
+  const std::size_t entry_size = version1 ? 4u : kEntrySize;
+  if (version == 0u || (version1 ? count != kVersion1Order.size() : count > kMaxEntries) ||
+      length != kHeaderSize + entry_size * count + (version1 ? 0u : 2u * kProvenanceSize)) {
+    return DecodeStatus::corrupt;
+  }
   ParamSet set = default_params();
-  bool migrated = false;
-  if (version == 1u) {
-    if (count != kVersion1Order.size() || length != kHeaderSize + 4u * count) {
+  std::uint32_t seen = 0u;  // bit i: parameter i was in the record
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::uint8_t* entry = data + kHeaderSize + entry_size * i;
+    const std::size_t id = version1 ? static_cast<std::size_t>(kVersion1Order[i]) : get16(entry);
+    if (id >= param_count) {
+      continue;  // a parameter this firmware does not know: ignored
+    }
+    const std::uint32_t bit = 1u << id;
+    if ((seen & bit) != 0u) {
       return DecodeStatus::corrupt;
     }
-    for (std::size_t i = 0; i < count; ++i) {
-      set.set(kVersion1Order[i], get_float(data + kHeaderSize + 4u * i));
-    }
+    seen |= bit;
+    set.values[id] = get_float(entry + entry_size - 4u);
+  }
+  // A record without every parameter (version 1 always) took defaults for the others.
+  const bool migrated = seen != kAllSeen;
+  const std::uint8_t* provenance = data + kHeaderSize + entry_size * count;
+  if (version1) {
     // Version 1 kept no provenance: say so rather than claim the factors are defaults.
     set.wheel.method = FactorMethod::migrated;
     set.lateral.method = FactorMethod::migrated;
-    migrated = true;
-  } else if (version == 2u) {
-    if (count > kMaxEntries || length != kHeaderSize + kEntrySize * count + 2u * kProvenanceSize) {
-      return DecodeStatus::corrupt;
-    }
-    std::array<bool, param_count> seen{};
-    for (std::size_t i = 0; i < count; ++i) {
-      const std::uint8_t* entry = data + kHeaderSize + kEntrySize * i;
-      const std::uint16_t id = get16(entry);
-      if (id >= param_count) {
-        continue;  // a parameter this firmware does not know: ignored
-      }
-      if (seen[id]) {
-        return DecodeStatus::corrupt;
-      }
-      seen[id] = true;
-      set.values[id] = get_float(entry + 4);
-    }
-    for (bool present : seen) {
-      migrated = migrated || !present;
-    }
-    const std::uint8_t* provenance = data + kHeaderSize + kEntrySize * count;
-    if (!decode_provenance(provenance, set.wheel) ||
-        !decode_provenance(provenance + kProvenanceSize, set.lateral)) {
-      return DecodeStatus::corrupt;
-    }
-  } else {
-    return DecodeStatus::corrupt;  // version 0 was never written
+  } else if (!decode_provenance(provenance, set.wheel) ||
+             !decode_provenance(provenance + kProvenanceSize, set.lateral)) {
+    return DecodeStatus::corrupt;
   }
   if (!all_in_range(set)) {
     return DecodeStatus::corrupt;
@@ -189,16 +189,14 @@ std::size_t encode_record(const ParamSet& set, std::uint32_t sequence, std::uint
   }
   std::memset(out, 0xFF, record_slot_size);
   const std::size_t length = kHeaderSize + kEntrySize * param_count + 2u * kProvenanceSize;
+  // Pairs of u16 fields go out as one u32 (the low half first, as little-endian demands).
   put32(out, record_magic);
-  put16(out + 4, record_format_version);
-  put16(out + 6, static_cast<std::uint16_t>(length));
+  put32(out + 4, static_cast<std::uint32_t>(record_format_version | (length << 16)));
   put32(out + 8, sequence);
-  put16(out + 12, static_cast<std::uint16_t>(param_count));
-  put16(out + 14, 0u);
+  put32(out + 12, static_cast<std::uint32_t>(param_count));  // count, reserved 0
   for (std::size_t i = 0; i < param_count; ++i) {
     std::uint8_t* entry = out + kHeaderSize + kEntrySize * i;
-    put16(entry, static_cast<std::uint16_t>(i));
-    put16(entry + 2, 0u);
+    put32(entry, static_cast<std::uint32_t>(i));  // id, reserved 0
     put_float(entry + 4, set.values[i]);
   }
   std::uint8_t* provenance = out + kHeaderSize + kEntrySize * param_count;

@@ -54,10 +54,6 @@ float get_float(const std::uint8_t* p) {
   std::memcpy(&value, &bits, sizeof value);
   return value;
 }
-void put16(std::uint8_t* p, std::uint16_t v) {
-  p[0] = static_cast<std::uint8_t>(v & 0xFFu);
-  p[1] = static_cast<std::uint8_t>(v >> 8);
-}
 void put32(std::uint8_t* p, std::uint32_t v) {
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
   std::memcpy(p, &v, sizeof v);  // one (unaligned) store on the robot
@@ -94,9 +90,7 @@ bool decode_provenance(const std::uint8_t* p, Provenance& out) {
 }
 
 void encode_provenance(const Provenance& in, std::uint8_t* p) {
-  p[0] = static_cast<std::uint8_t>(in.method);
-  p[1] = 0u;
-  put16(p + 2, in.runs);
+  put32(p, static_cast<std::uint32_t>(in.method) | (static_cast<std::uint32_t>(in.runs) << 16));
   put32(p + 4, in.date_unix_s);
   put_float(p + 8, in.quality_mm);
 }

@@ -43,9 +43,15 @@ constexpr std::array<std::uint8_t, integer_field_count()> integer_fields() {
 }
 constexpr auto kIntegerFields = integer_fields();
 
+std::uint32_t bits(float value) {
+  std::uint32_t word;
+  std::memcpy(&word, &value, sizeof word);
+  return word;
+}
+
 bool same_provenance(const Provenance& a, const Provenance& b) {
   return a.method == b.method && a.runs == b.runs && a.date_unix_s == b.date_unix_s &&
-         std::memcmp(&a.quality_mm, &b.quality_mm, sizeof(float)) == 0;
+         bits(a.quality_mm) == bits(b.quality_mm);  // bitwise, as for the values
 }
 
 }  // namespace

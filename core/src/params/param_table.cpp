@@ -43,17 +43,6 @@ constexpr std::array<std::uint8_t, integer_field_count()> integer_fields() {
 }
 constexpr auto kIntegerFields = integer_fields();
 
-std::uint32_t bits(float value) {
-  std::uint32_t word;
-  std::memcpy(&word, &value, sizeof word);
-  return word;
-}
-
-bool same_provenance(const Provenance& a, const Provenance& b) {
-  return a.method == b.method && a.runs == b.runs && a.date_unix_s == b.date_unix_s &&
-         bits(a.quality_mm) == bits(b.quality_mm);  // bitwise, as for the values
-}
-
 }  // namespace
 
 const ParamInfo& param_info(ParamId id) {
@@ -137,9 +126,13 @@ void from_drive_config(const drive::DriveConfig& config, ParamSet& set) {
   }
 }
 
+// No padding anywhere (Provenance names its spare byte), so equal bytes are equal members, the
+// floats compared bitwise.
+static_assert(sizeof(Provenance) == 12u && sizeof(ParamSet) == 4u * param_count + 24u,
+              "ParamSet must have no padding for same()");
+
 bool same(const ParamSet& a, const ParamSet& b) {
-  return std::memcmp(a.values.data(), b.values.data(), sizeof(float) * param_count) == 0 &&
-         same_provenance(a.wheel, b.wheel) && same_provenance(a.lateral, b.lateral);
+  return std::memcmp(&a, &b, sizeof(ParamSet)) == 0;
 }
 
 }  // namespace odocal::params

@@ -44,7 +44,9 @@ static_assert(kVersion1Order.size() < param_count, "a version-1 record is always
 std::uint16_t get16(const std::uint8_t* p) {
   return static_cast<std::uint16_t>(p[0] | (p[1] << 8));
 }
-std::uint32_t get32(const std::uint8_t* p) {
+// Forced inline: the firmware builds with -fno-inline-small-functions, which left this a call
+// where the compiler makes it one load.
+[[gnu::always_inline]] inline std::uint32_t get32(const std::uint8_t* p) {
   return static_cast<std::uint32_t>(p[0]) | (static_cast<std::uint32_t>(p[1]) << 8) |
          (static_cast<std::uint32_t>(p[2]) << 16) | (static_cast<std::uint32_t>(p[3]) << 24);
 }

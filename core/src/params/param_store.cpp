@@ -1,5 +1,6 @@
 #include "odocal/params/param_store.hpp"
 
+#include <cstddef>
 #include <cstring>
 
 #include "odocal/params/crc32.hpp"
@@ -91,10 +92,21 @@ bool decode_provenance(const std::uint8_t* p, Provenance& out) {
   return out.quality_mm == out.quality_mm;  // not NaN
 }
 
+static_assert(offsetof(Provenance, method) == 0u && offsetof(Provenance, reserved) == 1u &&
+                  offsetof(Provenance, runs) == 2u && offsetof(Provenance, date_unix_s) == 4u &&
+                  offsetof(Provenance, quality_mm) == 8u && sizeof(Provenance) == kProvenanceSize,
+              "Provenance is laid out as the record's provenance");
+
 void encode_provenance(const Provenance& in, std::uint8_t* p) {
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  // A Provenance holds the record's fields in the record's order with no padding (the spare byte
+  // is `reserved`, always 0), so on a little-endian target it is the record's 12 bytes.
+  std::memcpy(p, &in, sizeof in);
+#else
   put32(p, static_cast<std::uint32_t>(in.method) | (static_cast<std::uint32_t>(in.runs) << 16));
   put32(p + 4, in.date_unix_s);
   put_float(p + 8, in.quality_mm);
+#endif
 }
 
 // True when sequence a was written after b (serial-number arithmetic, wraps at 2^32).

@@ -236,9 +236,10 @@ ParamStore::ParamStore(hal::BlockStore& device, std::size_t first_sector)
     : device_(device), first_sector_(first_sector) {
   const std::size_t granularity = device_.program_granularity();
   const std::size_t sector = device_.sector_size();
-  if (granularity != 0u && granularity <= record_slot_size &&
-      record_slot_size % granularity == 0u && sector >= record_slot_size &&
-      first_sector < device_.sector_count() && device_.sector_count() - first_sector >= 2u) {
+  const std::size_t count = device_.sector_count();
+  // (A granularity above the slot size leaves a remainder: no separate bound needed.)
+  if (granularity != 0u && record_slot_size % granularity == 0u && sector >= record_slot_size &&
+      first_sector < count && count - first_sector >= 2u) {
     slots_per_sector_ = sector / record_slot_size;
   }
 }
@@ -254,6 +255,9 @@ StoreResult ParamStore::read_slot(std::size_t sector, std::size_t slot, SlotBuff
 }
 
 StoreResult ParamStore::scan(Scan& found, ParamSet* newest_set, SlotBuffer& buffer) {
+  if (slots_per_sector_ == 0u) {
+    return StoreResult::bad_geometry;
+  }
   found.next_blank = slots_per_sector_;
   for (std::size_t sector = 0; sector < 2u; ++sector) {
     for (std::size_t slot = 0; slot < slots_per_sector_; ++slot) {
@@ -292,9 +296,6 @@ StoreResult ParamStore::scan(Scan& found, ParamSet* newest_set, SlotBuffer& buff
 }
 
 StoreResult ParamStore::load(ParamSet& out, StoreInfo& info) {
-  if (slots_per_sector_ == 0u) {
-    return StoreResult::bad_geometry;
-  }
   Scan found;
   ParamSet newest;
   SlotBuffer buffer;
@@ -317,17 +318,15 @@ StoreResult ParamStore::load(ParamSet& out, StoreInfo& info) {
 }
 
 StoreResult ParamStore::save(const ParamSet& set, StoreInfo& info) {
-  if (slots_per_sector_ == 0u) {
-    return StoreResult::bad_geometry;
-  }
-  if (!all_in_range(set)) {
-    return StoreResult::device_error;
-  }
   Scan found;
   SlotBuffer buffer;
   const StoreResult result = scan(found, nullptr, buffer);
   if (result != StoreResult::ok) {
     return result;
+  }
+  // Refused after the scan (which only reads) but before anything is erased or programmed.
+  if (!all_in_range(set)) {
+    return StoreResult::device_error;
   }
   // With nothing found, the newest "record" is sequence 0 in sector 0.
   const std::uint32_t sequence = found.newest.record.sequence + 1u;

@@ -128,6 +128,8 @@ class ParamStore {
   /// deepest path), not a member: 256 B of static RAM that only those two calls use.
   using SlotBuffer = std::array<std::uint8_t, record_slot_size>;
 
+  /// Reads every slot of both sectors into `scan` (and the newest loadable set into `newest_set`
+  /// when not null). bad_geometry or device_error before anything is known; never writes.
   [[nodiscard]] StoreResult scan(Scan& scan, ParamSet* newest_set, SlotBuffer& buffer);
   [[nodiscard]] StoreResult read_slot(std::size_t sector, std::size_t slot, SlotBuffer& buffer);
   [[nodiscard]] std::size_t address(std::size_t sector, std::size_t slot) const;

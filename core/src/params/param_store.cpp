@@ -245,7 +245,7 @@ ParamStore::ParamStore(hal::BlockStore& device, std::size_t first_sector)
 }
 
 std::size_t ParamStore::address(std::size_t sector, std::size_t slot) const {
-  return (first_sector_ + sector) * device_.sector_size() + slot * record_slot_size;
+  return sector * device_.sector_size() + slot * record_slot_size;
 }
 
 StoreResult ParamStore::read_slot(std::size_t sector, std::size_t slot, SlotBuffer& buffer) {
@@ -259,7 +259,8 @@ StoreResult ParamStore::scan(Scan& found, ParamSet* newest_set, SlotBuffer& buff
     return StoreResult::bad_geometry;
   }
   found.next_blank = slots_per_sector_;
-  for (std::size_t sector = 0; sector < 2u; ++sector) {
+  found.newest.sector = first_sector_;  // where save goes when there is no record
+  for (std::size_t sector = first_sector_; sector < first_sector_ + 2u; ++sector) {
     for (std::size_t slot = 0; slot < slots_per_sector_; ++slot) {
       if (read_slot(sector, slot, buffer) != StoreResult::ok) {
         return StoreResult::device_error;
@@ -275,7 +276,7 @@ StoreResult ParamStore::scan(Scan& found, ParamSet* newest_set, SlotBuffer& buff
         continue;
       }
       if (status == DecodeStatus::corrupt) {
-        ++found.damaged;
+        ++found.newest.damaged;
         continue;
       }
       if (!found.found_any || !guards_.sequence ||
@@ -304,12 +305,10 @@ StoreResult ParamStore::load(ParamSet& out, StoreInfo& info) {
     return result;
   }
   if (!found.found_any) {
-    info.damaged = found.damaged;
-    return found.damaged > 0u ? StoreResult::corrupt : StoreResult::empty;
+    info.damaged = found.newest.damaged;
+    return found.newest.damaged > 0u ? StoreResult::corrupt : StoreResult::empty;
   }
   info = found.newest;
-  info.sector += first_sector_;
-  info.damaged = found.damaged;
   if (found.newest_is_newer_version) {
     return StoreResult::newer_version;
   }
@@ -328,7 +327,7 @@ StoreResult ParamStore::save(const ParamSet& set, StoreInfo& info) {
   if (!all_in_range(set)) {
     return StoreResult::device_error;
   }
-  // With nothing found, the newest "record" is sequence 0 in sector 0.
+  // With nothing found, the newest "record" is sequence 0 in the first sector.
   const std::uint32_t sequence = found.newest.record.sequence + 1u;
 
   // The first blank slot after the newest record, in the newest record's sector (found by scan).
@@ -337,10 +336,10 @@ StoreResult ParamStore::save(const ParamSet& set, StoreInfo& info) {
   if (slot == slots_per_sector_) {
     // Full: erase the other sector. It holds only older records, so the newest survives a cut.
     if (found.found_any) {
-      sector = 1u - sector;
+      sector = 2u * first_sector_ + 1u - sector;  // the other one of the two
     }
     slot = 0u;
-    if (device_.erase(first_sector_ + sector) != hal::StoreStatus::ok) {
+    if (device_.erase(sector) != hal::StoreStatus::ok) {
       return StoreResult::device_error;
     }
   }
@@ -365,7 +364,7 @@ StoreResult ParamStore::save(const ParamSet& set, StoreInfo& info) {
     }
   }
   info.record = written;
-  info.sector = first_sector_ + sector;
+  info.sector = sector;
   info.slot = slot;
   return StoreResult::ok;
 }

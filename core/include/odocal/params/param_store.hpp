@@ -117,11 +117,12 @@ class ParamStore {
   struct Scan {
     bool found_any = false;  ///< a CRC-valid record of any version exists (for sequencing)
     bool newest_is_newer_version = false;
-    StoreInfo newest{};  ///< newest loadable or newer-version record (sector relative here)
-    /// The first blank slot after the newest record in its sector (in sector 0 when there is no
+    /// Newest loadable or newer-version record, and the count of slots neither blank nor a
+    /// CRC-valid record. With no record, `sector` is the first of the two (where save starts).
+    StoreInfo newest{};
+    /// The first blank slot after the newest record in its sector (in the first sector with no
     /// record): where save puts the next one. slots_per_sector_ when there is none.
     std::size_t next_blank = 0u;
-    std::size_t damaged = 0u;  ///< slots neither blank nor a CRC-valid record
   };
 
   /// One slot's bytes. On the stack of `load` and `save` (main loop, well below the console's
@@ -131,6 +132,7 @@ class ParamStore {
   /// Reads every slot of both sectors into `scan` (and the newest loadable set into `newest_set`
   /// when not null). bad_geometry or device_error before anything is known; never writes.
   [[nodiscard]] StoreResult scan(Scan& scan, ParamSet* newest_set, SlotBuffer& buffer);
+  /// `sector` is the device's (absolute) sector index here and in `address`.
   [[nodiscard]] StoreResult read_slot(std::size_t sector, std::size_t slot, SlotBuffer& buffer);
   [[nodiscard]] std::size_t address(std::size_t sector, std::size_t slot) const;
 

@@ -1,5 +1,6 @@
 #include "odocal/params/param_store.hpp"
 
+#include <cstddef>
 #include <cstring>
 
 #include "odocal/params/crc32.hpp"
@@ -37,11 +38,16 @@ constexpr std::array<ParamId, 13> kVersion1Order{{
 }};
 
 static_assert(param_count <= kMaxEntries, "the current record must fit one slot");
+static_assert(param_count < 32u, "decode keeps the ids it has seen in the bits of a u32");
+constexpr std::uint32_t kAllSeen = (1u << param_count) - 1u;
+static_assert(kVersion1Order.size() < param_count, "a version-1 record is always migrated");
 
 std::uint16_t get16(const std::uint8_t* p) {
   return static_cast<std::uint16_t>(p[0] | (p[1] << 8));
 }
-std::uint32_t get32(const std::uint8_t* p) {
+// Forced inline: the firmware builds with -fno-inline-small-functions, which left this a call
+// where the compiler makes it one load.
+[[gnu::always_inline]] inline std::uint32_t get32(const std::uint8_t* p) {
   return static_cast<std::uint32_t>(p[0]) | (static_cast<std::uint32_t>(p[1]) << 8) |
          (static_cast<std::uint32_t>(p[2]) << 16) | (static_cast<std::uint32_t>(p[3]) << 24);
 }
@@ -51,14 +57,14 @@ float get_float(const std::uint8_t* p) {
   std::memcpy(&value, &bits, sizeof value);
   return value;
 }
-void put16(std::uint8_t* p, std::uint16_t v) {
-  p[0] = static_cast<std::uint8_t>(v & 0xFFu);
-  p[1] = static_cast<std::uint8_t>(v >> 8);
-}
 void put32(std::uint8_t* p, std::uint32_t v) {
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  std::memcpy(p, &v, sizeof v);  // one (unaligned) store on the robot
+#else
   for (int i = 0; i < 4; ++i) {
     p[i] = static_cast<std::uint8_t>((v >> (8 * i)) & 0xFFu);
   }
+#endif
 }
 void put_float(std::uint8_t* p, float value) {
   std::uint32_t bits;
@@ -86,12 +92,21 @@ bool decode_provenance(const std::uint8_t* p, Provenance& out) {
   return out.quality_mm == out.quality_mm;  // not NaN
 }
 
+static_assert(offsetof(Provenance, method) == 0u && offsetof(Provenance, reserved) == 1u &&
+                  offsetof(Provenance, runs) == 2u && offsetof(Provenance, date_unix_s) == 4u &&
+                  offsetof(Provenance, quality_mm) == 8u && sizeof(Provenance) == kProvenanceSize,
+              "Provenance is laid out as the record's provenance");
+
 void encode_provenance(const Provenance& in, std::uint8_t* p) {
-  p[0] = static_cast<std::uint8_t>(in.method);
-  p[1] = 0u;
-  put16(p + 2, in.runs);
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  // A Provenance holds the record's fields in the record's order with no padding (the spare byte
+  // is `reserved`, always 0), so on a little-endian target it is the record's 12 bytes.
+  std::memcpy(p, &in, sizeof in);
+#else
+  put32(p, static_cast<std::uint32_t>(in.method) | (static_cast<std::uint32_t>(in.runs) << 16));
   put32(p + 4, in.date_unix_s);
   put_float(p + 8, in.quality_mm);
+#endif
 }
 
 // True when sequence a was written after b (serial-number arithmetic, wraps at 2^32).
@@ -124,46 +139,39 @@ DecodeStatus decode(const std::uint8_t* data, std::size_t size, ParamSet& out, R
     return DecodeStatus::newer_version;
   }
 
+  // One loop for both versions: a version-1 entry is the bare value, its id given by its place
+  // (kVersion1Order); a version-2 entry carries its id. Version 0 was never written.
+  const bool version1 = version == 1u;
+  const std::size_t entry_size = version1 ? 4u : kEntrySize;
+  if (version == 0u || (version1 ? count != kVersion1Order.size() : count > kMaxEntries) ||
+      length != kHeaderSize + entry_size * count + (version1 ? 0u : 2u * kProvenanceSize)) {
+    return DecodeStatus::corrupt;
+  }
   ParamSet set = default_params();
-  bool migrated = false;
-  if (version == 1u) {
-    if (count != kVersion1Order.size() || length != kHeaderSize + 4u * count) {
+  std::uint32_t seen = 0u;  // bit i: parameter i was in the record
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::uint8_t* entry = data + kHeaderSize + entry_size * i;
+    const std::size_t id = version1 ? static_cast<std::size_t>(kVersion1Order[i]) : get16(entry);
+    if (id >= param_count) {
+      continue;  // a parameter this firmware does not know: ignored
+    }
+    const std::uint32_t bit = 1u << id;
+    if ((seen & bit) != 0u) {
       return DecodeStatus::corrupt;
     }
-    for (std::size_t i = 0; i < count; ++i) {
-      set.set(kVersion1Order[i], get_float(data + kHeaderSize + 4u * i));
-    }
+    seen |= bit;
+    set.values[id] = get_float(entry + entry_size - 4u);
+  }
+  // A record without every parameter (version 1 always) took defaults for the others.
+  const bool migrated = seen != kAllSeen;
+  const std::uint8_t* provenance = data + kHeaderSize + entry_size * count;
+  if (version1) {
     // Version 1 kept no provenance: say so rather than claim the factors are defaults.
     set.wheel.method = FactorMethod::migrated;
     set.lateral.method = FactorMethod::migrated;
-    migrated = true;
-  } else if (version == 2u) {
-    if (count > kMaxEntries || length != kHeaderSize + kEntrySize * count + 2u * kProvenanceSize) {
-      return DecodeStatus::corrupt;
-    }
-    std::array<bool, param_count> seen{};
-    for (std::size_t i = 0; i < count; ++i) {
-      const std::uint8_t* entry = data + kHeaderSize + kEntrySize * i;
-      const std::uint16_t id = get16(entry);
-      if (id >= param_count) {
-        continue;  // a parameter this firmware does not know: ignored
-      }
-      if (seen[id]) {
-        return DecodeStatus::corrupt;
-      }
-      seen[id] = true;
-      set.values[id] = get_float(entry + 4);
-    }
-    for (bool present : seen) {
-      migrated = migrated || !present;
-    }
-    const std::uint8_t* provenance = data + kHeaderSize + kEntrySize * count;
-    if (!decode_provenance(provenance, set.wheel) ||
-        !decode_provenance(provenance + kProvenanceSize, set.lateral)) {
-      return DecodeStatus::corrupt;
-    }
-  } else {
-    return DecodeStatus::corrupt;  // version 0 was never written
+  } else if (!decode_provenance(provenance, set.wheel) ||
+             !decode_provenance(provenance + kProvenanceSize, set.lateral)) {
+    return DecodeStatus::corrupt;
   }
   if (!all_in_range(set)) {
     return DecodeStatus::corrupt;
@@ -189,16 +197,14 @@ std::size_t encode_record(const ParamSet& set, std::uint32_t sequence, std::uint
   }
   std::memset(out, 0xFF, record_slot_size);
   const std::size_t length = kHeaderSize + kEntrySize * param_count + 2u * kProvenanceSize;
+  // Pairs of u16 fields go out as one u32 (the low half first, as little-endian demands).
   put32(out, record_magic);
-  put16(out + 4, record_format_version);
-  put16(out + 6, static_cast<std::uint16_t>(length));
+  put32(out + 4, static_cast<std::uint32_t>(record_format_version | (length << 16)));
   put32(out + 8, sequence);
-  put16(out + 12, static_cast<std::uint16_t>(param_count));
-  put16(out + 14, 0u);
+  put32(out + 12, static_cast<std::uint32_t>(param_count));  // count, reserved 0
   for (std::size_t i = 0; i < param_count; ++i) {
     std::uint8_t* entry = out + kHeaderSize + kEntrySize * i;
-    put16(entry, static_cast<std::uint16_t>(i));
-    put16(entry + 2, 0u);
+    put32(entry, static_cast<std::uint32_t>(i));  // id, reserved 0
     put_float(entry + 4, set.values[i]);
   }
   std::uint8_t* provenance = out + kHeaderSize + kEntrySize * param_count;
@@ -230,15 +236,16 @@ ParamStore::ParamStore(hal::BlockStore& device, std::size_t first_sector)
     : device_(device), first_sector_(first_sector) {
   const std::size_t granularity = device_.program_granularity();
   const std::size_t sector = device_.sector_size();
-  if (granularity != 0u && granularity <= record_slot_size &&
-      record_slot_size % granularity == 0u && sector >= record_slot_size &&
-      first_sector < device_.sector_count() && device_.sector_count() - first_sector >= 2u) {
+  const std::size_t count = device_.sector_count();
+  // (A granularity above the slot size leaves a remainder: no separate bound needed.)
+  if (granularity != 0u && record_slot_size % granularity == 0u && sector >= record_slot_size &&
+      first_sector < count && count - first_sector >= 2u) {
     slots_per_sector_ = sector / record_slot_size;
   }
 }
 
 std::size_t ParamStore::address(std::size_t sector, std::size_t slot) const {
-  return (first_sector_ + sector) * device_.sector_size() + slot * record_slot_size;
+  return sector * device_.sector_size() + slot * record_slot_size;
 }
 
 StoreResult ParamStore::read_slot(std::size_t sector, std::size_t slot, SlotBuffer& buffer) {
@@ -247,40 +254,41 @@ StoreResult ParamStore::read_slot(std::size_t sector, std::size_t slot, SlotBuff
              : StoreResult::device_error;
 }
 
-StoreResult ParamStore::slot_is_blank(std::size_t sector, std::size_t slot, SlotBuffer& buffer,
-                                      bool& blank) {
-  const StoreResult result = read_slot(sector, slot, buffer);
-  blank = result == StoreResult::ok && all_erased(buffer.data(), buffer.size());
-  return result;
-}
-
 StoreResult ParamStore::scan(Scan& found, ParamSet* newest_set, SlotBuffer& buffer) {
-  for (std::size_t sector = 0; sector < 2u; ++sector) {
+  if (slots_per_sector_ == 0u) {
+    return StoreResult::bad_geometry;
+  }
+  found.next_blank = slots_per_sector_;
+  found.newest.sector = first_sector_;  // where save goes when there is no record
+  for (std::size_t sector = first_sector_; sector < first_sector_ + 2u; ++sector) {
     for (std::size_t slot = 0; slot < slots_per_sector_; ++slot) {
       if (read_slot(sector, slot, buffer) != StoreResult::ok) {
         return StoreResult::device_error;
       }
       RecordInfo info;
       const DecodeStatus status = decode(buffer.data(), buffer.size(), scratch_, info, guards_.crc);
-      if (status == DecodeStatus::corrupt) {
-        ++found.damaged;
+      if (status == DecodeStatus::blank) {
+        // The slots are scanned in order, so every slot of the newest record's sector seen after
+        // it is after it: the first blank one is where save goes (no second pass over the flash).
+        if (sector == found.newest.sector && slot < found.next_blank) {
+          found.next_blank = slot;
+        }
+        continue;
       }
-      if (status != DecodeStatus::ok && status != DecodeStatus::newer_version) {
+      if (status == DecodeStatus::corrupt) {
+        ++found.newest.damaged;
         continue;
       }
       if (!found.found_any || !guards_.sequence ||
           later(info.sequence, found.newest.record.sequence)) {
         found.found_any = true;
         found.newest.record = info;
-        found.newest.sector = first_sector_ + sector;
+        found.newest.sector = sector;
         found.newest.slot = slot;
+        found.next_blank = slots_per_sector_;
         found.newest_is_newer_version = status == DecodeStatus::newer_version;
-        found.max_sequence = info.sequence;
-        if (status == DecodeStatus::ok) {
-          found.found_valid = true;
-          if (newest_set != nullptr) {
-            *newest_set = scratch_;
-          }
+        if (status == DecodeStatus::ok && newest_set != nullptr) {
+          *newest_set = scratch_;
         }
       }
     }
@@ -289,9 +297,6 @@ StoreResult ParamStore::scan(Scan& found, ParamSet* newest_set, SlotBuffer& buff
 }
 
 StoreResult ParamStore::load(ParamSet& out, StoreInfo& info) {
-  if (slots_per_sector_ == 0u) {
-    return StoreResult::bad_geometry;
-  }
   Scan found;
   ParamSet newest;
   SlotBuffer buffer;
@@ -300,11 +305,10 @@ StoreResult ParamStore::load(ParamSet& out, StoreInfo& info) {
     return result;
   }
   if (!found.found_any) {
-    info.damaged = found.damaged;
-    return found.damaged > 0u ? StoreResult::corrupt : StoreResult::empty;
+    info.damaged = found.newest.damaged;
+    return found.newest.damaged > 0u ? StoreResult::corrupt : StoreResult::empty;
   }
   info = found.newest;
-  info.damaged = found.damaged;
   if (found.newest_is_newer_version) {
     return StoreResult::newer_version;
   }
@@ -313,38 +317,29 @@ StoreResult ParamStore::load(ParamSet& out, StoreInfo& info) {
 }
 
 StoreResult ParamStore::save(const ParamSet& set, StoreInfo& info) {
-  if (slots_per_sector_ == 0u) {
-    return StoreResult::bad_geometry;
-  }
-  if (!all_in_range(set)) {
-    return StoreResult::device_error;
-  }
   Scan found;
   SlotBuffer buffer;
-  StoreResult result = scan(found, nullptr, buffer);
+  const StoreResult result = scan(found, nullptr, buffer);
   if (result != StoreResult::ok) {
     return result;
   }
-  const std::uint32_t sequence = found.found_any ? found.max_sequence + 1u : 1u;
-
-  // The first blank slot after the newest record, in the newest record's sector.
-  std::size_t sector = found.found_any ? found.newest.sector - first_sector_ : 0u;
-  std::size_t slot = found.found_any ? found.newest.slot + 1u : 0u;
-  bool blank = false;
-  for (; slot < slots_per_sector_; ++slot) {
-    result = slot_is_blank(sector, slot, buffer, blank);
-    if (result != StoreResult::ok) {
-      return result;
-    }
-    if (blank) {
-      break;
-    }
+  // Refused after the scan (which only reads) but before anything is erased or programmed.
+  if (!all_in_range(set)) {
+    return StoreResult::device_error;
   }
-  if (!blank) {
+  // With nothing found, the newest "record" is sequence 0 in the first sector.
+  const std::uint32_t sequence = found.newest.record.sequence + 1u;
+
+  // The first blank slot after the newest record, in the newest record's sector (found by scan).
+  std::size_t sector = found.newest.sector;
+  std::size_t slot = found.next_blank;
+  if (slot == slots_per_sector_) {
     // Full: erase the other sector. It holds only older records, so the newest survives a cut.
-    sector = found.found_any ? 1u - sector : 0u;
+    if (found.found_any) {
+      sector = 2u * first_sector_ + 1u - sector;  // the other one of the two
+    }
     slot = 0u;
-    if (device_.erase(first_sector_ + sector) != hal::StoreStatus::ok) {
+    if (device_.erase(sector) != hal::StoreStatus::ok) {
       return StoreResult::device_error;
     }
   }
@@ -369,7 +364,7 @@ StoreResult ParamStore::save(const ParamSet& set, StoreInfo& info) {
     }
   }
   info.record = written;
-  info.sector = first_sector_ + sector;
+  info.sector = sector;
   info.slot = slot;
   return StoreResult::ok;
 }

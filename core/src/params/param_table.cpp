@@ -1,6 +1,7 @@
 #include "odocal/params/param_table.hpp"
 
 #include <cstring>
+#include <type_traits>
 
 namespace odocal::params {
 namespace {
@@ -8,10 +9,39 @@ namespace {
 static_assert(param_count == drive::config_field_count,
               "one parameter per DriveConfig field (drive/drive_config.hpp)");
 
-bool same_provenance(const Provenance& a, const Provenance& b) {
-  return a.method == b.method && a.runs == b.runs && a.date_unix_s == b.date_unix_s &&
-         std::memcmp(&a.quality_mm, &b.quality_mm, sizeof(float)) == 0;
+// DriveConfig is the parameters in id order, four bytes each: the float fields convert to and from
+// ParamSet::values as one block copy, and only the whole-number fields need a conversion.
+constexpr bool fields_in_id_order() {
+  for (std::size_t i = 0; i < param_count; ++i) {
+    if (drive::config_fields[i].offset != 4u * i) {
+      return false;
+    }
+  }
+  return sizeof(drive::DriveConfig) == 4u * param_count;
 }
+static_assert(fields_in_id_order(), "DriveConfig must hold the parameters in id order");
+static_assert(std::is_trivially_copyable_v<drive::DriveConfig>, "DriveConfig is copied as bytes");
+
+constexpr std::size_t integer_field_count() {
+  std::size_t n = 0u;
+  for (const drive::ConfigField& field : drive::config_fields) {
+    n += field.integer ? 1u : 0u;
+  }
+  return n;
+}
+
+// The ids of the whole-number fields.
+constexpr std::array<std::uint8_t, integer_field_count()> integer_fields() {
+  std::array<std::uint8_t, integer_field_count()> ids{};
+  std::size_t n = 0u;
+  for (std::size_t i = 0; i < param_count; ++i) {
+    if (drive::config_fields[i].integer) {
+      ids[n++] = static_cast<std::uint8_t>(i);
+    }
+  }
+  return ids;
+}
+constexpr auto kIntegerFields = integer_fields();
 
 }  // namespace
 
@@ -82,21 +112,27 @@ bool all_in_range(const ParamSet& set) {
 
 drive::DriveConfig to_drive_config(const ParamSet& set) {
   drive::DriveConfig config;
-  for (std::size_t i = 0; i < param_count; ++i) {
+  std::memcpy(static_cast<void*>(&config), set.values.data(), sizeof config);
+  for (const std::uint8_t i : kIntegerFields) {
     drive::config_fields[i].set(config, set.values[i]);
   }
   return config;
 }
 
 void from_drive_config(const drive::DriveConfig& config, ParamSet& set) {
-  for (std::size_t i = 0; i < param_count; ++i) {
+  std::memcpy(set.values.data(), &config, sizeof config);
+  for (const std::uint8_t i : kIntegerFields) {
     set.values[i] = drive::config_fields[i].get(config);
   }
 }
 
+// No padding anywhere (Provenance names its spare byte), so equal bytes are equal members, the
+// floats compared bitwise.
+static_assert(sizeof(Provenance) == 12u && sizeof(ParamSet) == 4u * param_count + 24u,
+              "ParamSet must have no padding for same()");
+
 bool same(const ParamSet& a, const ParamSet& b) {
-  return std::memcmp(a.values.data(), b.values.data(), sizeof(float) * param_count) == 0 &&
-         same_provenance(a.wheel, b.wheel) && same_provenance(a.lateral, b.lateral);
+  return std::memcmp(&a, &b, sizeof(ParamSet)) == 0;
 }
 
 }  // namespace odocal::params

@@ -115,22 +115,25 @@ class ParamStore {
 
  private:
   struct Scan {
-    bool found_valid = false;  ///< a loadable record exists
-    bool found_any = false;    ///< a CRC-valid record of any version exists (for sequencing)
+    bool found_any = false;  ///< a CRC-valid record of any version exists (for sequencing)
     bool newest_is_newer_version = false;
-    StoreInfo newest{};  ///< newest loadable or newer-version record
-    std::uint32_t max_sequence = 0u;
-    std::size_t damaged = 0u;  ///< slots neither blank nor a CRC-valid record
+    /// Newest loadable or newer-version record, and the count of slots neither blank nor a
+    /// CRC-valid record. With no record, `sector` is the first of the two (where save starts).
+    StoreInfo newest{};
+    /// The first blank slot after the newest record in its sector (in the first sector with no
+    /// record): where save puts the next one. slots_per_sector_ when there is none.
+    std::size_t next_blank = 0u;
   };
 
   /// One slot's bytes. On the stack of `load` and `save` (main loop, well below the console's
   /// deepest path), not a member: 256 B of static RAM that only those two calls use.
   using SlotBuffer = std::array<std::uint8_t, record_slot_size>;
 
+  /// Reads every slot of both sectors into `scan` (and the newest loadable set into `newest_set`
+  /// when not null). bad_geometry or device_error before anything is known; never writes.
   [[nodiscard]] StoreResult scan(Scan& scan, ParamSet* newest_set, SlotBuffer& buffer);
+  /// `sector` is the device's (absolute) sector index here and in `address`.
   [[nodiscard]] StoreResult read_slot(std::size_t sector, std::size_t slot, SlotBuffer& buffer);
-  [[nodiscard]] StoreResult slot_is_blank(std::size_t sector, std::size_t slot, SlotBuffer& buffer,
-                                          bool& blank);
   [[nodiscard]] std::size_t address(std::size_t sector, std::size_t slot) const;
 
   hal::BlockStore& device_;

@@ -75,6 +75,9 @@ inline constexpr FactorMethod last_factor_method = FactorMethod::bootstrap;
 /// Provenance of one group of factors.
 struct Provenance {
   FactorMethod method = FactorMethod::defaults;
+  /// Always 0. Names the byte that would otherwise be padding, so that every byte of a ParamSet
+  /// is a member and `same` compares two sets as bytes.
+  std::uint8_t reserved = 0u;
   std::uint16_t runs = 0u;         ///< calibration runs used (cw + ccw for UMBmark)
   std::uint32_t date_unix_s = 0u;  ///< when they were applied, Unix seconds; 0 = unknown
   float quality_mm = 0.0f;         ///< UMBmark: E_max,syst of the runs solved, mm; 0 otherwise

@@ -39,7 +39,8 @@ class LineEditor {
 
   /// Feeds one byte; `echo` receives what a terminal should show for it (the line end itself
   /// echoes nothing: the console writes its own newline).
-  LineEvent feed(std::uint8_t byte, Echo& echo);
+  /// Out of line: inlined, its many exits each got a copy of the caller's echo handling.
+  [[gnu::noinline]] LineEvent feed(std::uint8_t byte, Echo& echo);
 
   /// The completed line (valid after LineEvent::line until the next feed). Not NUL-terminated.
   [[nodiscard]] const char* line() const { return buffer_.data(); }

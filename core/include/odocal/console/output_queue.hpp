@@ -34,7 +34,7 @@ class OutputQueue {
   void truncate(std::size_t size) { size_ = size < size_ ? size : size_; }
 
  private:
-  std::array<char, capacity> bytes_{};
+  std::array<char, capacity> bytes_;  // no initializer: only queued (written) bytes are read
   std::size_t size_ = 0u;
 };
 

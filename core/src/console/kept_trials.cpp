@@ -11,7 +11,16 @@ std::int32_t saturate(std::int64_t counts) {
 }  // namespace
 
 void KeptTrials::push(const drive::TrialRecord& record) {
-  KeptTrial kept;
+  // The slot after the newest; when full, that is the oldest's, and the next one becomes oldest.
+  std::size_t slot = first_;
+  if (count_ < capacity) {
+    slot = (first_ + count_) % capacity;
+    ++count_;
+  } else {
+    first_ = static_cast<std::uint8_t>((first_ + 1u) % capacity);
+  }
+  // Written in place, field by field (no zeroed copy first).
+  KeptTrial& kept = records_[slot];
   kept.number = record.number;
   kept.duration_ms = record.duration_ms;
   kept.count_l = saturate(record.count_l);
@@ -19,13 +28,6 @@ void KeptTrials::push(const drive::TrialRecord& record) {
   kept.length_m = record.length_m;
   kept.end = record.end;
   kept.path = record.path;
-  if (count_ < capacity) {
-    records_[(first_ + count_) % capacity] = kept;
-    ++count_;
-  } else {
-    records_[first_] = kept;
-    first_ = static_cast<std::uint8_t>((first_ + 1u) % capacity);
-  }
 }
 
 const KeptTrial* KeptTrials::find(std::uint32_t number) const {

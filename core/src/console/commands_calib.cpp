@@ -6,8 +6,6 @@
 namespace odocal::console {
 namespace {
 
-constexpr int kFactorDecimals = 6;
-constexpr int kLengthDecimals = 3;
 constexpr float kTwoPi = 6.28318530717958647692f;
 
 constexpr params::ParamId kWheelIds[] = {params::ParamId::c_l, params::ParamId::c_r,
@@ -18,9 +16,7 @@ constexpr params::ParamId kLateralIds[] = {params::ParamId::f_lat, params::Param
 
 void Console::cmd_umbmark_clear() {
   umbmark_.clear();
-  OkLine reply(out_);
-  reply.pair_u("cw", 0u).pair_u("ccw", 0u);
-  send(reply);
+  send_line("ok cw=0 ccw=0");
 }
 
 void Console::cmd_umbmark_add(const Token* words) {
@@ -38,9 +34,7 @@ void Console::cmd_umbmark_add(const Token* words) {
     send_error(ErrorCode::umbmark_full, "16 runs per direction at most");
     return;
   }
-  OkLine reply(out_);
-  reply.pair_u("cw", umbmark_.cw_count()).pair_u("ccw", umbmark_.ccw_count());
-  send(reply);
+  send_line("ok cw=%u ccw=%u", umbmark_.cw_count(), umbmark_.ccw_count());
 }
 
 void Console::cmd_umbmark_side(const Token* words) {
@@ -49,9 +43,7 @@ void Console::cmd_umbmark_side(const Token* words) {
     return;
   }
   umbmark_.set_side_mm(side_m * 1000.0f);
-  OkLine reply(out_);
-  reply.pair("side_mm", umbmark_.side_mm(), kLengthDecimals);
-  send(reply);
+  send_line("ok side_mm=%3", umbmark_.side_mm());
 }
 
 void Console::cmd_umbmark_solve(const Token* words, std::size_t count) {
@@ -67,21 +59,13 @@ void Console::cmd_umbmark_solve(const Token* words, std::size_t count) {
     return;
   }
   const calib::UmbmarkSession::Result& result = umbmark_.result();
-  OkLine reply(out_);
-  reply.pair("e_d", result.e_d, kFactorDecimals)
-      .pair("e_b", result.e_b, kFactorDecimals)
-      .pair("c_l", result.c_l, kFactorDecimals)
-      .pair("c_r", result.c_r, kFactorDecimals)
-      .pair("wheelbase_new_mm", result.wheelbase_new_mm, kLengthDecimals)
-      .pair("alpha_deg", result.alpha_deg, kFactorDecimals)
-      .pair("beta_deg", result.beta_deg, kFactorDecimals)
-      .pair("e_max_syst_mm", result.e_max_syst_mm, kLengthDecimals)
-      .pair("sem_mm", result.sem_mm, kLengthDecimals)
-      .pair_u("second_pass_recommended", result.second_pass_recommended ? 1u : 0u)
-      .pair("side_mm", umbmark_.side_mm(), kLengthDecimals)
-      .pair_u("runs", umbmark_.cw_count() + umbmark_.ccw_count())
-      .pair_s("method", exact ? "umbmark-exact" : "umbmark");
-  send(reply);
+  send_line(
+      "ok e_d=%6 e_b=%6 c_l=%6 c_r=%6 wheelbase_new_mm=%3 alpha_deg=%6 beta_deg=%6"
+      " e_max_syst_mm=%3 sem_mm=%3 second_pass_recommended=%u side_mm=%3 runs=%u method=%s",
+      result.e_d, result.e_b, result.c_l, result.c_r, result.wheelbase_new_mm, result.alpha_deg,
+      result.beta_deg, result.e_max_syst_mm, result.sem_mm,
+      result.second_pass_recommended ? 1u : 0u, umbmark_.side_mm(),
+      umbmark_.cw_count() + umbmark_.ccw_count(), exact ? "umbmark-exact" : "umbmark");
 }
 
 void Console::cmd_umbmark_apply(const Token* words, std::size_t count) {
@@ -113,9 +97,7 @@ void Console::cmd_umbmark_apply(const Token* words, std::size_t count) {
 
 void Console::cmd_lateral_clear() {
   lateral_.clear();
-  OkLine reply(out_);
-  reply.pair_u("lateral", 0u);
-  send(reply);
+  send_line("ok lateral=0");
 }
 
 void Console::cmd_lateral_add(const Token* words) {
@@ -153,12 +135,8 @@ void Console::cmd_lateral_add(const Token* words) {
       return;
   }
   lateral_used_ = trial->number;
-  OkLine reply(out_);
-  reply.pair_u("lateral", lateral_.count())
-      .pair_u("trial", trial->number)
-      .pair("length_mm", lateral_.length_mm(), kLengthDecimals)
-      .pair("theta_l_rad", theta_l, kFactorDecimals);
-  send(reply);
+  send_line("ok lateral=%u trial=%u length_mm=%3 theta_l_rad=%6", lateral_.count(), trial->number,
+            lateral_.length_mm(), theta_l);
 }
 
 void Console::cmd_lateral_solve() {
@@ -172,14 +150,8 @@ void Console::cmd_lateral_solve() {
     return;
   }
   const calib::LateralSession::Result& result = lateral_.result();
-  OkLine reply(out_);
-  reply.pair("f_lat", result.f_lat, kFactorDecimals)
-      .pair("f_lon", result.f_lon, kFactorDecimals)
-      .pair("theta_l_rad", result.theta_l_rad, kFactorDecimals)
-      .pair("length_mm", lateral_.length_mm(), kLengthDecimals)
-      .pair_u("trials", lateral_.count())
-      .pair_s("method", "maddahi");
-  send(reply);
+  send_line("ok f_lat=%6 f_lon=%6 theta_l_rad=%6 length_mm=%3 trials=%u method=maddahi",
+            result.f_lat, result.f_lon, result.theta_l_rad, lateral_.length_mm(), lateral_.count());
 }
 
 void Console::cmd_lateral_apply(const Token* words, std::size_t count) {
@@ -250,15 +222,14 @@ bool Console::apply_factors(const params::ParamId* ids, const float* values, std
 void Console::send_factors_applied(const params::ParamId* ids, std::size_t id_count,
                                    params::FactorMethod method, bool runs) {
   const params::ParamSet& values = settings_.values();
-  OkLine reply(out_);
+  ReplyLine reply(out_);
+  reply.text("ok");
   for (std::size_t i = 0; i < id_count; ++i) {
-    reply.pair(params::param_info(ids[i]).name, values.get(ids[i]), kFactorDecimals);
+    append(reply, " %s=%6", params::param_info(ids[i]).name, values.get(ids[i]));
   }
-  reply.pair_s("method", params::method_name(method));
-  if (runs) {
-    reply.pair_u("runs", ids == kWheelIds ? values.wheel.runs : values.lateral.runs);
-  }
-  reply.pair_u("unsaved", 1u);
+  // The runs are left out for host-computed factors.
+  append(reply, runs ? " method=%s runs=%u unsaved=1" : " method=%s unsaved=1",
+         params::method_name(method), ids == kWheelIds ? values.wheel.runs : values.lateral.runs);
   send(reply);
 }
 

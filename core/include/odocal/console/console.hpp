@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "odocal/calib/lateral_session.hpp"
 #include "odocal/calib/umbmark_session.hpp"
@@ -191,6 +192,54 @@ class Console {
   /// The same for the form being handled.
   void send_usage(ErrorCode code) { send_usage(code, form_, form_ + 1); }
   void send_newline();
+
+  /// One value of a line written from a spec (`append`, `send_line`): a whole number (at most
+  /// 32 bits on the robot), a float or a text.
+  struct Arg {
+    template <typename T, std::enable_if_t<std::is_integral_v<T>, int> = 0>
+    explicit Arg(T value) : u(static_cast<std::size_t>(value)) {
+      static_assert(sizeof(T) <= sizeof(std::size_t), "a whole number wider than size_t");
+    }
+    explicit Arg(float value) : f(value) {}
+    explicit Arg(const char* value) : s(value) {}
+    explicit Arg(double value) = delete;
+    union {
+      std::size_t u;
+      float f;
+      const char* s;
+    };
+  };
+  /// Appends `spec` to `reply`, each `%` directive in it replaced by the next of `args`: %u a
+  /// whole number, %i a signed one, %s a text, %0..%9 a float with that many decimals (as
+  /// Reply::number). One shared path instead of a call per key and value at every reply.
+  static void append_args(Reply& reply, const char* spec, const Arg* args);
+  template <typename... Values>
+  static void append(Reply& reply, const char* spec, Values... values) {
+    if constexpr (sizeof...(Values) == 0u) {
+      append_args(reply, spec, nullptr);
+    } else {
+      const Arg args[] = {Arg(values)...};
+      append_args(reply, spec, args);
+    }
+  }
+  /// Sends one line written from `spec` (see append_args).
+  void send_args(const char* spec, const Arg* args);
+  template <typename... Values>
+  void send_line(const char* spec, Values... values) {
+    if constexpr (sizeof...(Values) == 0u) {
+      send_args(spec, nullptr);
+    } else {
+      const Arg args[] = {Arg(values)...};
+      send_args(spec, args);
+    }
+  }
+  /// Sends an `err <code> ` line whose message is written from `spec` (counted in `errors`).
+  void send_error_args(ErrorCode code, const char* spec, const Arg* args);
+  template <typename... Values>
+  void send_error_line(ErrorCode code, const char* spec, Values... values) {
+    const Arg args[] = {Arg(values)...};
+    send_error_args(code, spec, args);
+  }
   /// Parses `token` into [lo, hi] (and, with `not_whole` set, requires a whole number as typed,
   /// sending `not_whole` otherwise); sends the error and returns false when refused.
   bool number_arg(const Token& token, float lo, float hi, float& value,
@@ -230,6 +279,8 @@ class Console {
   void cmd_trials(std::size_t count);
   /// ` path=.. duration_ms=.. count_l=.. count_r=.. x_mm=.. y_mm=.. theta_deg=..`
   static void trial_pairs(Reply& reply, const KeptTrial& trial);
+  /// ` x_mm=.. y_mm=.. theta_deg=..` (`odom`, the odom stream, trials)
+  static void pose_pairs(Reply& reply, const drive::Pose& pose);
   // commands_calib.cpp
   void cmd_umbmark_clear();
   void cmd_umbmark_add(const Token* words);
@@ -275,13 +326,13 @@ class Console {
   std::uint32_t trial_seen_ = 0u;    ///< number of the last trial announced
   std::uint32_t lateral_used_ = 0u;  ///< number of the last trial `lateral add` took
 
-  bool stream_odom_ = false;
-  bool stream_ticks_ = false;
-  std::uint32_t odom_period_us_ = 0u;
-  std::uint32_t odom_next_us_ = 0u;
-  std::uint32_t ticks_period_us_ = 0u;
-  std::uint32_t ticks_next_us_ = 0u;
-  std::uint64_t clock_us_ = 0u;  ///< unwrapped time since start, µs
+  /// The timing of one periodic stream (`stream odom|ticks <hz>`).
+  struct StreamTimer {
+    std::uint32_t period_us = 0u;  ///< 0: off (on, it is at least 1,000 µs)
+    std::uint32_t next_us = 0u;
+  };
+  std::array<StreamTimer, 2> streams_{};  ///< odom, ticks: emitted in this order
+  std::uint64_t clock_us_ = 0u;           ///< unwrapped time since start, µs
   std::uint32_t last_now_us_ = 0u;
   bool clock_started_ = false;
 

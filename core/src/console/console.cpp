@@ -18,8 +18,8 @@ Console::Console(hal::ByteStream& stream, drive::ControlLoop& loop, params::Para
     : stream_(stream),
       loop_(loop),
       options_(options),
-      settings_(loop, store, options.defaults),
-      echo_(options.echo == EchoMode::on) {}
+      echo_(options.echo == EchoMode::on),
+      settings_(loop, store, options.defaults) {}
 
 params::StoreResult Console::start(std::uint32_t now_us) {
   last_now_us_ = now_us;

@@ -57,15 +57,15 @@ class LineEditor {
  private:
   LineEvent finish();
 
-  // No initializer: a byte is read only after it was written (the console is a static on the
-  // robot, where zeroing it would be code that repeats what startup does).
-  std::array<char, max_line + 1u> buffer_;
   std::size_t length_ = 0u;
   std::size_t completed_length_ = 0u;
   bool too_long_ = false;
   bool bad_byte_ = false;
   bool after_cr_ = false;
   bool saw_terminal_ = false;
+  // No initializer: a byte is read only after it was written (the console is a static on the
+  // robot, where zeroing it would be code that repeats what startup does).
+  std::array<char, max_line + 1u> buffer_;
 };
 
 }  // namespace odocal::console

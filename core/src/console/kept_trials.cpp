@@ -3,7 +3,8 @@
 namespace odocal::console {
 namespace {
 
-std::int32_t saturate(std::int64_t counts) {
+// Out of line: one copy of the 64-bit compares for both wheels.
+[[gnu::noinline]] std::int32_t saturate(std::int64_t counts) {
   constexpr std::int64_t top = 2147483647;
   return static_cast<std::int32_t>(counts > top ? top : (counts < -top ? -top : counts));
 }

@@ -86,13 +86,11 @@ void Console::cmd_umbmark_apply(const Token* words, std::size_t count) {
   const calib::UmbmarkSession::Result& result = umbmark_.result();
   const params::FactorMethod method =
       result.exact ? params::FactorMethod::umbmark_exact : params::FactorMethod::umbmark;
-  if (!apply_factors(kWheelIds, values, 3u, method,
-                     static_cast<std::uint16_t>(umbmark_.cw_count() + umbmark_.ccw_count()), date,
-                     static_cast<float>(result.e_max_syst_mm))) {
-    return;
+  if (apply_factors(kWheelIds, values, 3u, method,
+                    static_cast<std::uint16_t>(umbmark_.cw_count() + umbmark_.ccw_count()), date,
+                    static_cast<float>(result.e_max_syst_mm))) {
+    umbmark_.applied();
   }
-  umbmark_.applied();
-  send_factors_applied(kWheelIds, 3u, method, true);
 }
 
 void Console::cmd_lateral_clear() {
@@ -166,12 +164,10 @@ void Console::cmd_lateral_apply(const Token* words, std::size_t count) {
   const calib::LateralSession::Result& result = lateral_.result();
   const float values[] = {settings_.get(params::ParamId::f_lat) * result.f_lat,
                           settings_.get(params::ParamId::f_lon) * result.f_lon};
-  if (!apply_factors(kLateralIds, values, 2u, params::FactorMethod::maddahi,
-                     static_cast<std::uint16_t>(lateral_.count()), date, 0.0f)) {
-    return;
+  if (apply_factors(kLateralIds, values, 2u, params::FactorMethod::maddahi,
+                    static_cast<std::uint16_t>(lateral_.count()), date, 0.0f)) {
+    lateral_.applied();
   }
-  lateral_.applied();
-  send_factors_applied(kLateralIds, 2u, params::FactorMethod::maddahi, true);
 }
 
 void Console::cmd_host_factors(bool fit, const Token* words, std::size_t count) {
@@ -191,9 +187,7 @@ void Console::cmd_host_factors(bool fit, const Token* words, std::size_t count) 
   }
   const params::FactorMethod method =
       fit ? params::FactorMethod::fit : params::FactorMethod::bootstrap;
-  if (apply_factors(ids, values, id_count, method, 0u, date, 0.0f)) {
-    send_factors_applied(ids, id_count, method, false);
-  }
+  (void)apply_factors(ids, values, id_count, method, 0u, date, 0.0f);
 }
 
 bool Console::apply_factors(const params::ParamId* ids, const float* values, std::size_t count,
@@ -216,21 +210,22 @@ bool Console::apply_factors(const params::ParamId* ids, const float* values, std
   provenance.runs = runs;
   provenance.date_unix_s = date;
   provenance.quality_mm = quality_mm;
-  return config_accepted(settings_.apply(candidate));
-}
-
-void Console::send_factors_applied(const params::ParamId* ids, std::size_t id_count,
-                                   params::FactorMethod method, bool runs) {
-  const params::ParamSet& values = settings_.values();
+  if (!config_accepted(settings_.apply(candidate))) {
+    return false;
+  }
+  // The `ok` line: the factors in force, then their provenance (no runs for factors computed on
+  // a host).
   ReplyLine reply(out_);
   reply.text("ok");
-  for (std::size_t i = 0; i < id_count; ++i) {
-    append(reply, " %s=%6", params::param_info(ids[i]).name, values.get(ids[i]));
+  for (std::size_t i = 0; i < count; ++i) {
+    append(reply, " %s=%6", params::param_info(ids[i]).name, settings_.get(ids[i]));
   }
-  // The runs are left out for host-computed factors.
-  append(reply, runs ? " method=%s runs=%u unsaved=1" : " method=%s unsaved=1",
-         params::method_name(method), ids == kWheelIds ? values.wheel.runs : values.lateral.runs);
+  const bool host =
+      method == params::FactorMethod::fit || method == params::FactorMethod::bootstrap;
+  append(reply, host ? " method=%s unsaved=1" : " method=%s runs=%u unsaved=1",
+         params::method_name(method), runs);
   send(reply);
+  return true;
 }
 
 }  // namespace odocal::console

@@ -295,14 +295,12 @@ class Console {
   /// provenance. Main loop.
   void cmd_host_factors(bool fit, const Token* words, std::size_t count);
   /// Puts the factors `ids` (the wheel or the lateral group) = `values` in force with their
-  /// provenance when the robot is still, they are in range and the drive accepts them; sends the
-  /// refusal otherwise. Out of line: the candidate parameter set is on its frame only.
+  /// provenance when the robot is still, they are in range and the drive accepts them, and sends
+  /// the `ok` line; sends the refusal otherwise. Out of line: the candidate parameter set is on
+  /// its frame only.
   [[gnu::noinline]] bool apply_factors(const params::ParamId* ids, const float* values,
                                        std::size_t count, params::FactorMethod method,
                                        std::uint16_t runs, std::uint32_t date, float quality_mm);
-  /// The `ok` line after factors were applied: the factors `ids` in force, then `method`.
-  void send_factors_applied(const params::ParamId* ids, std::size_t id_count,
-                            params::FactorMethod method, bool runs);
 
   // The small state first, the buffers and the parameter set last: on the robot most accesses
   // then reach their field with a short offset from the object (smaller instructions).

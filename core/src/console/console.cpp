@@ -195,12 +195,15 @@ void Console::append_args(Reply& reply, const char* spec, const Arg* args) {
       reply.text(arg.s);
     } else if (code == 'u') {
       reply.unsigned_number(arg.u);
-    } else if (code == 'i') {
-      // A signed value was stored modulo 2^N: the top half is negative.
-      std::size_t magnitude = arg.u;
-      if (magnitude > (~std::size_t{0} >> 1u)) {
+    } else if (code == 'U') {
+      reply.unsigned_number(*arg.u64);
+    } else if (code == 'i' || code == 'I') {
+      // %i was stored modulo 2^N from a 32-bit value: its low 32 bits give it back.
+      const std::int64_t value = code == 'i' ? static_cast<std::int32_t>(arg.u) : *arg.i64;
+      std::uint64_t magnitude = static_cast<std::uint64_t>(value);
+      if (value < 0) {
         reply.bytes("-", 1u);
-        magnitude = 0u - magnitude;
+        magnitude = 0u - magnitude;  // unsigned: right for INT64_MIN too
       }
       reply.unsigned_number(magnitude);
     } else {
@@ -443,11 +446,12 @@ void Console::emit_streams(std::uint32_t now_us) {
     const std::size_t mark = out_.size();
     const std::size_t typed = clear_typing();
     ReplyLine line(out_);
-    line.text(odom ? "# odom" : "# ticks").pair_u("t_ms", drive::divide_u64(counts.t_us, 1000u));
+    const std::uint64_t t_ms = drive::divide_u64(counts.t_us, 1000u);
     if (odom) {
+      append(line, "# odom t_ms=%U", &t_ms);
       pose_pairs(line, pose);
     } else {
-      line.pair_i("count_l", counts.left).pair_i("count_r", counts.right);
+      append(line, "# ticks t_ms=%U count_l=%I count_r=%I", &t_ms, &counts.left, &counts.right);
     }
     send_async(line, mark, typed);
   }

@@ -194,7 +194,7 @@ class Console {
   void send_newline();
 
   /// One value of a line written from a spec (`append`, `send_line`): a whole number (at most
-  /// 32 bits on the robot), a float or a text.
+  /// 32 bits on the robot), a float, a text, or the address of a 64-bit whole number.
   struct Arg {
     template <typename T, std::enable_if_t<std::is_integral_v<T>, int> = 0>
     explicit Arg(T value) : u(static_cast<std::size_t>(value)) {
@@ -202,16 +202,21 @@ class Console {
     }
     explicit Arg(float value) : f(value) {}
     explicit Arg(const char* value) : s(value) {}
+    explicit Arg(const std::uint64_t* value) : u64(value) {}
+    explicit Arg(const std::int64_t* value) : i64(value) {}
     explicit Arg(double value) = delete;
     union {
       std::size_t u;
       float f;
       const char* s;
+      const std::uint64_t* u64;
+      const std::int64_t* i64;
     };
   };
   /// Appends `spec` to `reply`, each `%` directive in it replaced by the next of `args`: %u a
-  /// whole number, %i a signed one, %s a text, %0..%9 a float with that many decimals (as
-  /// Reply::number). One shared path instead of a call per key and value at every reply.
+  /// whole number, %i a signed 32-bit one, %U and %I the same at an address, 64-bit, %s a text,
+  /// %0..%9 a float with that many decimals (as Reply::number). One shared path instead of a call
+  /// per key and value at every reply.
   static void append_args(Reply& reply, const char* spec, const Arg* args);
   template <typename... Values>
   static void append(Reply& reply, const char* spec, Values... values) {

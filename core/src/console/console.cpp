@@ -219,7 +219,8 @@ void Console::send_args(const char* spec, const Arg* args) {
 }
 
 void Console::send_error_args(ErrorCode code, const char* spec, const Arg* args) {
-  ErrLine line(out_, code);
+  ReplyLine line(out_);
+  append(line, "err %s ", error_code_name(code));
   append_args(line, spec, args);
   send_refusal(line);
 }
@@ -230,14 +231,12 @@ void Console::send_refusal(Reply& reply) {
 }
 
 void Console::send_error(ErrorCode code, const char* message) {
-  ErrLine reply(out_, code);
-  reply.text(message);
-  send_refusal(reply);
+  send_error_line(code, "%s", message);
 }
 
 void Console::send_usage(ErrorCode code, const Form* first, const Form* last) {
-  ErrLine reply(out_, code);
-  reply.text("usage: ");
+  ReplyLine reply(out_);
+  append(reply, "err %s usage: ", error_code_name(code));
   for (const Form* form = first; form != last; ++form) {
     reply.text(form == first ? "" : " | ").text(form->synopsis);
   }

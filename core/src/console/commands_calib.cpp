@@ -14,6 +14,10 @@ constexpr params::ParamId kLateralIds[] = {params::ParamId::f_lat, params::Param
 
 }  // namespace
 
+bool Console::point_args(const Token* words, float& x, float& y) {
+  return number_arg(words[0], -1.0e6f, 1.0e6f, x) && number_arg(words[1], -1.0e6f, 1.0e6f, y);
+}
+
 void Console::cmd_umbmark_clear() {
   umbmark_.clear();
   send_line("ok cw=0 ccw=0");
@@ -27,7 +31,7 @@ void Console::cmd_umbmark_add(const Token* words) {
   }
   float x = 0.0f;
   float y = 0.0f;
-  if (!number_arg(words[3], -1.0e6f, 1.0e6f, x) || !number_arg(words[4], -1.0e6f, 1.0e6f, y)) {
+  if (!point_args(words + 3, x, y)) {
     return;
   }
   if (!umbmark_.add(cw, calib::UmbmarkSession::Error{x, y})) {
@@ -101,7 +105,7 @@ void Console::cmd_lateral_clear() {
 void Console::cmd_lateral_add(const Token* words) {
   float x = 0.0f;
   float y = 0.0f;
-  if (!number_arg(words[2], -1.0e6f, 1.0e6f, x) || !number_arg(words[3], -1.0e6f, 1.0e6f, y)) {
+  if (!point_args(words + 2, x, y)) {
     return;
   }
   // The stop point belongs to the latest trial, which must be a straight line not used yet:

@@ -249,6 +249,8 @@ class Console {
   /// sending `not_whole` otherwise); sends the error and returns false when refused.
   bool number_arg(const Token& token, float lo, float hi, float& value,
                   const char* not_whole = nullptr);
+  /// Parses the `<x_mm> <y_mm>` of a measured point at words[0] and words[1] (as number_arg).
+  bool point_args(const Token* words, float& x, float& y);
   /// Parses the optional `unix_s` at words[index] (0 when absent); sends the error when refused.
   bool date_arg(const Token* words, std::size_t count, std::size_t index, std::uint32_t& date);
   /// Sends the reason a configuration was refused; @return check.ok().

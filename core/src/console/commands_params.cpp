@@ -6,35 +6,30 @@
 
 namespace odocal::console {
 
-void Console::cmd_get(const Token* words) {
-  params::ParamId id{};
-  if (!params::find_param(words[1].text, words[1].length, id)) {
-    send_error(ErrorCode::unknown_parameter, "no such parameter (see params)");
-    return;
-  }
-  send_line("ok %s=%6", params::param_info(id).name, settings_.get(id));
-}
-
-void Console::cmd_set(const Token* words) {
+void Console::cmd_param(const Token* words, std::size_t count) {
   params::ParamId id{};
   if (!params::find_param(words[1].text, words[1].length, id)) {
     send_error(ErrorCode::unknown_parameter, "no such parameter (see params)");
     return;
   }
   const params::ParamInfo& info = params::param_info(id);
-  // number_arg accepts the bounds as `params` prints them and keeps the value inside the table's.
-  float stored = 0.0f;
-  if (!number_arg(words[2], info.min, info.max, stored,
-                  info.integer ? "a whole number is required" : nullptr)) {
-    return;
+  if (count == 3u) {  // set <name> <value>
+    // number_arg accepts the bounds as `params` prints them and keeps the value inside the
+    // table's.
+    float stored = 0.0f;
+    if (!number_arg(words[2], info.min, info.max, stored,
+                    info.integer ? "a whole number is required" : nullptr)) {
+      return;
+    }
+    if (refuse_busy(true)) {
+      return;
+    }
+    if (!config_accepted(settings_.set(id, stored))) {
+      return;
+    }
   }
-  if (refuse_busy(true)) {
-    return;
-  }
-  if (!config_accepted(settings_.set(id, stored))) {
-    return;
-  }
-  send_line("ok %s=%6", info.name, stored);
+  // The value in force: for `set`, the one stored, as it is.
+  send_line("ok %s=%6", info.name, settings_.get(id));
 }
 
 void Console::cmd_save() {

@@ -124,8 +124,7 @@ class Console {
     version,
     status,
     params,
-    get,
-    set,
+    param,
     save,
     load,
     defaults,
@@ -270,8 +269,8 @@ class Console {
   // commands_params.cpp. [[gnu::noinline]]: handlers with a big frame (a parameter set, a drive
   // configuration, the UMBmark solver) stay out of the dispatch's frame, which every command's
   // path (`load` and the store's the deepest) shares (worst-case stack, docs/stm32f4.md).
-  void cmd_get(const Token* words);
-  [[gnu::noinline]] void cmd_set(const Token* words);
+  /// `get <name>` and `set <name> <value>` (the same reply).
+  [[gnu::noinline]] void cmd_param(const Token* words, std::size_t count);
   void cmd_save();
   void cmd_load();
   void cmd_defaults();

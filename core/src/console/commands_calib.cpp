@@ -72,31 +72,6 @@ void Console::cmd_umbmark_solve(const Token* words, std::size_t count) {
       umbmark_.cw_count() + umbmark_.ccw_count(), exact ? "umbmark-exact" : "umbmark");
 }
 
-void Console::cmd_umbmark_apply(const Token* words, std::size_t count) {
-  std::uint32_t date = 0u;
-  if (!date_arg(words, count, 2u, date)) {
-    return;
-  }
-  if (!umbmark_.solved()) {
-    send_error(ErrorCode::not_solved, "run umbmark solve first");
-    return;
-  }
-  calib::UmbmarkSession::Factors current;
-  current.c_l = settings_.get(params::ParamId::c_l);
-  current.c_r = settings_.get(params::ParamId::c_r);
-  current.wheelbase_mm = settings_.get(params::ParamId::wheelbase_mm);
-  const calib::UmbmarkSession::Factors next = umbmark_.next_factors(current);
-  const float values[] = {next.c_l, next.c_r, next.wheelbase_mm};
-  const calib::UmbmarkSession::Result& result = umbmark_.result();
-  const params::FactorMethod method =
-      result.exact ? params::FactorMethod::umbmark_exact : params::FactorMethod::umbmark;
-  if (apply_factors(kWheelIds, values, 3u, method,
-                    static_cast<std::uint16_t>(umbmark_.cw_count() + umbmark_.ccw_count()), date,
-                    static_cast<float>(result.e_max_syst_mm))) {
-    umbmark_.applied();
-  }
-}
-
 void Console::cmd_lateral_clear() {
   lateral_.clear();
   send_line("ok lateral=0");
@@ -156,21 +131,39 @@ void Console::cmd_lateral_solve() {
             result.f_lat, result.f_lon, result.theta_l_rad, lateral_.length_mm(), lateral_.count());
 }
 
-void Console::cmd_lateral_apply(const Token* words, std::size_t count) {
+void Console::cmd_calib_apply(bool lateral, const Token* words, std::size_t count) {
   std::uint32_t date = 0u;
   if (!date_arg(words, count, 2u, date)) {
     return;
   }
-  if (!lateral_.solved()) {
-    send_error(ErrorCode::not_solved, "run lateral solve first");
+  if (!(lateral ? lateral_.solved() : umbmark_.solved())) {
+    send_error(ErrorCode::not_solved,
+               lateral ? "run lateral solve first" : "run umbmark solve first");
     return;
   }
-  const calib::LateralSession::Result& result = lateral_.result();
-  const float values[] = {settings_.get(params::ParamId::f_lat) * result.f_lat,
-                          settings_.get(params::ParamId::f_lon) * result.f_lon};
-  if (apply_factors(kLateralIds, values, 2u, params::FactorMethod::maddahi,
-                    static_cast<std::uint16_t>(lateral_.count()), date, 0.0f)) {
-    lateral_.applied();
+  if (lateral) {
+    const calib::LateralSession::Result& result = lateral_.result();
+    const float values[] = {settings_.get(params::ParamId::f_lat) * result.f_lat,
+                            settings_.get(params::ParamId::f_lon) * result.f_lon};
+    if (apply_factors(kLateralIds, values, 2u, params::FactorMethod::maddahi,
+                      static_cast<std::uint16_t>(lateral_.count()), date, 0.0f)) {
+      lateral_.applied();
+    }
+    return;
+  }
+  calib::UmbmarkSession::Factors current;
+  current.c_l = settings_.get(params::ParamId::c_l);
+  current.c_r = settings_.get(params::ParamId::c_r);
+  current.wheelbase_mm = settings_.get(params::ParamId::wheelbase_mm);
+  const calib::UmbmarkSession::Factors next = umbmark_.next_factors(current);
+  const float values[] = {next.c_l, next.c_r, next.wheelbase_mm};
+  const calib::UmbmarkSession::Result& result = umbmark_.result();
+  const params::FactorMethod method =
+      result.exact ? params::FactorMethod::umbmark_exact : params::FactorMethod::umbmark;
+  if (apply_factors(kWheelIds, values, 3u, method,
+                    static_cast<std::uint16_t>(umbmark_.cw_count() + umbmark_.ccw_count()), date,
+                    static_cast<float>(result.e_max_syst_mm))) {
+    umbmark_.applied();
   }
 }
 

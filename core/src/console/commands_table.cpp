@@ -107,9 +107,6 @@ void Console::dispatch(Handler handler, const Token* words, std::size_t count) {
     case Handler::umbmark_solve:
       cmd_umbmark_solve(words, count);
       return;
-    case Handler::umbmark_apply:
-      cmd_umbmark_apply(words, count);
-      return;
     case Handler::lateral_clear:
       cmd_lateral_clear();
       return;
@@ -119,8 +116,9 @@ void Console::dispatch(Handler handler, const Token* words, std::size_t count) {
     case Handler::lateral_solve:
       cmd_lateral_solve();
       return;
+    case Handler::umbmark_apply:
     case Handler::lateral_apply:
-      cmd_lateral_apply(words, count);
+      cmd_calib_apply(handler == Handler::lateral_apply, words, count);
       return;
     case Handler::lateral_set:
     case Handler::fit_apply:

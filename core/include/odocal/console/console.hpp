@@ -292,11 +292,11 @@ class Console {
   void cmd_umbmark_add(const Token* words);
   void cmd_umbmark_side(const Token* words);
   [[gnu::noinline]] void cmd_umbmark_solve(const Token* words, std::size_t count);
-  void cmd_umbmark_apply(const Token* words, std::size_t count);
   void cmd_lateral_clear();
   void cmd_lateral_add(const Token* words);
   void cmd_lateral_solve();
-  void cmd_lateral_apply(const Token* words, std::size_t count);
+  /// `umbmark apply` / `lateral apply` (`lateral`): puts the solved factors in force.
+  void cmd_calib_apply(bool lateral, const Token* words, std::size_t count);
   /// `fit apply` (`fit`) / `lateral set`: puts host-computed factors in force with their
   /// provenance. Main loop.
   void cmd_host_factors(bool fit, const Token* words, std::size_t count);

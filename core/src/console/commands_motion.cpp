@@ -67,10 +67,11 @@ void Console::cmd_stop() {
 }
 
 void Console::cmd_run(const Token* words) {
-  // The table matched the path's name and the word count.
-  const Token& name = words[1];
-  const bool line = name.is("line");
-  const bool unseen = name.is("unseen");
+  // The table matched the path's name (umbmark-cw, umbmark-ccw, line or unseen) and the word
+  // count: the name's length tells which it is.
+  const std::size_t name_length = words[1].length;
+  const bool line = name_length == 4u;
+  const bool unseen = name_length == 6u;
   const bool square = !line && !unseen;
   float length_m = 0.0f;
   if (!unseen && !number_arg(words[2], 0.01f, 20.0f, length_m)) {
@@ -80,7 +81,7 @@ void Console::cmd_run(const Token* words) {
     return;
   }
   // Built in place (one expression): no default path to overwrite, no copy of one.
-  const drive::Path path = square ? drive::make_umbmark_square(name.is("umbmark-cw"), length_m)
+  const drive::Path path = square ? drive::make_umbmark_square(name_length == 10u, length_m)
                            : line ? drive::make_line(length_m)
                                   : drive::make_unseen_path();
   if (!loop_.run(path)) {
@@ -97,9 +98,9 @@ void Console::cmd_run(const Token* words) {
 }
 
 void Console::cmd_stream(const Token* words) {
-  // The table matched odom, ticks or off and the word count.
-  const bool odom = words[1].is("odom");
-  const bool ticks = words[1].is("ticks");
+  // The table matched odom, ticks or off and the word count: the word's length tells which.
+  const bool odom = words[1].length == 4u;
+  const bool ticks = words[1].length == 5u;
   if (!odom && !ticks) {
     streams_[0].period_us = 0u;
     streams_[1].period_us = 0u;

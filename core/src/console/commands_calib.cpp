@@ -6,8 +6,6 @@
 namespace odocal::console {
 namespace {
 
-constexpr int kFactorDecimals = 6;
-constexpr int kLengthDecimals = 3;
 constexpr float kTwoPi = 6.28318530717958647692f;
 
 constexpr params::ParamId kWheelIds[] = {params::ParamId::c_l, params::ParamId::c_r,
@@ -16,11 +14,13 @@ constexpr params::ParamId kLateralIds[] = {params::ParamId::f_lat, params::Param
 
 }  // namespace
 
+bool Console::point_args(const Token* words, float& x, float& y) {
+  return number_arg(words[0], -1.0e6f, 1.0e6f, x) && number_arg(words[1], -1.0e6f, 1.0e6f, y);
+}
+
 void Console::cmd_umbmark_clear() {
   umbmark_.clear();
-  OkLine reply(out_);
-  reply.pair_u("cw", 0u).pair_u("ccw", 0u);
-  send(reply);
+  send_line("ok cw=0 ccw=0");
 }
 
 void Console::cmd_umbmark_add(const Token* words) {
@@ -31,16 +31,14 @@ void Console::cmd_umbmark_add(const Token* words) {
   }
   float x = 0.0f;
   float y = 0.0f;
-  if (!number_arg(words[3], -1.0e6f, 1.0e6f, x) || !number_arg(words[4], -1.0e6f, 1.0e6f, y)) {
+  if (!point_args(words + 3, x, y)) {
     return;
   }
   if (!umbmark_.add(cw, calib::UmbmarkSession::Error{x, y})) {
     send_error(ErrorCode::umbmark_full, "16 runs per direction at most");
     return;
   }
-  OkLine reply(out_);
-  reply.pair_u("cw", umbmark_.cw_count()).pair_u("ccw", umbmark_.ccw_count());
-  send(reply);
+  send_line("ok cw=%u ccw=%u", umbmark_.cw_count(), umbmark_.ccw_count());
 }
 
 void Console::cmd_umbmark_side(const Token* words) {
@@ -49,9 +47,7 @@ void Console::cmd_umbmark_side(const Token* words) {
     return;
   }
   umbmark_.set_side_mm(side_m * 1000.0f);
-  OkLine reply(out_);
-  reply.pair("side_mm", umbmark_.side_mm(), kLengthDecimals);
-  send(reply);
+  send_line("ok side_mm=%3", umbmark_.side_mm());
 }
 
 void Console::cmd_umbmark_solve(const Token* words, std::size_t count) {
@@ -67,61 +63,24 @@ void Console::cmd_umbmark_solve(const Token* words, std::size_t count) {
     return;
   }
   const calib::UmbmarkSession::Result& result = umbmark_.result();
-  OkLine reply(out_);
-  reply.pair("e_d", result.e_d, kFactorDecimals)
-      .pair("e_b", result.e_b, kFactorDecimals)
-      .pair("c_l", result.c_l, kFactorDecimals)
-      .pair("c_r", result.c_r, kFactorDecimals)
-      .pair("wheelbase_new_mm", result.wheelbase_new_mm, kLengthDecimals)
-      .pair("alpha_deg", result.alpha_deg, kFactorDecimals)
-      .pair("beta_deg", result.beta_deg, kFactorDecimals)
-      .pair("e_max_syst_mm", result.e_max_syst_mm, kLengthDecimals)
-      .pair("sem_mm", result.sem_mm, kLengthDecimals)
-      .pair_u("second_pass_recommended", result.second_pass_recommended ? 1u : 0u)
-      .pair("side_mm", umbmark_.side_mm(), kLengthDecimals)
-      .pair_u("runs", umbmark_.cw_count() + umbmark_.ccw_count())
-      .pair_s("method", exact ? "umbmark-exact" : "umbmark");
-  send(reply);
-}
-
-void Console::cmd_umbmark_apply(const Token* words, std::size_t count) {
-  std::uint32_t date = 0u;
-  if (!date_arg(words, count, 2u, date)) {
-    return;
-  }
-  if (!umbmark_.solved()) {
-    send_error(ErrorCode::not_solved, "run umbmark solve first");
-    return;
-  }
-  calib::UmbmarkSession::Factors current;
-  current.c_l = settings_.get(params::ParamId::c_l);
-  current.c_r = settings_.get(params::ParamId::c_r);
-  current.wheelbase_mm = settings_.get(params::ParamId::wheelbase_mm);
-  const calib::UmbmarkSession::Factors next = umbmark_.next_factors(current);
-  const float values[] = {next.c_l, next.c_r, next.wheelbase_mm};
-  const calib::UmbmarkSession::Result& result = umbmark_.result();
-  const params::FactorMethod method =
-      result.exact ? params::FactorMethod::umbmark_exact : params::FactorMethod::umbmark;
-  if (!apply_factors(kWheelIds, values, 3u, method,
-                     static_cast<std::uint16_t>(umbmark_.cw_count() + umbmark_.ccw_count()), date,
-                     static_cast<float>(result.e_max_syst_mm))) {
-    return;
-  }
-  umbmark_.applied();
-  send_factors_applied(kWheelIds, 3u, method, true);
+  send_line(
+      "ok e_d=%6 e_b=%6 c_l=%6 c_r=%6 wheelbase_new_mm=%3 alpha_deg=%6 beta_deg=%6"
+      " e_max_syst_mm=%3 sem_mm=%3 second_pass_recommended=%u side_mm=%3 runs=%u method=%s",
+      result.e_d, result.e_b, result.c_l, result.c_r, result.wheelbase_new_mm, result.alpha_deg,
+      result.beta_deg, result.e_max_syst_mm, result.sem_mm,
+      result.second_pass_recommended ? 1u : 0u, umbmark_.side_mm(),
+      umbmark_.cw_count() + umbmark_.ccw_count(), exact ? "umbmark-exact" : "umbmark");
 }
 
 void Console::cmd_lateral_clear() {
   lateral_.clear();
-  OkLine reply(out_);
-  reply.pair_u("lateral", 0u);
-  send(reply);
+  send_line("ok lateral=0");
 }
 
 void Console::cmd_lateral_add(const Token* words) {
   float x = 0.0f;
   float y = 0.0f;
-  if (!number_arg(words[2], -1.0e6f, 1.0e6f, x) || !number_arg(words[3], -1.0e6f, 1.0e6f, y)) {
+  if (!point_args(words + 2, x, y)) {
     return;
   }
   // The stop point belongs to the latest trial, which must be a straight line not used yet:
@@ -153,12 +112,8 @@ void Console::cmd_lateral_add(const Token* words) {
       return;
   }
   lateral_used_ = trial->number;
-  OkLine reply(out_);
-  reply.pair_u("lateral", lateral_.count())
-      .pair_u("trial", trial->number)
-      .pair("length_mm", lateral_.length_mm(), kLengthDecimals)
-      .pair("theta_l_rad", theta_l, kFactorDecimals);
-  send(reply);
+  send_line("ok lateral=%u trial=%u length_mm=%3 theta_l_rad=%6", lateral_.count(), trial->number,
+            lateral_.length_mm(), theta_l);
 }
 
 void Console::cmd_lateral_solve() {
@@ -172,34 +127,44 @@ void Console::cmd_lateral_solve() {
     return;
   }
   const calib::LateralSession::Result& result = lateral_.result();
-  OkLine reply(out_);
-  reply.pair("f_lat", result.f_lat, kFactorDecimals)
-      .pair("f_lon", result.f_lon, kFactorDecimals)
-      .pair("theta_l_rad", result.theta_l_rad, kFactorDecimals)
-      .pair("length_mm", lateral_.length_mm(), kLengthDecimals)
-      .pair_u("trials", lateral_.count())
-      .pair_s("method", "maddahi");
-  send(reply);
+  send_line("ok f_lat=%6 f_lon=%6 theta_l_rad=%6 length_mm=%3 trials=%u method=maddahi",
+            result.f_lat, result.f_lon, result.theta_l_rad, lateral_.length_mm(), lateral_.count());
 }
 
-void Console::cmd_lateral_apply(const Token* words, std::size_t count) {
+void Console::cmd_calib_apply(bool lateral, const Token* words, std::size_t count) {
   std::uint32_t date = 0u;
   if (!date_arg(words, count, 2u, date)) {
     return;
   }
-  if (!lateral_.solved()) {
-    send_error(ErrorCode::not_solved, "run lateral solve first");
+  if (!(lateral ? lateral_.solved() : umbmark_.solved())) {
+    send_error(ErrorCode::not_solved,
+               lateral ? "run lateral solve first" : "run umbmark solve first");
     return;
   }
-  const calib::LateralSession::Result& result = lateral_.result();
-  const float values[] = {settings_.get(params::ParamId::f_lat) * result.f_lat,
-                          settings_.get(params::ParamId::f_lon) * result.f_lon};
-  if (!apply_factors(kLateralIds, values, 2u, params::FactorMethod::maddahi,
-                     static_cast<std::uint16_t>(lateral_.count()), date, 0.0f)) {
+  if (lateral) {
+    const calib::LateralSession::Result& result = lateral_.result();
+    const float values[] = {settings_.get(params::ParamId::f_lat) * result.f_lat,
+                            settings_.get(params::ParamId::f_lon) * result.f_lon};
+    if (apply_factors(kLateralIds, values, 2u, params::FactorMethod::maddahi,
+                      static_cast<std::uint16_t>(lateral_.count()), date, 0.0f)) {
+      lateral_.applied();
+    }
     return;
   }
-  lateral_.applied();
-  send_factors_applied(kLateralIds, 2u, params::FactorMethod::maddahi, true);
+  calib::UmbmarkSession::Factors current;
+  current.c_l = settings_.get(params::ParamId::c_l);
+  current.c_r = settings_.get(params::ParamId::c_r);
+  current.wheelbase_mm = settings_.get(params::ParamId::wheelbase_mm);
+  const calib::UmbmarkSession::Factors next = umbmark_.next_factors(current);
+  const float values[] = {next.c_l, next.c_r, next.wheelbase_mm};
+  const calib::UmbmarkSession::Result& result = umbmark_.result();
+  const params::FactorMethod method =
+      result.exact ? params::FactorMethod::umbmark_exact : params::FactorMethod::umbmark;
+  if (apply_factors(kWheelIds, values, 3u, method,
+                    static_cast<std::uint16_t>(umbmark_.cw_count() + umbmark_.ccw_count()), date,
+                    static_cast<float>(result.e_max_syst_mm))) {
+    umbmark_.applied();
+  }
 }
 
 void Console::cmd_host_factors(bool fit, const Token* words, std::size_t count) {
@@ -219,9 +184,7 @@ void Console::cmd_host_factors(bool fit, const Token* words, std::size_t count) 
   }
   const params::FactorMethod method =
       fit ? params::FactorMethod::fit : params::FactorMethod::bootstrap;
-  if (apply_factors(ids, values, id_count, method, 0u, date, 0.0f)) {
-    send_factors_applied(ids, id_count, method, false);
-  }
+  (void)apply_factors(ids, values, id_count, method, 0u, date, 0.0f);
 }
 
 bool Console::apply_factors(const params::ParamId* ids, const float* values, std::size_t count,
@@ -244,22 +207,22 @@ bool Console::apply_factors(const params::ParamId* ids, const float* values, std
   provenance.runs = runs;
   provenance.date_unix_s = date;
   provenance.quality_mm = quality_mm;
-  return config_accepted(settings_.apply(candidate));
-}
-
-void Console::send_factors_applied(const params::ParamId* ids, std::size_t id_count,
-                                   params::FactorMethod method, bool runs) {
-  const params::ParamSet& values = settings_.values();
-  OkLine reply(out_);
-  for (std::size_t i = 0; i < id_count; ++i) {
-    reply.pair(params::param_info(ids[i]).name, values.get(ids[i]), kFactorDecimals);
+  if (!config_accepted(settings_.apply(candidate))) {
+    return false;
   }
-  reply.pair_s("method", params::method_name(method));
-  if (runs) {
-    reply.pair_u("runs", ids == kWheelIds ? values.wheel.runs : values.lateral.runs);
+  // The `ok` line: the factors in force, then their provenance (no runs for factors computed on
+  // a host).
+  ReplyLine reply(out_);
+  reply.text("ok");
+  for (std::size_t i = 0; i < count; ++i) {
+    append(reply, " %s=%6", params::param_info(ids[i]).name, settings_.get(ids[i]));
   }
-  reply.pair_u("unsaved", 1u);
+  const bool host =
+      method == params::FactorMethod::fit || method == params::FactorMethod::bootstrap;
+  append(reply, host ? " method=%s unsaved=1" : " method=%s runs=%u unsaved=1",
+         params::method_name(method), runs);
   send(reply);
+  return true;
 }
 
 }  // namespace odocal::console

@@ -8,18 +8,6 @@
 #include "odocal/drive/motion_executor.hpp"
 
 namespace odocal::console {
-namespace {
-
-constexpr int kPoseDecimals = 3;
-constexpr float kRadToDeg = 180.0f / 3.14159265358979323846f;
-
-Reply& pose_pairs(Reply& reply, const drive::Pose& pose) {
-  return reply.pair("x_mm", pose.x_m * 1000.0f, kPoseDecimals)
-      .pair("y_mm", pose.y_m * 1000.0f, kPoseDecimals)
-      .pair("theta_deg", pose.theta_rad * kRadToDeg, kPoseDecimals);
-}
-
-}  // namespace
 
 void Console::cmd_odom(std::size_t count) {
   if (count == 2u) {  // odom reset
@@ -29,7 +17,8 @@ void Console::cmd_odom(std::size_t count) {
     }
     loop_.reset_pose();
   }
-  OkLine reply(out_);
+  ReplyLine reply(out_);
+  reply.text("ok");
   pose_pairs(reply, loop_.pose());
   send(reply);
 }
@@ -56,8 +45,8 @@ void Console::cmd_drive(const Token* words, std::size_t count) {
     return;
   }
   note_pending(Pending::drive);
-  OkLine reply(out_);
-  reply.pair("v_mps", v, kPoseDecimals).pair("w_radps", w, kPoseDecimals).pair_u("ms", ms);
+  ReplyLine reply(out_);
+  append(reply, "ok v_mps=%3 w_radps=%3 ms=%u", v, w, ms);
   // The loop scales both wheel set-points down to max_wheel_radps, keeping the curvature: say so,
   // with the twist that will really be driven.
   const drive::DriveConfig config = params::to_drive_config(settings_.values());
@@ -66,9 +55,7 @@ void Console::cmd_drive(const Token* words, std::size_t count) {
   const float peak = std::fmax(std::fabs(rates.left_radps), std::fabs(rates.right_radps));
   if (peak > config.max_wheel_radps) {
     const float scale = config.max_wheel_radps / peak;
-    reply.pair_u("clipped", 1u)
-        .pair("v_clipped_mps", v * scale, kPoseDecimals)
-        .pair("w_clipped_radps", w * scale, kPoseDecimals);
+    append(reply, " clipped=1 v_clipped_mps=%3 w_clipped_radps=%3", v * scale, w * scale);
   }
   send(reply);
 }
@@ -76,16 +63,15 @@ void Console::cmd_drive(const Token* words, std::size_t count) {
 void Console::cmd_stop() {
   loop_.stop();
   note_pending(Pending::stop);
-  OkLine reply(out_);
-  reply.pair_s("mode", "idle");
-  send(reply);
+  send_line("ok mode=idle");
 }
 
 void Console::cmd_run(const Token* words) {
-  // The table matched the path's name and the word count.
-  const Token& name = words[1];
-  const bool line = name.is("line");
-  const bool unseen = name.is("unseen");
+  // The table matched the path's name (umbmark-cw, umbmark-ccw, line or unseen) and the word
+  // count: the name's length tells which it is.
+  const std::size_t name_length = words[1].length;
+  const bool line = name_length == 4u;
+  const bool unseen = name_length == 6u;
   const bool square = !line && !unseen;
   float length_m = 0.0f;
   if (!unseen && !number_arg(words[2], 0.01f, 20.0f, length_m)) {
@@ -94,14 +80,10 @@ void Console::cmd_run(const Token* words) {
   if (refuse_busy(true)) {
     return;
   }
-  drive::Path path;
-  if (square) {
-    path = drive::make_umbmark_square(name.is("umbmark-cw"), length_m);
-  } else if (line) {
-    path = drive::make_line(length_m);
-  } else {
-    path = drive::make_unseen_path();
-  }
+  // Built in place (one expression): no default path to overwrite, no copy of one.
+  const drive::Path path = square ? drive::make_umbmark_square(name_length == 10u, length_m)
+                           : line ? drive::make_line(length_m)
+                                  : drive::make_unseen_path();
   if (!loop_.run(path)) {
     send_error(ErrorCode::fault, "drive faulted; stop acknowledges");
     return;
@@ -110,24 +92,19 @@ void Console::cmd_run(const Token* words) {
   if (square) {
     umbmark_.note_driven_side_mm(length_m * 1000.0f);
   }
-  OkLine reply(out_);
-  reply.pair_s("path", drive::path_name(path.id)).pair_u("segments", path.count);
-  if (!unseen) {
-    reply.pair("length_m", length_m, kPoseDecimals);
-  }
-  send(reply);
+  // The last value is left out for the unseen path (it has no length).
+  send_line(unseen ? "ok path=%s segments=%u" : "ok path=%s segments=%u length_m=%3",
+            drive::path_name(path.id), path.count, length_m);
 }
 
 void Console::cmd_stream(const Token* words) {
-  // The table matched odom, ticks or off and the word count.
-  const bool odom = words[1].is("odom");
-  const bool ticks = words[1].is("ticks");
+  // The table matched odom, ticks or off and the word count: the word's length tells which.
+  const bool odom = words[1].length == 4u;
+  const bool ticks = words[1].length == 5u;
   if (!odom && !ticks) {
-    stream_odom_ = false;
-    stream_ticks_ = false;
-    OkLine reply(out_);
-    reply.pair_s("stream", "off");
-    send(reply);
+    streams_[0].period_us = 0u;
+    streams_[1].period_us = 0u;
+    send_line("ok stream=off");
     return;
   }
   // Tick logs want the control rate's detail; odometry is for watching.
@@ -135,19 +112,11 @@ void Console::cmd_stream(const Token* words) {
   if (!number_arg(words[2], 0.1f, ticks ? 1000.0f : 100.0f, hz)) {
     return;
   }
-  ReplyLine reply(out_);
   const auto period_us = static_cast<std::uint32_t>(1.0e6f / hz + 0.5f);
-  if (odom) {
-    stream_odom_ = true;
-    odom_period_us_ = period_us;
-    odom_next_us_ = last_now_us_ + period_us;
-  } else {
-    stream_ticks_ = true;
-    ticks_period_us_ = period_us;
-    ticks_next_us_ = last_now_us_ + period_us;
-  }
-  reply.text("ok").pair_s("stream", odom ? "odom" : "ticks").pair("hz", hz, kPoseDecimals);
-  send(reply);
+  StreamTimer& timer = streams_[odom ? 0u : 1u];
+  timer.period_us = period_us;
+  timer.next_us = last_now_us_ + period_us;
+  send_line("ok stream=%s hz=%3", odom ? "odom" : "ticks", hz);
 }
 
 void Console::cmd_trial(const Token* words, std::size_t count) {
@@ -170,26 +139,22 @@ void Console::cmd_trial(const Token* words, std::size_t count) {
       return;
     }
   }
-  OkLine reply(out_);
-  reply.pair_u("trial", trial->number);
+  ReplyLine reply(out_);
+  append(reply, "ok trial=%u", trial->number);
   trial_pairs(reply, *trial);
   send(reply);
 }
 
 void Console::trial_pairs(Reply& reply, const KeptTrial& trial) {
-  reply.pair_s("path", drive::path_name(trial.path))
-      .pair_u("duration_ms", trial.duration_ms)
-      .pair_i("count_l", trial.count_l)
-      .pair_i("count_r", trial.count_r);
+  append(reply, " path=%s duration_ms=%u count_l=%i count_r=%i", drive::path_name(trial.path),
+         trial.duration_ms, trial.count_l, trial.count_r);
   pose_pairs(reply, trial.end);
 }
 
 void Console::cmd_trials(std::size_t count) {
   if (count == 2u) {  // trials clear
     trials_.clear();
-    OkLine reply(out_);
-    reply.pair_u("trials", 0u);
-    send(reply);
+    send_line("ok trials=0");
     return;
   }
   start_listing(Listing::trials);

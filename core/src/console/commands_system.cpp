@@ -7,21 +7,15 @@
 namespace odocal::console {
 
 void Console::cmd_version() {
-  OkLine reply(out_);
-  reply.pair_s("name", "odocal")
-      .pair_s("version", project_version)
-      .pair_u("protocol", protocol_version)
-      .pair_u("record_format", params::record_format_version);
-  send(reply);
+  send_line("ok name=odocal version=%s protocol=%u record_format=%u", project_version,
+            protocol_version, params::record_format_version);
 }
 
 void Console::cmd_status() {
-  constexpr int decimals = 3;
   const drive::LoopStatus status = loop_.status();
-  OkLine reply(out_);
-  reply.pair_s("mode", drive::mode_name(status.mode));
-  reply.pair_s("path", drive::path_name(status.path)).pair_u("segment", status.segment);
-  reply.key("faults");
+  ReplyLine reply(out_);
+  append(reply, "ok mode=%s path=%s segment=%u faults=", drive::mode_name(status.mode),
+         drive::path_name(status.path), status.segment);
   if (status.faults == drive::fault_none) {
     reply.text("none");
   } else {
@@ -35,21 +29,14 @@ void Console::cmd_status() {
     }
   }
   const ConsoleCounters c = counters();
-  reply.pair_u("ticks", status.ticks)
-      .pair("tick_us_avg", status.tick_us_avg, decimals)
-      .pair("tick_us_max", status.tick_us_max, decimals)
-      .pair_u("illegal_l", status.illegal_left)
-      .pair_u("illegal_r", status.illegal_right)
-      .pair("left_radps", status.left_radps, decimals)
-      .pair("right_radps", status.right_radps, decimals)
-      .pair_u("unsaved", settings_.unsaved() ? 1u : 0u)
-      .pair_s("store", store_word(settings_.store_state()))
-      .pair_u("umbmark_cw", umbmark_.cw_count())
-      .pair_u("umbmark_ccw", umbmark_.ccw_count())
-      .pair_u("lateral", lateral_.count())
-      .pair_u("trials", trials_.size())
-      .pair_u("stream_dropped", c.stream_dropped)
-      .pair_u("rx_dropped", c.rx_dropped);
+  append(reply,
+         " ticks=%u tick_us_avg=%3 tick_us_max=%3 illegal_l=%u illegal_r=%u left_radps=%3"
+         " right_radps=%3 unsaved=%u store=%s umbmark_cw=%u umbmark_ccw=%u lateral=%u trials=%u"
+         " stream_dropped=%u rx_dropped=%u",
+         status.ticks, status.tick_us_avg, status.tick_us_max, status.illegal_left,
+         status.illegal_right, status.left_radps, status.right_radps, settings_.unsaved() ? 1u : 0u,
+         store_word(settings_.store_state()), umbmark_.cw_count(), umbmark_.ccw_count(),
+         lateral_.count(), trials_.size(), c.stream_dropped, c.rx_dropped);
   if (options_.status_pairs != nullptr) {
     reply.append_with([this](char* out, std::size_t capacity) {
       return options_.status_pairs(options_.status_context, out, capacity);
@@ -65,9 +52,7 @@ void Console::cmd_echo(const Token* words) {
   }
   echo_ = words[1].is("on");
   options_.echo = echo_ ? EchoMode::on : EchoMode::off;
-  OkLine reply(out_);
-  reply.pair_s("echo", echo_ ? "on" : "off");
-  send(reply);
+  send_line(echo_ ? "ok echo=on" : "ok echo=off");
 }
 
 void Console::cmd_extra(const Token* words, std::size_t count) {

@@ -13,8 +13,8 @@ const Console::Form Console::form_table_[] = {
     {"version", 1, 1, 0, Handler::version},
     {"status", 1, 1, 0, Handler::status},
     {"params", 1, 1, 0, Handler::params},
-    {"get <name>", 2, 2, 0, Handler::get},
-    {"set <name> <value>", 3, 3, 0, Handler::set},
+    {"get <name>", 2, 2, 0, Handler::param},
+    {"set <name> <value>", 3, 3, 0, Handler::param},
     {"save", 1, 1, form_moving, Handler::save},
     {"load", 1, 1, form_moving, Handler::load},
     {"defaults", 1, 1, form_moving, Handler::defaults},
@@ -62,11 +62,8 @@ void Console::dispatch(Handler handler, const Token* words, std::size_t count) {
     case Handler::params:
       start_listing(Listing::params);
       return;
-    case Handler::get:
-      cmd_get(words);
-      return;
-    case Handler::set:
-      cmd_set(words);
+    case Handler::param:
+      cmd_param(words, count);
       return;
     case Handler::save:
       cmd_save();
@@ -110,9 +107,6 @@ void Console::dispatch(Handler handler, const Token* words, std::size_t count) {
     case Handler::umbmark_solve:
       cmd_umbmark_solve(words, count);
       return;
-    case Handler::umbmark_apply:
-      cmd_umbmark_apply(words, count);
-      return;
     case Handler::lateral_clear:
       cmd_lateral_clear();
       return;
@@ -122,8 +116,9 @@ void Console::dispatch(Handler handler, const Token* words, std::size_t count) {
     case Handler::lateral_solve:
       cmd_lateral_solve();
       return;
+    case Handler::umbmark_apply:
     case Handler::lateral_apply:
-      cmd_lateral_apply(words, count);
+      cmd_calib_apply(handler == Handler::lateral_apply, words, count);
       return;
     case Handler::lateral_set:
     case Handler::fit_apply:

@@ -9,7 +9,6 @@ namespace odocal::console {
 namespace {
 
 constexpr std::size_t kMaxWords = 6u;
-constexpr int kPoseDecimals = 3;
 constexpr float kRadToDeg = 180.0f / 3.14159265358979323846f;
 
 }  // namespace
@@ -19,8 +18,8 @@ Console::Console(hal::ByteStream& stream, drive::ControlLoop& loop, params::Para
     : stream_(stream),
       loop_(loop),
       options_(options),
-      settings_(loop, store, options.defaults),
-      echo_(options.echo == EchoMode::on) {}
+      echo_(options.echo == EchoMode::on),
+      settings_(loop, store, options.defaults) {}
 
 params::StoreResult Console::start(std::uint32_t now_us) {
   last_now_us_ = now_us;
@@ -28,16 +27,13 @@ params::StoreResult Console::start(std::uint32_t now_us) {
   const Settings::Start start = settings_.start();
   trial_seen_ = loop_.last_trial().number;
   if (options_.banner) {
-    ReplyLine banner(out_);
-    banner.text("# odocal ").text(project_version).text(" console");
     if (start.used) {
-      banner.pair_s("params", "loaded").pair_u("sequence", start.info.record.sequence);
-    } else if (start.store == params::StoreResult::ok) {
-      banner.pair_s("params", "defaults").pair_s("store", "rejected");
+      send_line("# odocal %s console params=loaded sequence=%u", project_version,
+                start.info.record.sequence);
     } else {
-      banner.pair_s("params", "defaults").pair_s("store", store_word(start.store));
+      send_line("# odocal %s console params=defaults store=%s", project_version,
+                start.store == params::StoreResult::ok ? "rejected" : store_word(start.store));
     }
-    send(banner);
   }
   return start.store;
 }
@@ -177,20 +173,70 @@ void Console::send_async(Reply& line, std::size_t mark, std::size_t typed) {
   send_over_typing(line, typed);
 }
 
+void Console::pose_pairs(Reply& reply, const drive::Pose& pose) {
+  append(reply, " x_mm=%3 y_mm=%3 theta_deg=%3", pose.x_m * 1000.0f, pose.y_m * 1000.0f,
+         pose.theta_rad * kRadToDeg);
+}
+
+void Console::append_args(Reply& reply, const char* spec, const Arg* args) {
+  for (;;) {
+    const char* text = spec;
+    while (*spec != '\0' && *spec != '%') {
+      ++spec;
+    }
+    reply.bytes(text, static_cast<std::size_t>(spec - text));
+    if (*spec == '\0') {
+      return;
+    }
+    const char code = spec[1];
+    spec += 2;
+    const Arg& arg = *args++;
+    if (code == 's') {
+      reply.text(arg.s);
+    } else if (code == 'u') {
+      reply.unsigned_number(arg.u);
+    } else if (code == 'U') {
+      reply.unsigned_number(*arg.u64);
+    } else if (code == 'i' || code == 'I') {
+      // %i was stored modulo 2^N from a 32-bit value: its low 32 bits give it back.
+      const std::int64_t value = code == 'i' ? static_cast<std::int32_t>(arg.u) : *arg.i64;
+      std::uint64_t magnitude = static_cast<std::uint64_t>(value);
+      if (value < 0) {
+        reply.bytes("-", 1u);
+        magnitude = 0u - magnitude;  // unsigned: right for INT64_MIN too
+      }
+      reply.unsigned_number(magnitude);
+    } else {
+      reply.number(arg.f, code - '0');
+    }
+  }
+}
+
+void Console::send_args(const char* spec, const Arg* args) {
+  ReplyLine line(out_);
+  append_args(line, spec, args);
+  send(line);
+}
+
+void Console::send_error_args(ErrorCode code, const char* spec, const Arg* args) {
+  ReplyLine line(out_);
+  append(line, "err %s ", error_code_name(code));
+  append_args(line, spec, args);
+  send_refusal(line);
+}
+
 void Console::send_refusal(Reply& reply) {
   ++errors_;
   send(reply);
 }
 
 void Console::send_error(ErrorCode code, const char* message) {
-  ErrLine reply(out_, code);
-  reply.text(message);
-  send_refusal(reply);
+  send_error_line(code, "%s", message);
 }
 
 void Console::send_usage(ErrorCode code, const Form* first, const Form* last) {
-  ErrLine reply(out_, code);
-  reply.text("usage: ");
+  ReplyLine reply(out_);
+  append(reply, "err %s usage: ", error_code_name(code));
   for (const Form* form = first; form != last; ++form) {
     reply.text(form == first ? "" : " | ").text(form->synopsis);
   }
@@ -320,36 +366,30 @@ void Console::continue_listing() {
       }
       if (text != nullptr) {
         ++listing_index_;
-        line.text("# ").text(text);
+        append(line, "# %s", text);
         send(line);
         continue;
       }
-      line.text("ok").pair_u("commands", listing_index_);  // the number of help lines
+      append(line, "ok commands=%u", listing_index_);  // the number of help lines
     } else if (listing_ == Listing::params) {
       if (listing_index_ < params::param_count) {
         const auto id = static_cast<params::ParamId>(listing_index_++);
         const params::ParamInfo& info = params::param_info(id);
-        constexpr int decimals = 6;
-        line.text("# ").text(info.name).text("=").number(settings_.get(id), decimals);
-        line.pair_s("unit", info.unit)
-            .pair("min", info.min, decimals)
-            .pair("max", info.max, decimals)
-            .pair("default", settings_.default_value(id), decimals);
+        append(line, "# %s=%6 unit=%s min=%6 max=%6 default=%6", info.name, settings_.get(id),
+               info.unit, info.min, info.max, settings_.default_value(id));
         send(line);
         continue;
       }
-      line.text("ok")
-          .pair_u("params", params::param_count)
-          .pair_u("unsaved", settings_.unsaved() ? 1u : 0u);
+      append(line, "ok params=%u unsaved=%u", params::param_count, settings_.unsaved() ? 1u : 0u);
     } else {
       if (listing_index_ < trials_.size()) {
         const KeptTrial& trial = trials_.at(listing_index_++);
-        line.text("# trial ").unsigned_number(trial.number);
+        append(line, "# trial %u", trial.number);
         trial_pairs(line, trial);
         send(line);
         continue;
       }
-      line.text("ok").pair_u("trials", trials_.size());
+      append(line, "ok trials=%u", trials_.size());
     }
     send(line);
     listing_ = Listing::none;
@@ -365,7 +405,7 @@ void Console::note_trials() {
   trials_.push(trial);
   const std::size_t typed = clear_typing();
   ReplyLine line(out_);
-  line.text("# done").pair_u("trial", trial.number).pair_s("path", drive::path_name(trial.path));
+  append(line, "# done trial=%u path=%s", trial.number, drive::path_name(trial.path));
   // Announced like a reply (never dropped): a host waits for it.
   send_over_typing(line, typed);
 }
@@ -387,27 +427,31 @@ bool due(std::uint32_t now_us, std::uint32_t period_us, std::uint32_t& next_us) 
 }  // namespace
 
 void Console::emit_streams(std::uint32_t now_us) {
-  if (stream_odom_ && due(now_us, odom_period_us_, odom_next_us_)) {
-    const drive::Pose pose = loop_.pose();
+  // One path for both streams (odom first): they differ only in their time and values.
+  for (std::size_t i = 0u; i < streams_.size(); ++i) {
+    StreamTimer& timer = streams_[i];
+    if (timer.period_us == 0u || !due(now_us, timer.period_us, timer.next_us)) {
+      continue;
+    }
+    const bool odom = i == 0u;
+    drive::Pose pose;
+    drive::WheelCounts counts;
+    if (odom) {
+      pose = loop_.pose();
+      counts.t_us = clock_us_;
+    } else {
+      counts = loop_.wheel_counts();
+    }
     const std::size_t mark = out_.size();
     const std::size_t typed = clear_typing();
     ReplyLine line(out_);
-    line.text("# odom")
-        .pair_u("t_ms", drive::divide_u64(clock_us_, 1000u))
-        .pair("x_mm", pose.x_m * 1000.0f, kPoseDecimals)
-        .pair("y_mm", pose.y_m * 1000.0f, kPoseDecimals)
-        .pair("theta_deg", pose.theta_rad * kRadToDeg, kPoseDecimals);
-    send_async(line, mark, typed);
-  }
-  if (stream_ticks_ && due(now_us, ticks_period_us_, ticks_next_us_)) {
-    const drive::WheelCounts counts = loop_.wheel_counts();
-    const std::size_t mark = out_.size();
-    const std::size_t typed = clear_typing();
-    ReplyLine line(out_);
-    line.text("# ticks")
-        .pair_u("t_ms", drive::divide_u64(counts.t_us, 1000u))
-        .pair_i("count_l", counts.left)
-        .pair_i("count_r", counts.right);
+    const std::uint64_t t_ms = drive::divide_u64(counts.t_us, 1000u);
+    if (odom) {
+      append(line, "# odom t_ms=%U", &t_ms);
+      pose_pairs(line, pose);
+    } else {
+      append(line, "# ticks t_ms=%U count_l=%I count_r=%I", &t_ms, &counts.left, &counts.right);
+    }
     send_async(line, mark, typed);
   }
 }
@@ -423,9 +467,7 @@ bool Console::number_arg(const Token& token, float lo, float hi, float& value,
   // The typed decimal against the printed bounds, exactly: `set v_max_mps 0.001` is the minimum
   // although the table's float is 0.0010000000475, and 2.0000001 is above 2 though not as a float.
   if (compare(typed, lo, decimals) < 0 || compare(typed, hi, decimals) > 0) {
-    ErrLine reply(out_, ErrorCode::out_of_range);
-    reply.text("allowed").pair("min", lo, decimals).pair("max", hi, decimals);
-    send_refusal(reply);
+    send_error_line(ErrorCode::out_of_range, "allowed min=%6 max=%6", lo, hi);
     return false;
   }
   // Whole as typed: 1440.0000001 is not, although its nearest float is 1440.
@@ -443,10 +485,8 @@ bool Console::config_accepted(const drive::ConfigCheck& check) {
     return true;
   }
   if (check.error == drive::ConfigError::out_of_range) {
-    ErrLine reply(out_, ErrorCode::rejected);
-    reply.text("drive refused ").text(drive::config_fields[check.field].name);
-    reply.text(" (outside its range)");
-    send_refusal(reply);
+    send_error_line(ErrorCode::rejected, "drive refused %s (outside its range)",
+                    drive::config_fields[check.field].name);
   } else {
     send_error(ErrorCode::rejected, "drive refused (need wheelbase_mm > wheel_diameter_mm/4)");
   }

@@ -3,7 +3,8 @@
 namespace odocal::console {
 namespace {
 
-std::int32_t saturate(std::int64_t counts) {
+// Out of line: one copy of the 64-bit compares for both wheels.
+[[gnu::noinline]] std::int32_t saturate(std::int64_t counts) {
   constexpr std::int64_t top = 2147483647;
   return static_cast<std::int32_t>(counts > top ? top : (counts < -top ? -top : counts));
 }
@@ -11,7 +12,16 @@ std::int32_t saturate(std::int64_t counts) {
 }  // namespace
 
 void KeptTrials::push(const drive::TrialRecord& record) {
-  KeptTrial kept;
+  // The slot after the newest; when full, that is the oldest's, and the next one becomes oldest.
+  std::size_t slot = first_;
+  if (count_ < capacity) {
+    slot = (first_ + count_) % capacity;
+    ++count_;
+  } else {
+    first_ = static_cast<std::uint8_t>((first_ + 1u) % capacity);
+  }
+  // Written in place, field by field (no zeroed copy first).
+  KeptTrial& kept = records_[slot];
   kept.number = record.number;
   kept.duration_ms = record.duration_ms;
   kept.count_l = saturate(record.count_l);
@@ -19,13 +29,6 @@ void KeptTrials::push(const drive::TrialRecord& record) {
   kept.length_m = record.length_m;
   kept.end = record.end;
   kept.path = record.path;
-  if (count_ < capacity) {
-    records_[(first_ + count_) % capacity] = kept;
-    ++count_;
-  } else {
-    records_[first_] = kept;
-    first_ = static_cast<std::uint8_t>((first_ + 1u) % capacity);
-  }
 }
 
 const KeptTrial* KeptTrials::find(std::uint32_t number) const {

@@ -50,12 +50,12 @@ float Settings::default_value(params::ParamId id) const {
 
 Settings::Start Settings::start() {
   Start start;
-  params::ParamSet loaded;
-  start.store = store_.load(loaded, start.info);
+  // Loaded straight into the values in force (no copy): the store writes them only on `ok`, and
+  // each way out below leaves them right (the loaded set when the drive takes it, else defaults).
+  start.store = store_.load(values_, start.info);
   store_state_ = start.store;
   if (start.store == params::StoreResult::ok &&
-      loop_.configure(params::to_drive_config(loaded)).ok()) {
-    values_ = loaded;
+      loop_.configure(params::to_drive_config(values_)).ok()) {
     start.used = true;
   } else {
     values_ = defaults();

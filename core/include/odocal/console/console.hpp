@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "odocal/calib/lateral_session.hpp"
 #include "odocal/calib/umbmark_session.hpp"
@@ -123,8 +124,7 @@ class Console {
     version,
     status,
     params,
-    get,
-    set,
+    param,
     save,
     load,
     defaults,
@@ -191,10 +191,65 @@ class Console {
   /// The same for the form being handled.
   void send_usage(ErrorCode code) { send_usage(code, form_, form_ + 1); }
   void send_newline();
+
+  /// One value of a line written from a spec (`append`, `send_line`): a whole number (at most
+  /// 32 bits on the robot), a float, a text, or the address of a 64-bit whole number.
+  struct Arg {
+    template <typename T, std::enable_if_t<std::is_integral_v<T>, int> = 0>
+    explicit Arg(T value) : u(static_cast<std::size_t>(value)) {
+      static_assert(sizeof(T) <= sizeof(std::size_t), "a whole number wider than size_t");
+    }
+    explicit Arg(float value) : f(value) {}
+    explicit Arg(const char* value) : s(value) {}
+    explicit Arg(const std::uint64_t* value) : u64(value) {}
+    explicit Arg(const std::int64_t* value) : i64(value) {}
+    explicit Arg(double value) = delete;
+    union {
+      std::size_t u;
+      float f;
+      const char* s;
+      const std::uint64_t* u64;
+      const std::int64_t* i64;
+    };
+  };
+  /// Appends `spec` to `reply`, each `%` directive in it replaced by the next of `args`: %u a
+  /// whole number, %i a signed 32-bit one, %U and %I the same at an address, 64-bit, %s a text,
+  /// %0..%9 a float with that many decimals (as Reply::number). One shared path instead of a call
+  /// per key and value at every reply.
+  static void append_args(Reply& reply, const char* spec, const Arg* args);
+  template <typename... Values>
+  static void append(Reply& reply, const char* spec, Values... values) {
+    if constexpr (sizeof...(Values) == 0u) {
+      append_args(reply, spec, nullptr);
+    } else {
+      const Arg args[] = {Arg(values)...};
+      append_args(reply, spec, args);
+    }
+  }
+  /// Sends one line written from `spec` (see append_args).
+  void send_args(const char* spec, const Arg* args);
+  template <typename... Values>
+  void send_line(const char* spec, Values... values) {
+    if constexpr (sizeof...(Values) == 0u) {
+      send_args(spec, nullptr);
+    } else {
+      const Arg args[] = {Arg(values)...};
+      send_args(spec, args);
+    }
+  }
+  /// Sends an `err <code> ` line whose message is written from `spec` (counted in `errors`).
+  void send_error_args(ErrorCode code, const char* spec, const Arg* args);
+  template <typename... Values>
+  void send_error_line(ErrorCode code, const char* spec, Values... values) {
+    const Arg args[] = {Arg(values)...};
+    send_error_args(code, spec, args);
+  }
   /// Parses `token` into [lo, hi] (and, with `not_whole` set, requires a whole number as typed,
   /// sending `not_whole` otherwise); sends the error and returns false when refused.
   bool number_arg(const Token& token, float lo, float hi, float& value,
                   const char* not_whole = nullptr);
+  /// Parses the `<x_mm> <y_mm>` of a measured point at words[0] and words[1] (as number_arg).
+  bool point_args(const Token* words, float& x, float& y);
   /// Parses the optional `unix_s` at words[index] (0 when absent); sends the error when refused.
   bool date_arg(const Token* words, std::size_t count, std::size_t index, std::uint32_t& date);
   /// Sends the reason a configuration was refused; @return check.ok().
@@ -214,8 +269,8 @@ class Console {
   // commands_params.cpp. [[gnu::noinline]]: handlers with a big frame (a parameter set, a drive
   // configuration, the UMBmark solver) stay out of the dispatch's frame, which every command's
   // path (`load` and the store's the deepest) shares (worst-case stack, docs/stm32f4.md).
-  void cmd_get(const Token* words);
-  [[gnu::noinline]] void cmd_set(const Token* words);
+  /// `get <name>` and `set <name> <value>` (the same reply).
+  [[gnu::noinline]] void cmd_param(const Token* words, std::size_t count);
   void cmd_save();
   void cmd_load();
   void cmd_defaults();
@@ -230,65 +285,65 @@ class Console {
   void cmd_trials(std::size_t count);
   /// ` path=.. duration_ms=.. count_l=.. count_r=.. x_mm=.. y_mm=.. theta_deg=..`
   static void trial_pairs(Reply& reply, const KeptTrial& trial);
+  /// ` x_mm=.. y_mm=.. theta_deg=..` (`odom`, the odom stream, trials)
+  static void pose_pairs(Reply& reply, const drive::Pose& pose);
   // commands_calib.cpp
   void cmd_umbmark_clear();
   void cmd_umbmark_add(const Token* words);
   void cmd_umbmark_side(const Token* words);
   [[gnu::noinline]] void cmd_umbmark_solve(const Token* words, std::size_t count);
-  void cmd_umbmark_apply(const Token* words, std::size_t count);
   void cmd_lateral_clear();
   void cmd_lateral_add(const Token* words);
   void cmd_lateral_solve();
-  void cmd_lateral_apply(const Token* words, std::size_t count);
+  /// `umbmark apply` / `lateral apply` (`lateral`): puts the solved factors in force.
+  void cmd_calib_apply(bool lateral, const Token* words, std::size_t count);
   /// `fit apply` (`fit`) / `lateral set`: puts host-computed factors in force with their
   /// provenance. Main loop.
   void cmd_host_factors(bool fit, const Token* words, std::size_t count);
   /// Puts the factors `ids` (the wheel or the lateral group) = `values` in force with their
-  /// provenance when the robot is still, they are in range and the drive accepts them; sends the
-  /// refusal otherwise. Out of line: the candidate parameter set is on its frame only.
+  /// provenance when the robot is still, they are in range and the drive accepts them, and sends
+  /// the `ok` line; sends the refusal otherwise. Out of line: the candidate parameter set is on
+  /// its frame only.
   [[gnu::noinline]] bool apply_factors(const params::ParamId* ids, const float* values,
                                        std::size_t count, params::FactorMethod method,
                                        std::uint16_t runs, std::uint32_t date, float quality_mm);
-  /// The `ok` line after factors were applied: the factors `ids` in force, then `method`.
-  void send_factors_applied(const params::ParamId* ids, std::size_t id_count,
-                            params::FactorMethod method, bool runs);
 
+  // The small state first, the buffers and the parameter set last: on the robot most accesses
+  // then reach their field with a short offset from the object (smaller instructions).
   hal::ByteStream& stream_;
   drive::ControlLoop& loop_;
   ConsoleOptions options_;
-  Settings settings_;
-
-  SpscRing<rx_capacity> rx_;
-  LineEditor editor_;
-  OutputQueue out_;
   bool echo_ = false;
+  bool clock_started_ = false;
   Listing listing_ = Listing::none;
+  Pending pending_ = Pending::none;
   const Form* form_ = form_table_;  ///< the form being handled
   std::size_t listing_index_ = 0u;
-
-  Pending pending_ = Pending::none;
   std::uint32_t pending_ticks_ = 0u;
-
-  calib::UmbmarkSession umbmark_;
-  calib::LateralSession lateral_;
-  KeptTrials trials_;
   std::uint32_t trial_seen_ = 0u;    ///< number of the last trial announced
   std::uint32_t lateral_used_ = 0u;  ///< number of the last trial `lateral add` took
 
-  bool stream_odom_ = false;
-  bool stream_ticks_ = false;
-  std::uint32_t odom_period_us_ = 0u;
-  std::uint32_t odom_next_us_ = 0u;
-  std::uint32_t ticks_period_us_ = 0u;
-  std::uint32_t ticks_next_us_ = 0u;
-  std::uint64_t clock_us_ = 0u;  ///< unwrapped time since start, µs
+  /// The timing of one periodic stream (`stream odom|ticks <hz>`).
+  struct StreamTimer {
+    std::uint32_t period_us = 0u;  ///< 0: off (on, it is at least 1,000 µs)
+    std::uint32_t next_us = 0u;
+  };
+  std::array<StreamTimer, 2> streams_{};  ///< odom, ticks: emitted in this order
+  std::uint64_t clock_us_ = 0u;           ///< unwrapped time since start, µs
   std::uint32_t last_now_us_ = 0u;
-  bool clock_started_ = false;
 
   std::uint32_t commands_ = 0u;
   std::uint32_t errors_ = 0u;
   std::uint32_t stream_dropped_ = 0u;
   std::atomic<std::uint32_t> rx_dropped_{0u};
+
+  LineEditor editor_;
+  Settings settings_;
+  OutputQueue out_;
+  SpscRing<rx_capacity> rx_;
+  calib::UmbmarkSession umbmark_;
+  calib::LateralSession lateral_;
+  KeptTrials trials_;
 };
 
 }  // namespace odocal::console

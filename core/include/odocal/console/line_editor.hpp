@@ -39,7 +39,8 @@ class LineEditor {
 
   /// Feeds one byte; `echo` receives what a terminal should show for it (the line end itself
   /// echoes nothing: the console writes its own newline).
-  LineEvent feed(std::uint8_t byte, Echo& echo);
+  /// Out of line: inlined, its many exits each got a copy of the caller's echo handling.
+  [[gnu::noinline]] LineEvent feed(std::uint8_t byte, Echo& echo);
 
   /// The completed line (valid after LineEvent::line until the next feed). Not NUL-terminated.
   [[nodiscard]] const char* line() const { return buffer_.data(); }
@@ -56,13 +57,15 @@ class LineEditor {
  private:
   LineEvent finish();
 
-  std::array<char, max_line + 1u> buffer_{};
   std::size_t length_ = 0u;
   std::size_t completed_length_ = 0u;
   bool too_long_ = false;
   bool bad_byte_ = false;
   bool after_cr_ = false;
   bool saw_terminal_ = false;
+  // No initializer: a byte is read only after it was written (the console is a static on the
+  // robot, where zeroing it would be code that repeats what startup does).
+  std::array<char, max_line + 1u> buffer_;
 };
 
 }  // namespace odocal::console

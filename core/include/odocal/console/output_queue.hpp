@@ -34,8 +34,8 @@ class OutputQueue {
   void truncate(std::size_t size) { size_ = size < size_ ? size : size_; }
 
  private:
-  std::array<char, capacity> bytes_{};
   std::size_t size_ = 0u;
+  std::array<char, capacity> bytes_;  // no initializer: only queued (written) bytes are read
 };
 
 }  // namespace odocal::console

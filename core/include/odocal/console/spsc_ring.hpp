@@ -68,9 +68,9 @@ class SpscRing {
   [[nodiscard]] std::size_t free_space() const { return Capacity - 1u - size(); }
 
  private:
-  std::array<std::uint8_t, Capacity> bytes_{};
-  std::atomic<std::size_t> head_{0u};  ///< next slot the producer writes
-  std::atomic<std::size_t> tail_{0u};  ///< next slot the consumer reads
+  std::atomic<std::size_t> head_{0u};         ///< next slot the producer writes
+  std::atomic<std::size_t> tail_{0u};         ///< next slot the consumer reads
+  std::array<std::uint8_t, Capacity> bytes_;  // no initializer: a slot is read after its push
 };
 
 }  // namespace odocal::console

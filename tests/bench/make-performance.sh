@@ -176,8 +176,9 @@ p("## STM32F4 images (`cmake --build --preset stm32f4` prints these; over a budg
 p()
 p("Budgets are the CMake cache variables `ODOCAL_FW_FLASH_BUDGET`, `ODOCAL_FW_RAM_BUDGET` "
   "(static RAM plus the reserved stack) and their `ODOCAL_FW_QEMU_*` twins "
-  "(firmware/stm32f4/CMakeLists.txt). Goals for the robot image: flash ≤ 32 KiB, RAM ≤ 8 KiB; "
-  "the budgets are set at what the image reaches, so any growth fails the build.")
+  "(firmware/stm32f4/CMakeLists.txt). The robot image's budgets are its goals, flash ≤ 32 KiB "
+  "and RAM ≤ 8 KiB; the QEMU image's are set just above what it reaches, so any growth there "
+  "fails the build.")
 p()
 for line in budgets:
     p(f"- `{line.strip()}`")

@@ -37,8 +37,6 @@ COMPONENTS = [
 HANDLER_TARGETS = {
     "dispatch_interrupt": r"on_interrupt|on_plant_timer|on_tick\(",
     "odocal::hal::stm32f4::SysTickTimer::on_interrupt": r"on_tick\(",
-    "odocal::hal::stm32f4::ExtiInput::service": r"on_encoder_edge",
-    "odocal::hal::stm32f4::ExtiInput::on_interrupt": r"on_encoder_edge",
     "odocal::sim::EncoderLine::drive": r"EncoderWiring::on_edge",
     "odocal::sim::Plant": r"EncoderWiring::on_edge",
 }

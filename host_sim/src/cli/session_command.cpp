@@ -6,10 +6,13 @@
 #include <csignal>
 
 #include <cstdint>
+#include <ctime>
 #include <iostream>
 #include <memory>
 #include <optional>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "odocal/host/csv.hpp"
 #include "odocal/host/robot_link.hpp"
@@ -19,21 +22,31 @@
 namespace odocal::host {
 namespace {
 
-/// The robot's console, for the interrupt handler: Ctrl-C stops the robot before odocal exits.
+/// The robot's console, for the interrupt handler: Ctrl-C stops the robot at once.
 volatile std::sig_atomic_t console_fd = -1;
 
-extern "C" void stop_robot_and_exit(int) {
+extern "C" void on_interrupt(int signal_number) {
   static const char stop[] = "\x03stop\n";
   if (console_fd >= 0) {
     static_cast<void>(::write(console_fd, stop, sizeof stop - 1));
   }
-  static const char note[] =
-      "\nodocal session: interrupted; sent 'stop' to the robot, nothing saved\n";
-  static_cast<void>(::write(STDERR_FILENO, note, sizeof note - 1));
-  ::_exit(130);
+  if (interrupt_signal() != 0) {
+    // A second Ctrl-C while the first is being handled: quit now.
+    static const char note[] =
+        "\nodocal session: interrupted again; quitting at once (the robot was sent 'stop'; "
+        "nothing was saved)\n";
+    static_cast<void>(::write(STDERR_FILENO, note, sizeof note - 1));
+    ::_exit(130);
+  }
+  // The session notices at its next read or wait, stops the robot and puts its factors back.
+  note_interrupt(signal_number);
 }
 
 struct SessionFlags {
+  std::string resume;
+  bool no_wait = false;
+  bool exact = false;
+  std::optional<std::uint64_t> passes;
   std::string port;
   std::uint64_t baud = 115200;
   std::string sim_robot;
@@ -93,15 +106,152 @@ void check_runs(Procedure procedure, std::uint64_t runs) {
   }
 }
 
-int run(const SessionFlags& f, const CLI::App& cmd) {
+/// An absolute form of a path given on the command line (session.json keeps these, so that
+/// --resume works from another directory).
+std::string absolute(const std::string& path) {
+  if (path.empty() || path[0] == '/') {
+    return path;
+  }
+  char here[4096];
+  if (::getcwd(here, sizeof here) == nullptr) {
+    return path;
+  }
+  return std::string(here) + "/" + path;
+}
+
+/// What session.json records of the options, for --resume.
+nlohmann::json recorded_options(const SessionFlags& f) {
+  return {{"procedure", f.procedure},
+          {"side_m", f.side_m ? nlohmann::json(*f.side_m) : nlohmann::json(nullptr)},
+          {"runs", f.runs ? nlohmann::json(*f.runs) : nlohmann::json(nullptr)},
+          {"passes", f.passes ? nlohmann::json(*f.passes) : nlohmann::json(nullptr)},
+          {"exact", f.exact},
+          {"seed", f.seed},
+          {"sim", absolute(f.sim_robot)},
+          {"store", absolute(f.store)},
+          {"measurements", absolute(f.measurements)},
+          {"port", f.port},
+          {"baud", f.baud},
+          {"no_wait", f.no_wait}};
+}
+
+/// --resume DIR: the options of the interrupted session, with the command line's where they
+/// agree. A conflicting option is refused: the result must be the one session's.
+SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
+                           nlohmann::json& session) {
+  const std::string file = given.resume + "/session.json";
+  session = nlohmann::json::parse(read_text_file(file), nullptr, false);
+  if (!session.is_object() || !session.contains("options") || !session["options"].is_object()) {
+    throw InputError(file, 0, "", "not a session.json written by odocal session");
+  }
+  if (session.value("complete", false)) {
+    throw InputError(file, 0, "complete", "this session is complete: nothing to resume");
+  }
+  const nlohmann::json& o = session["options"];
+  SessionFlags f = given;
+  const auto conflict = [&](const char* flag, const std::string& recorded,
+                            const std::string& typed) {
+    throw InputError(flag, 0, "",
+                     "conflicts with the interrupted session in " + given.resume +
+                         " (it ran with " + (recorded.empty() ? std::string("none") : recorded) +
+                         ", given " + typed + "); leave it out to resume");
+  };
+  try {
+    const auto text = [&](const char* flag, const char* key, std::string& value) {
+      const std::string recorded = o.at(key).get<std::string>();
+      if (cmd.count(flag) != 0u && absolute(value) != recorded && value != recorded) {
+        conflict(flag, recorded, value);
+      }
+      value = recorded;
+    };
+    text("--procedure", "procedure", f.procedure);
+    text("--sim", "sim", f.sim_robot);
+    text("--store", "store", f.store);
+    text("--measurements", "measurements", f.measurements);
+    // The port may be another device name after a replug: taken as given.
+    if (cmd.count("--port") == 0u) {
+      f.port = o.at("port").get<std::string>();
+    }
+    if (cmd.count("--baud") == 0u) {
+      f.baud = o.at("baud").get<std::uint64_t>();
+    }
+    const auto real = [&](const char* flag, const char* key, std::optional<double>& value) {
+      const std::optional<double> recorded =
+          o.at(key).is_null() ? std::nullopt : std::optional<double>(o.at(key).get<double>());
+      if (cmd.count(flag) != 0u && value != recorded) {
+        conflict(flag, recorded ? std::to_string(*recorded) : "", std::to_string(*value));
+      }
+      value = recorded;
+    };
+    real("--side-m", "side_m", f.side_m);
+    const auto whole = [&](const char* flag, const char* key, std::optional<std::uint64_t>& value) {
+      const std::optional<std::uint64_t> recorded =
+          o.at(key).is_null() ? std::nullopt
+                              : std::optional<std::uint64_t>(o.at(key).get<std::uint64_t>());
+      if (cmd.count(flag) != 0u && value != recorded) {
+        conflict(flag, recorded ? std::to_string(*recorded) : "", std::to_string(*value));
+      }
+      value = recorded;
+    };
+    whole("--runs", "runs", f.runs);
+    whole("--passes", "passes", f.passes);
+    const std::uint64_t seed = o.at("seed").get<std::uint64_t>();
+    if (cmd.count("--seed") != 0u && f.seed != seed) {
+      conflict("--seed", std::to_string(seed), std::to_string(f.seed));
+    }
+    f.seed = seed;
+    const bool exact = o.at("exact").get<bool>();
+    if (cmd.count("--exact") != 0u && !exact) {
+      conflict("--exact", "no --exact", "--exact");
+    }
+    f.exact = exact;
+    if (cmd.count("--no-wait") == 0u) {
+      f.no_wait = o.at("no_wait").get<bool>();
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(file, 0, "options", e.what());
+  }
+  if (cmd.count("--out") != 0u && f.out != given.resume) {
+    throw InputError(
+        "--out", 0, "",
+        "--resume continues in its own directory (" + given.resume + "); leave --out out");
+  }
+  f.out = given.resume;
+  return f;
+}
+
+int run(const SessionFlags& given, const CLI::App& cmd) {
+  nlohmann::json interrupted;
+  const SessionFlags f = given.resume.empty() ? given : resumed_flags(given, cmd, interrupted);
+  if (f.port.empty() && f.sim_robot.empty()) {
+    throw InputError("--port", 0, "", "give --port DEV (a robot) or --sim ROBOT.json (odocal-sim)");
+  }
+  if (f.procedure.empty()) {
+    throw InputError("--procedure", 0, "", "give --procedure umbmark, lateral, fit or verify");
+  }
   SessionOptions options;
   options.procedure = procedure_of(f.procedure);
-  if (cmd.count("--side-m") != 0u) {
-    options.side_m = f.side_m;
+  options.side_m = f.side_m;
+  if (f.side_m && options.procedure == Procedure::verify) {
+    throw InputError("--side-m", 0, "",
+                     "verify drives the fixed unseen path (100 cm square, triangle, 80 cm "
+                     "semicircle); --side-m does not apply");
   }
   if (f.runs) {
     check_runs(options.procedure, *f.runs);
     options.runs = static_cast<std::size_t>(*f.runs);
+  }
+  if (f.passes) {
+    if (options.procedure != Procedure::umbmark) {
+      throw InputError("--passes", 0, "", "only for --procedure umbmark");
+    }
+    options.passes = static_cast<std::size_t>(*f.passes);
+  }
+  if (f.exact) {
+    if (options.procedure != Procedure::umbmark) {
+      throw InputError("--exact", 0, "", "only for --procedure umbmark");
+    }
+    options.exact = true;
   }
   if (!f.store.empty() && f.sim_robot.empty()) {
     throw InputError("--store", 0, "", "only with --sim (a real robot keeps its own store)");
@@ -111,11 +261,22 @@ int run(const SessionFlags& f, const CLI::App& cmd) {
   options.seed = f.seed;
   options.out_dir = f.out.empty() ? default_out_dir(options.procedure) : f.out;
   options.log = &std::cerr;
+  options.recorded = recorded_options(f);
+  options.started_unix_s = static_cast<std::uint64_t>(std::time(nullptr));
   const bool terminal = ::isatty(STDIN_FILENO) == 1;
   options.confirm_in = terminal ? &std::cin : nullptr;
+  options.start_in = f.sim_robot.empty() && !f.no_wait ? &std::cin : nullptr;
+  options.progress = ::isatty(STDERR_FILENO) == 1;
 
   // Everything that can be checked is checked before anything moves or is written.
-  prepare_out_dir(options.out_dir, false);
+  if (given.resume.empty()) {
+    prepare_out_dir(options.out_dir, false);
+  } else {
+    options.replay = recorded_runs(interrupted, options.out_dir);
+    if (interrupted.contains("date") && interrupted["date"].is_number_unsigned()) {
+      options.started_unix_s = interrupted["date"].get<std::uint64_t>();
+    }
+  }
   std::unique_ptr<MeasurementSource> file_source;
   if (!f.measurements.empty()) {
     file_source = file_measurements(f.measurements);
@@ -142,7 +303,8 @@ int run(const SessionFlags& f, const CLI::App& cmd) {
   }
   console_fd = channel->fd();
   struct sigaction action {};
-  action.sa_handler = stop_robot_and_exit;
+  action.sa_handler = on_interrupt;
+  action.sa_flags = 0;  // no SA_RESTART: a blocking read returns, and the session notices
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
   RobotClient robot(*channel);
@@ -159,7 +321,9 @@ int run(const SessionFlags& f, const CLI::App& cmd) {
   if (f.json) {
     std::cout << report.json.dump(2) << "\n";
   } else {
-    std::cout << report.text;
+    // The result was shown on stderr as it came; on a terminal showing both, once is enough.
+    const bool same_screen = ::isatty(STDOUT_FILENO) == 1 && ::isatty(STDERR_FILENO) == 1;
+    std::cout << (same_screen ? std::string() : report.result_text) << report.text;
   }
   return 0;
 }
@@ -182,8 +346,20 @@ void register_session_command(CLI::App& app, int& exit_code) {
       ->check(toolkit::whole_check(0u, UINT64_MAX));
   cmd->add_option("--store", flags->store, "odocal-sim's parameter store file (with --sim)");
   cmd->add_option("--procedure", flags->procedure, "umbmark, lateral, fit or verify")
-      ->required()
       ->check(CLI::IsMember({"umbmark", "lateral", "fit", "verify"}));
+  cmd->add_option("--resume", flags->resume,
+                  "continue the interrupted session in this directory: runs already measured "
+                  "are not driven again; options come from its session.json");
+  cmd->add_flag("--no-wait", flags->no_wait,
+                "with --port: start each run at once instead of waiting for Enter (a rig "
+                "that puts the robot back by itself, scripts)");
+  cmd->add_flag("--exact", flags->exact,
+                "umbmark: always solve the exact square geometry (default: whenever the "
+                "small-angle formulas differ from it by more than the measurement noise)");
+  cmd->add_option("--passes", flags->passes,
+                  "umbmark: passes at most (default 3); another pass runs while E_max,syst >= "
+                  "3 SEM")
+      ->check(toolkit::whole_check(1u, 10u));
   cmd->add_option(
          "--side-m", flags->side_m,
          "UMBmark square side (default 4), lateral line length (1) or fit line length (1.5), "
@@ -202,13 +378,13 @@ void register_session_command(CLI::App& app, int& exit_code) {
                   "directory for the CSVs, tick logs, session.json and runs.svg (created; one "
                   "that already holds a session.json is refused)");
   cmd->callback([flags, cmd, &exit_code] {
-    if (flags->port.empty() && flags->sim_robot.empty()) {
-      std::cerr << "odocal session: give --port DEV (a robot) or --sim ROBOT.json (odocal-sim)\n";
-      exit_code = 2;
-      return;
-    }
     try {
       exit_code = run(*flags, *cmd);
+    } catch (const SessionEnded& e) {
+      exit_code = e.exit_status();  // said on stderr already, with what was put back
+    } catch (const Interrupted& e) {
+      std::cerr << "odocal session: " << e.what() << " (nothing was running yet)\n";
+      exit_code = 130;
     } catch (const std::exception& e) {
       std::cerr << "odocal session: " << e.what() << '\n';
       exit_code = 2;

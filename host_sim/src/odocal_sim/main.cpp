@@ -46,6 +46,42 @@ class OutputOnly final : public odocal::hal::ByteStream {
   odocal::hal::ByteStream& inner_;
 };
 
+/// The console's view of the pty in lockstep: passes bytes through and counts the input lines
+/// the console has read (a CR, or a LF not right after a CR), so that the simulation can give
+/// each line the same quantum of robot time whatever the host's timing.
+class LineCountingStream final : public odocal::hal::ByteStream {
+ public:
+  explicit LineCountingStream(odocal::hal::ByteStream& inner) : inner_(inner) {}
+  [[nodiscard]] std::uint64_t lines() const { return lines_; }
+  /// While false, nothing is read: input waits in the pty until the robot time a line is given
+  /// has passed, whenever the host sent it.
+  void accept_input(bool accept) { accepting_ = accept; }
+
+ private:
+  std::size_t do_read(std::uint8_t* out, std::size_t /*capacity*/) override {
+    if (!accepting_) {
+      return 0u;
+    }
+    // One line at a time: the bytes after a line end stay in the pty until its quantum is over.
+    const std::size_t n = inner_.read(out, 1u);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (out[i] == '\r' || (out[i] == '\n' && !after_cr_)) {
+        ++lines_;
+        accepting_ = false;
+      }
+      after_cr_ = out[i] == '\r';
+    }
+    return n;
+  }
+  std::size_t do_write(const std::uint8_t* data, std::size_t size) override {
+    return inner_.write(data, size);
+  }
+  odocal::hal::ByteStream& inner_;
+  std::uint64_t lines_ = 0u;
+  bool after_cr_ = false;
+  bool accepting_ = true;
+};
+
 /// The firmware's parameter defaults on this simulated robot: the built-in ones, with the robot
 /// file's nominal keys (wheel_diameter_mm, wheelbase_mm, counts_per_rev) as if the firmware had
 /// been built for that robot. They are in force when the store holds no usable saved set, and
@@ -248,6 +284,12 @@ int main(int argc, char** argv) {
   std::unique_ptr<posix::FdByteStream> stdio;
   std::unique_ptr<OutputOnly> output_only;
   std::unique_ptr<LineReader> script;
+  // On a pty as fast as possible, the robot runs in lockstep with its host: simulated time
+  // advances only while a motion or its trial runs, and by a fixed quantum after each input
+  // line, never while the host thinks; so the same seed and the same lines give the same robot
+  // on any machine and under any load.
+  const bool lockstep = use_pty && speed == 0.0;
+  std::unique_ptr<LineCountingStream> counting;
   hal::ByteStream* console_stream = nullptr;
   bool terminal = false;
   if (use_pty) {
@@ -260,6 +302,10 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
     console_stream = pty.get();
     terminal = true;
+    if (lockstep) {
+      counting = std::make_unique<LineCountingStream>(*pty);
+      console_stream = counting.get();
+    }
   } else {
     stdio = std::make_unique<posix::FdByteStream>(STDIN_FILENO, STDOUT_FILENO);
     terminal = isatty(STDIN_FILENO) == 1;
@@ -294,6 +340,16 @@ int main(int argc, char** argv) {
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
 
+  if (pty) {
+    // The banner waits for the first byte from the terminal side: printed at once, it would be
+    // gone before picocom or screen attach.
+    while (!stop_requested.load()) {
+      pollfd wait{pty->input_fd(), POLLIN, 0};
+      if (::poll(&wait, 1, 100) > 0) {
+        break;
+      }
+    }
+  }
   robot.tick_once();
   const params::StoreResult stored = console.start(robot.plant().clock().now_us());
   while (!console.idle()) {  // the banner goes out first
@@ -314,7 +370,40 @@ int main(int argc, char** argv) {
   std::string line;
   bool input_done = false;
   std::uint32_t since_rate_check = 0u;
-  while (!stop_requested.load()) {
+  /// Robot time each input line is given in lockstep: enough for a reply, a `stream` line at
+  /// 20 Hz or more, and a stop to settle.
+  constexpr double lockstep_quantum_s = 0.05;
+  std::uint64_t lines_seen = 0u;
+  double quantum_end_s = 0.0;
+  while (lockstep && !stop_requested.load()) {
+    console.poll(robot.plant().clock().now_us());
+    if (counting->lines() != lines_seen) {
+      lines_seen = counting->lines();
+      quantum_end_s = robot.simulated_s() + lockstep_quantum_s;
+      counting->accept_input(false);
+    }
+    if (!console.idle()) {
+      // A line still arriving, a reply or stream line not yet taken by the host: time waits, so
+      // no stream line is ever dropped for a slow reader.
+      pollfd wait{pty->input_fd(), POLLIN | POLLOUT, 0};
+      static_cast<void>(::poll(&wait, 1, 1));
+      continue;
+    }
+    const bool in_quantum = robot.simulated_s() < quantum_end_s;
+    counting->accept_input(!in_quantum);
+    if (busy(robot.loop().status()) || in_quantum) {
+      if (++since_rate_check >= 100u) {
+        since_rate_check = 0u;
+        robot.follow_control_rate();
+      }
+      robot.tick_once();
+      robot.follow_odometry_frame();
+      continue;
+    }
+    pollfd wait{pty->input_fd(), POLLIN, 0};
+    static_cast<void>(::poll(&wait, 1, 50));
+  }
+  while (!lockstep && !stop_requested.load()) {
     if (script) {
       // Feed the next line only when the previous one is answered and its motion is over.
       if (!input_done && console.idle() && !busy(robot.loop().status())) {

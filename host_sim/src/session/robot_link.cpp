@@ -12,6 +12,7 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -55,7 +56,32 @@ std::string system_error(const std::string& what) {
   return what + ": " + std::strerror(errno);
 }
 
+std::atomic<int> pending_signal{0};
+std::atomic<bool> interrupt_thrown{false};
+
 }  // namespace
+
+Interrupted::Interrupted(int signal_number)
+    : std::runtime_error(std::string("interrupted by ") +
+                         (signal_number == SIGINT    ? "SIGINT (Ctrl-C)"
+                          : signal_number == SIGTERM ? "SIGTERM"
+                                                     : "a signal")),
+      signal_number_(signal_number) {}
+
+void note_interrupt(int signal_number) noexcept {
+  pending_signal.store(signal_number);
+}
+
+int interrupt_signal() noexcept {
+  return pending_signal.load();
+}
+
+void check_interrupt() {
+  const int signal_number = pending_signal.load();
+  if (signal_number != 0 && !interrupt_thrown.exchange(true)) {
+    throw Interrupted(signal_number);
+  }
+}
 
 FdChannel::~FdChannel() {
   if (fd_ >= 0) {
@@ -76,6 +102,7 @@ void FdChannel::write_line(const std::string& line) {
     if (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
       throw LinkError(system_error(name_ + ": write"));
     }
+    check_interrupt();
     if (remaining_ms(deadline) == 0) {
       throw LinkError(name_ + ": write timed out (the robot does not read its console)");
     }
@@ -103,6 +130,7 @@ bool FdChannel::read_line(std::string& line, int timeout_ms) {
     if (ready < 0 && errno != EINTR) {
       throw LinkError(system_error(name_ + ": poll"));
     }
+    check_interrupt();
     if (ready > 0) {
       char chunk[1024];
       const ssize_t n = ::read(fd_, chunk, sizeof chunk);
@@ -218,6 +246,9 @@ SimProcess::SimProcess(const std::string& program, const std::string& robot_file
   }
   if (pid_ == 0) {
     ::prctl(PR_SET_PDEATHSIG, SIGTERM);  // no orphaned simulator when odocal is killed
+    // Its own process group: Ctrl-C at the terminal reaches odocal, which stops the robot and
+    // puts its factors back before it lets the simulator go.
+    static_cast<void>(::setpgid(0, 0));
     ::dup2(out[1], STDOUT_FILENO);
     const int null_fd = ::open("/dev/null", O_RDONLY);
     if (null_fd >= 0) {
@@ -391,23 +422,33 @@ Reply RobotClient::expect_ok(const std::string& line, int timeout_ms) {
   return reply;
 }
 
-std::map<std::string, std::string> RobotClient::wait_done(int timeout_ms) {
+std::map<std::string, std::string> RobotClient::poll_done(int timeout_ms) {
   const Clock::time_point deadline = Clock::now() + std::chrono::milliseconds(timeout_ms);
   for (;;) {
     if (!async_.empty()) {
       const std::string line = async_.front();
       async_.pop_front();
-      return hash_line_pairs(line);
+      auto pairs = hash_line_pairs(line);
+      pairs.emplace("done", "1");  // never empty, even for a bare `# done`
+      return pairs;
     }
     std::string received;
     if (!channel_.read_line(received, remaining_ms(deadline))) {
-      throw LinkError(channel_.name() + ": the run did not end (no '# done') within " +
-                      std::to_string(timeout_ms / 1000) + " s");
+      return {};
     }
     if (received[0] == '#') {
       route(received);
     }
   }
+}
+
+std::map<std::string, std::string> RobotClient::wait_done(int timeout_ms) {
+  auto pairs = poll_done(timeout_ms);
+  if (pairs.empty()) {
+    throw LinkError(channel_.name() + ": the run did not end (no '# done') within " +
+                    std::to_string(timeout_ms / 1000) + " s");
+  }
+  return pairs;
 }
 
 bool RobotClient::pump(int timeout_ms) {

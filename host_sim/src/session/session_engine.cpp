@@ -1,7 +1,10 @@
 // The session engine: the measured-run loop, parameters, output files, apply / save.
 
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -11,6 +14,7 @@
 #include <ctime>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <optional>
 #include <sstream>
 
@@ -118,7 +122,24 @@ Factors Context::factors() {
   f.wheelbase_mm = get("wheelbase_mm");
   f.f_lat = get("f_lat");
   f.f_lon = get("f_lon");
+  last_factors = f;
   return f;
+}
+
+nlohmann::json factors_json(const Factors& f) {
+  return {{"c_l", f.c_l},
+          {"c_r", f.c_r},
+          {"wheelbase_mm", f.wheelbase_mm},
+          {"f_lat", f.f_lat},
+          {"f_lon", f.f_lon}};
+}
+
+double plain(double value, int decimals) {
+  return std::fabs(value) < 0.5 * std::pow(10.0, -decimals) ? 0.0 : value;
+}
+
+std::string count_of(std::size_t n, const char* singular, const char* plural) {
+  return std::to_string(n) + " " + (n == 1 ? singular : plural);
 }
 
 double Context::path_seconds(double length_m, double turn_rad, int segments) {
@@ -163,10 +184,48 @@ void wait_tick(RobotClient& robot, const std::vector<TickSample>& samples, std::
 
 }  // namespace
 
+std::uint64_t Context::date() const {
+  return options.started_unix_s;
+}
+
 RunRecord Context::run(const std::string& label, const std::string& command, double expected_s,
                        bool log_ticks) {
+  const std::size_t index = runs.size();
+  planned = std::max(planned, index + 1);
+  if (index < options.replay.size()) {
+    // --resume: this run was driven and measured before the interruption.
+    RunRecord r = options.replay[index];
+    if (r.command != command || r.label != label) {
+      throw InputError(options.out_dir + "/session.json", 0, "runs",
+                       fmt::format("run {} was '{}' ({}), this session would drive '{}' ({}): "
+                                   "the interrupted session ran with other settings",
+                                   index + 1, r.command, r.label, command, label));
+    }
+    r.replayed = true;
+    log << fmt::format("Run {}/{}: {} - measured before the interruption, not driven again\n",
+                       index + 1, planned, label);
+    runs.push_back(r);
+    return r;
+  }
+  if (options.start_in != nullptr) {
+    // The user's moment: nothing that moves the robot is sent before this line.
+    log << fmt::format(
+               "\nRun {}/{} ({}): put the robot on the start mark, aligned with the start "
+               "line, hands off; press Enter to start (Ctrl-C ends the session): ",
+               index + 1, planned, label)
+        << std::flush;
+    std::string line;
+    const bool got = static_cast<bool>(std::getline(*options.start_in, line));
+    check_interrupt();
+    if (!got) {
+      throw InputError(
+          "standard input", 0, "",
+          fmt::format("end of input while waiting for Enter before run {}", index + 1));
+    }
+  }
   RunRecord r;
   r.label = label;
+  r.command = command;
   robot.expect_ok("odom reset");
   if (log_ticks) {
     robot.on_ticks([&r](const std::string& line) {
@@ -184,12 +243,30 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
     robot.expect_ok("stream ticks 50");
     wait_tick(robot, r.ticks, 0);  // the start row: counts before the motion
   }
+  log << fmt::format("Run {}/{}: {} ({})\n", index + 1, planned, label, command);
   robot.expect_ok(command);
   const double timeout_s = 30.0 + 3.0 * expected_s;
-  const auto done = robot.wait_done(static_cast<int>(timeout_s * 1000.0));
-  const std::size_t before_end = r.ticks.size();
+  const auto started = std::chrono::steady_clock::now();
+  std::map<std::string, std::string> done;
+  for (;;) {
+    done = robot.poll_done(options.progress ? 2000 : 500);
+    if (!done.empty()) {
+      break;
+    }
+    const double elapsed_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    if (elapsed_s > timeout_s) {
+      throw LinkError(fmt::format("the run did not end (no '# done') within {:.0f} s", timeout_s));
+    }
+    if (options.progress) {
+      log << fmt::format("\r  driving: {:.0f} s of about {:.0f} s ", elapsed_s, expected_s)
+          << std::flush;
+    }
+  }
+  if (options.progress) {
+    log << "\r" << std::string(40, ' ') << "\r";
+  }
   if (log_ticks) {
-    wait_tick(robot, r.ticks, before_end);  // the end row: counts at rest
     robot.expect_ok("stream off");
     robot.on_ticks(nullptr);
   }
@@ -207,25 +284,85 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
   r.odom.x_mm = trial.number("x_mm");
   r.odom.y_mm = trial.number("y_mm");
   r.odom.theta_deg = trial.number("theta_deg");
-  planned = std::max(planned, runs.size() + 1);
+  if (log_ticks) {
+    // The end row at rest: the start row's counts plus what the trial moved (the robot stood
+    // still from the start row to the motion), so no wait for a stream line after `# done`.
+    const TickSample first = r.ticks.front();
+    const double end_ms = std::max(r.ticks.back().t_ms + 20.0, first.t_ms + r.duration_ms);
+    r.ticks.push_back(TickSample{end_ms, first.count_l + r.count_l, first.count_r + r.count_r});
+  }
   r.measured = source.take(r, runs.size(), planned);
   log << fmt::format(
       "  run {} {} (trial {}, {:.1f} s): odometry {:.1f}, {:.1f} mm; measured {:.1f}, {:.1f} mm\n",
-      runs.size() + 1, label, r.trial, r.duration_ms / 1000.0, r.odom.x_mm, r.odom.y_mm,
-      r.measured.x_mm, r.measured.y_mm);
+      runs.size() + 1, label, r.trial, r.duration_ms / 1000.0, plain(r.odom.x_mm),
+      plain(r.odom.y_mm), plain(r.measured.x_mm), plain(r.measured.y_mm));
   runs.push_back(r);
+  journal(r);
+  write_session_json(false, partial, false, false);
   return r;
+}
+
+void Context::journal(const RunRecord& r) {
+  const std::string path = options.out_dir + "/measurements.csv";
+  struct stat info {};
+  const bool fresh = ::stat(path.c_str(), &info) != 0 || info.st_size == 0;
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    throw InputError(path, 0, "", std::string("cannot write: ") + std::strerror(errno));
+  }
+  std::string text = fresh ? "run,x_mm,y_mm,theta_deg\n" : "";
+  text += fmt::format("{},{:.3f},{:.3f},", runs.size(), r.measured.x_mm, r.measured.y_mm);
+  if (r.measured.theta_deg) {
+    text += fmt::format("{:.3f}", *r.measured.theta_deg);
+  }
+  text += "\n";
+  const bool written = ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
+  const bool synced = ::fsync(fd) == 0;
+  ::close(fd);
+  if (!written || !synced) {
+    throw InputError(path, 0, "", std::string("cannot write: ") + std::strerror(errno));
+  }
+  if (std::find(files.begin(), files.end(), "measurements.csv") == files.end()) {
+    files.push_back("measurements.csv");
+  }
+}
+
+void Context::write_session_json(bool complete, const nlohmann::json& result, bool applied,
+                                 bool saved, const std::string& interruption) {
+  nlohmann::json doc = {{"procedure", to_string(options.procedure)},
+                        {"complete", complete},
+                        {"date", options.started_unix_s},
+                        {"options", options.recorded},
+                        {"runs", runs_json(runs)},
+                        {"result", result},
+                        {"applied", applied},
+                        {"saved", saved}};
+  if (!interruption.empty()) {
+    doc["interrupted"] = interruption;
+  }
+  if (last_factors) {
+    doc["factors"] = factors_json(*last_factors);
+  }
+  write_file("session.json", doc.dump(2) + "\n");
 }
 
 void Context::write_file(const std::string& name, const std::string& content) {
   const std::string path = options.out_dir + "/" + name;
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << content;
-  out.close();
-  if (!out) {
-    throw InputError(path, 0, "", "cannot write");
+  const std::string temporary = path + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << content;
+    out.close();
+    if (!out) {
+      throw InputError(path, 0, "", "cannot write");
+    }
   }
-  files.push_back(name);
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    throw InputError(path, 0, "", std::string("cannot write: ") + std::strerror(errno));
+  }
+  if (std::find(files.begin(), files.end(), name) == files.end()) {
+    files.push_back(name);
+  }
 }
 
 std::string runs_csv(const std::vector<RunRecord>& runs) {
@@ -254,8 +391,18 @@ nlohmann::json runs_json(const std::vector<RunRecord>& runs) {
     const auto theta = [](const std::optional<double>& t) {
       return t ? nlohmann::json(*t) : nlohmann::json(nullptr);
     };
+    nlohmann::json ticks = nullptr;
+    if (!r.ticks.empty()) {
+      ticks = nlohmann::json::array();
+      for (const TickSample& t : r.ticks) {
+        ticks.push_back({t.t_ms, t.count_l, t.count_r});
+      }
+    }
     out.push_back(
-        {{"trial", r.trial},
+        {{"label", r.label},
+         {"command", r.command},
+         {"ticks", ticks},
+         {"trial", r.trial},
          {"path", r.path},
          {"duration_ms", static_cast<std::int64_t>(std::llround(r.duration_ms))},
          {"count_l", r.count_l},
@@ -272,23 +419,6 @@ nlohmann::json runs_json(const std::vector<RunRecord>& runs) {
 
 namespace {
 
-std::string measurements_csv(const std::vector<RunRecord>& runs) {
-  std::ostringstream out;
-  out << "# the measured stop points of this session, in run order (--measurements replays them)\n"
-         "x_mm,y_mm,theta_deg\n";
-  for (const RunRecord& r : runs) {
-    char line[160];
-    std::snprintf(line, sizeof line, "%.3f,%.3f,", r.measured.x_mm, r.measured.y_mm);
-    out << line;
-    if (r.measured.theta_deg) {
-      std::snprintf(line, sizeof line, "%.3f", *r.measured.theta_deg);
-      out << line;
-    }
-    out << "\n";
-  }
-  return out.str();
-}
-
 /// --yes, or a typed "yes" at the terminal.
 bool confirmed(const SessionOptions& options, std::ostream& log) {
   if (options.yes) {
@@ -302,9 +432,13 @@ bool confirmed(const SessionOptions& options, std::ostream& log) {
   for (;;) {
     log << "Save these factors on the robot? [y/n]: " << std::flush;
     std::string answer;
-    if (!std::getline(*options.confirm_in, answer)) {
-      log << "\nNot saved (no answer).\n";
-      return false;
+    const bool got = static_cast<bool>(std::getline(*options.confirm_in, answer));
+    check_interrupt();
+    if (!got) {
+      // No answer is not a yes, and not a no to keep them unsaved: the session ends as if
+      // interrupted, and what it applied is taken back.
+      throw InputError("standard input", 0, "",
+                       "end of input at the question 'Save these factors'");
     }
     while (!answer.empty() && (answer.back() == '\r' || answer.back() == ' ')) {
       answer.pop_back();
@@ -320,9 +454,109 @@ bool confirmed(const SessionOptions& options, std::ostream& log) {
   }
 }
 
+bool same_value(double a, double b) {
+  return std::fabs(a - b) <= 1e-6 * std::max(1.0, std::fabs(b));
+}
+
+/// After an interruption: the robot stopped, and every factor the session changed put back to
+/// what was in force when it started (the saved set reloaded when nothing was unsaved then, so
+/// that its provenance comes back too). Says on `log` what it did; never throws.
+void put_back(Context& c, std::ostream& log) {
+  try {
+    // Replies still on their way (to the interrupted command, to the handler's `stop`) must not
+    // be taken for the replies below.
+    c.robot.drain(300);
+    static_cast<void>(c.robot.command("stop", 2000));
+    static_cast<void>(c.robot.command("stream off", 2000));
+    c.robot.on_ticks(nullptr);
+    Factors now = c.factors();
+    const double cruise = c.get("v_max_mps");
+    const auto unchanged = [&c](const Factors& f) {
+      return same_value(f.c_l, c.initial.c_l) && same_value(f.c_r, c.initial.c_r) &&
+             same_value(f.wheelbase_mm, c.initial.wheelbase_mm) &&
+             same_value(f.f_lat, c.initial.f_lat) && same_value(f.f_lon, c.initial.f_lon);
+    };
+    if (unchanged(now) && same_value(cruise, c.initial_cruise_mps)) {
+      log << "The robot is stopped; its factors are as they were when the session started.\n";
+      return;
+    }
+    bool reloaded = false;
+    if (!c.initial_unsaved) {
+      reloaded = c.robot.command("load", 5000).ok;
+    }
+    if (!reloaded) {
+      c.set("c_l", c.initial.c_l);
+      c.set("c_r", c.initial.c_r);
+      c.set("wheelbase_mm", c.initial.wheelbase_mm);
+      c.set("f_lat", c.initial.f_lat);
+      c.set("f_lon", c.initial.f_lon);
+      c.set("v_max_mps", c.initial_cruise_mps);
+    }
+    now = c.factors();
+    if (!unchanged(now)) {
+      log << "WARNING: could not put the factors back exactly; in force now: "
+          << factors_json(now).dump() << "\n";
+      return;
+    }
+    log << fmt::format(
+        "The robot is stopped. The factors this session applied and did not save were put back "
+        "to what was in force when it started{}: c_l={:.6f} c_r={:.6f} wheelbase_mm={:.3f} "
+        "f_lat={:.6f} f_lon={:.6f}\n",
+        reloaded ? " (its saved set, reloaded)" : "", now.c_l, now.c_r, now.wheelbase_mm, now.f_lat,
+        now.f_lon);
+  } catch (const std::exception& e) {
+    log << "WARNING: the robot did not answer while stopping it and putting its factors back ("
+        << e.what()
+        << "). Nothing was saved: restarting the robot brings back its saved factors.\n";
+  }
+}
+
 }  // namespace
 
 }  // namespace session
+
+std::vector<RunRecord> recorded_runs(const nlohmann::json& session, const std::string& dir) {
+  const std::string file = dir + "/session.json";
+  std::vector<RunRecord> runs;
+  if (!session.contains("runs") || !session["runs"].is_array()) {
+    throw InputError(file, 0, "runs", "missing or not an array");
+  }
+  std::size_t index = 0;
+  for (const nlohmann::json& run : session["runs"]) {
+    ++index;
+    try {
+      RunRecord r;
+      r.label = run.at("label").get<std::string>();
+      r.command = run.at("command").get<std::string>();
+      r.trial = run.at("trial").get<std::int64_t>();
+      r.path = run.at("path").get<std::string>();
+      r.duration_ms = run.at("duration_ms").get<double>();
+      r.count_l = run.at("count_l").get<std::int64_t>();
+      r.count_r = run.at("count_r").get<std::int64_t>();
+      const auto pose = [](const nlohmann::json& j) {
+        SessionPose p;
+        p.x_mm = j.at("x_mm").get<double>();
+        p.y_mm = j.at("y_mm").get<double>();
+        if (!j.at("theta_deg").is_null()) {
+          p.theta_deg = j.at("theta_deg").get<double>();
+        }
+        return p;
+      };
+      r.odom = pose(run.at("odom"));
+      r.measured = pose(run.at("measured"));
+      if (run.contains("ticks") && run["ticks"].is_array()) {
+        for (const nlohmann::json& t : run["ticks"]) {
+          r.ticks.push_back(TickSample{t.at(0).get<double>(), t.at(1).get<std::int64_t>(),
+                                       t.at(2).get<std::int64_t>()});
+        }
+      }
+      runs.push_back(r);
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(file, 0, "runs", "run " + std::to_string(index) + ": " + e.what());
+    }
+  }
+  return runs;
+}
 
 SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
                           const SessionOptions& options) {
@@ -351,58 +585,78 @@ SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
       << (version.pairs.count("version") != 0u ? version.pairs.at("version") : std::string("?"))
       << ", measurements from " << measurements.describe() << ", files in " << options.out_dir
       << "\n";
+  context.initial = context.factors();
+  context.initial_cruise_mps = context.get("v_max_mps");
+  context.initial_unsaved = robot.expect_ok("status").text("unsaved") != "0";
+  if (!options.replay.empty()) {
+    // The journal starts again from the runs taken over, so that a row written just before the
+    // interruption for a run that is driven again does not stand twice.
+    std::string journal = "run,x_mm,y_mm,theta_deg\n";
+    for (std::size_t i = 0; i < options.replay.size(); ++i) {
+      const SessionPose& m = options.replay[i].measured;
+      journal += fmt::format("{},{:.3f},{:.3f},", i + 1, m.x_mm, m.y_mm);
+      if (m.theta_deg) {
+        journal += fmt::format("{:.3f}", *m.theta_deg);
+      }
+      journal += "\n";
+    }
+    context.write_file("measurements.csv", journal);
+  }
 
   session::Outcome outcome;
-  switch (options.procedure) {
-    case Procedure::umbmark:
-      outcome = session::run_umbmark(context);
-      break;
-    case Procedure::lateral:
-      outcome = session::run_lateral(context);
-      break;
-    case Procedure::verify:
-      outcome = session::run_verify(context);
-      break;
-    case Procedure::fit:
-      outcome = session::run_fit(context);
-      break;
-  }
-
   bool saved = false;
-  if (outcome.applied) {
-    if (session::confirmed(options, log)) {
-      const Reply reply = robot.expect_ok("save");
-      saved = true;
-      log << "Saved on the robot (save: " << reply.line << ").\n";
+  try {
+    switch (options.procedure) {
+      case Procedure::umbmark:
+        outcome = session::run_umbmark(context);
+        break;
+      case Procedure::lateral:
+        outcome = session::run_lateral(context);
+        break;
+      case Procedure::verify:
+        outcome = session::run_verify(context);
+        break;
+      case Procedure::fit:
+        outcome = session::run_fit(context);
+        break;
     }
+    if (outcome.applied) {
+      if (session::confirmed(options, log)) {
+        const Reply reply = robot.expect_ok("save");
+        saved = true;
+        log << "Saved on the robot (save: " << reply.line << ").\n";
+      }
+    }
+  } catch (const std::exception& e) {
+    log << "\nodocal session: " << e.what() << "\n";
+    session::put_back(context, log);
+    try {
+      context.write_session_json(false, context.partial, false, false, e.what());
+      log << "What was measured is in " << options.out_dir
+          << "/measurements.csv and session.json; continue with: odocal session --resume "
+          << options.out_dir << "\n";
+    } catch (const std::exception& write_error) {
+      log << "WARNING: " << write_error.what() << "\n";
+    }
+    throw SessionEnded(e.what(), dynamic_cast<const Interrupted*>(&e) != nullptr ? 130 : 2);
   }
   const session::Factors f = context.factors();
-  SessionReport report;
-  report.json = {{"procedure", to_string(options.procedure)},
-                 {"runs", session::runs_json(context.runs)},
-                 {"result", outcome.result},
-                 {"applied", outcome.applied},
-                 {"saved", saved},
-                 {"factors",
-                  {{"c_l", f.c_l},
-                   {"c_r", f.c_r},
-                   {"wheelbase_mm", f.wheelbase_mm},
-                   {"f_lat", f.f_lat},
-                   {"f_lon", f.f_lon}}}};
   context.write_file("runs.csv", session::runs_csv(context.runs));
-  context.write_file("measurements.csv", session::measurements_csv(context.runs));
   context.write_file("runs.svg", session::runs_svg(context.runs, std::string("odocal session ") +
                                                                      to_string(options.procedure)));
-  context.write_file("session.json", report.json.dump(2) + "\n");
+  context.write_session_json(true, outcome.result, outcome.applied, saved);
+  SessionReport report;
+  report.json = nlohmann::json::parse(read_text_file(options.out_dir + "/session.json"));
+  report.result_text = outcome.text;
   std::ostringstream text;
-  text << outcome.text
-       << fmt::format(
+  text << fmt::format(
               "Factors in force: c_l={:.6f} c_r={:.6f} wheelbase_mm={:.3f} f_lat={:.6f} "
               "f_lon={:.6f}",
               f.c_l, f.c_r, f.wheelbase_mm, f.f_lat, f.f_lon)
        << (outcome.applied ? (saved ? " (applied, saved)" : " (applied, NOT saved)")
                            : " (unchanged)")
-       << "\nFiles: " << options.out_dir << "/ (session.json, runs.csv, runs.svg, ...)\n";
+       << "\nFiles: " << options.out_dir
+       << "/ (session.json, measurements.csv, runs.csv, runs.svg, ...)\n";
   report.text = text.str();
   return report;
 }

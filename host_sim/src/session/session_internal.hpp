@@ -2,6 +2,7 @@
 // Shared by the session's procedures (not installed): the run loop, parameters, output files.
 
 #include <cstdint>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -41,7 +42,19 @@ class Context {
   std::ostream& log;
   std::vector<RunRecord> runs;
   std::vector<std::string> files;  ///< written into out_dir, in order
-  std::size_t planned = 0;         ///< runs planned so far (for "run 3/10")
+  std::size_t planned = 0;         ///< runs planned so far (for "Run 3/10")
+  /// What was in force when the session started (put back on an interruption).
+  Factors initial;
+  double initial_cruise_mps = 0.0;
+  bool initial_unsaved = false;
+  /// The result so far: procedures fill it as they go, so that an interrupted session's
+  /// session.json shows what was computed (e.g. the passes done).
+  nlohmann::json partial = nlohmann::json::object();
+  /// The factors in force as last read from the robot (session.json's `factors`).
+  std::optional<Factors> last_factors;
+
+  /// The session's UNIX time (provenance `date`).
+  [[nodiscard]] std::uint64_t date() const;
 
   /// `get NAME` as a number.
   double get(const std::string& name);
@@ -62,9 +75,27 @@ class Context {
   /// Refuses to start when the measurement source has fewer than `count` more rows.
   void need_measurements(std::size_t count, const std::string& what);
 
-  /// Writes `content` to out_dir/name.
+  /// Writes `content` to out_dir/name (whole, through a temporary file and a rename: a power cut
+  /// leaves the old or the new file).
   void write_file(const std::string& name, const std::string& content);
+
+  /// session.json: `complete` false while the session runs and after an interruption.
+  void write_session_json(bool complete, const nlohmann::json& result, bool applied, bool saved,
+                          const std::string& interruption = std::string());
+
+ private:
+  /// Appends `r`'s measurement to measurements.csv and flushes it to the disk.
+  void journal(const RunRecord& r);
 };
+
+/// `{c_l, c_r, wheelbase_mm, f_lat, f_lon}`.
+nlohmann::json factors_json(const Factors& f);
+
+/// `value` for printing with `decimals` decimals: no "-0.0" for what rounds to zero.
+double plain(double value, int decimals = 1);
+
+/// "1 run", "2 runs".
+std::string count_of(std::size_t n, const char* singular, const char* plural);
 
 /// Gentle arcs the lateral procedure drives besides its straight trials.
 inline constexpr std::size_t lateral_arcs = 4;

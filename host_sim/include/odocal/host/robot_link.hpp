@@ -24,6 +24,25 @@ class LinkError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A signal (SIGINT, SIGTERM) asked the program to stop; thrown once, from the first blocking
+/// read or wait after it came, so that the session can stop the robot and put things back.
+class Interrupted : public std::runtime_error {
+ public:
+  explicit Interrupted(int signal_number);
+  [[nodiscard]] int signal_number() const { return signal_number_; }
+
+ private:
+  int signal_number_;
+};
+
+/// Records that `signal_number` arrived. Async-signal-safe: only an atomic store.
+void note_interrupt(int signal_number) noexcept;
+/// The signal recorded by note_interrupt(), 0 when none.
+[[nodiscard]] int interrupt_signal() noexcept;
+/// Throws Interrupted the first time it is called after a signal was recorded; later calls return
+/// (the clean-up that follows must be able to talk to the robot).
+void check_interrupt();
+
 /// A byte channel that yields whole lines.
 class LineChannel {
  public:
@@ -114,6 +133,8 @@ class RobotClient {
   Reply expect_ok(const std::string& line, int timeout_ms = 5000);
   /// Waits for `# done trial=N path=P`; returns its pairs. Throws LinkError on timeout.
   std::map<std::string, std::string> wait_done(int timeout_ms);
+  /// Waits at most `timeout_ms` for `# done`: its pairs, or an empty map when it has not come.
+  std::map<std::string, std::string> poll_done(int timeout_ms);
   /// Receives every `# ticks ...` line (the whole line) as it arrives.
   void on_ticks(std::function<void(const std::string&)> handler) { ticks_ = std::move(handler); }
   /// Reads and routes one line within `timeout_ms`; false on timeout (for waiting on streams).

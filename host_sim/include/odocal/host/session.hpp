@@ -9,6 +9,7 @@
 #include <iosfwd>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,20 @@ struct RunRecord {
   SessionPose odom;
   SessionPose measured;
   std::vector<TickSample> ticks;  ///< only when the run was logged (fit)
+  std::string command;            ///< the console line that drove it
+  bool replayed = false;          ///< taken from the session being resumed, not driven again
+};
+
+/// A session that ended early: its reason is on the log already, with what was put back on the
+/// robot and where the measurements are. `exit_status` is 130 after a signal, 2 otherwise.
+class SessionEnded : public std::runtime_error {
+ public:
+  SessionEnded(const std::string& what, int exit_status)
+      : std::runtime_error(what), exit_status_(exit_status) {}
+  [[nodiscard]] int exit_status() const { return exit_status_; }
+
+ private:
+  int exit_status_;
 };
 
 /// Where the measurements come from.
@@ -81,28 +96,48 @@ struct SessionOptions {
   Procedure procedure = Procedure::umbmark;
   std::optional<double> side_m;  ///< umbmark square side (default 4) / lateral line length (1)
   std::optional<std::size_t> runs;
-  bool yes = false;  ///< save without asking
+  std::size_t passes = 3;     ///< UMBmark passes at most (--passes)
+  std::optional<bool> exact;  ///< --exact: always the exact square solve; unset: when it matters
+  bool yes = false;           ///< save without asking
   bool json = false;
   std::string out_dir;
   /// Asks "save?" when set (a terminal is there); nullptr: not saved without --yes.
   std::istream* confirm_in = nullptr;
-  std::ostream* log = nullptr;  ///< progress and prompts (stderr)
-  std::uint64_t seed = 1;       ///< for the bootstraps
+  /// Waits for a line here (Enter) before each run that moves the robot; nullptr: no wait
+  /// (--sim, --no-wait).
+  std::istream* start_in = nullptr;
+  bool progress = false;             ///< show progress while a run drives (a terminal is watching)
+  std::ostream* log = nullptr;       ///< progress and prompts (stderr)
+  std::uint64_t seed = 1;            ///< for the bootstraps
+  std::uint64_t started_unix_s = 0;  ///< the session's date (provenance); 0: now
+  /// The command line's options as session.json records them (for --resume).
+  nlohmann::json recorded = nlohmann::json::object();
+  /// Runs of the interrupted session being resumed, in order: taken, not driven again.
+  std::vector<RunRecord> replay;
 };
 
 /// What a session did: the JSON of DESIGN, plus a human summary.
 struct SessionReport {
   nlohmann::json json;
-  std::string text;
+  std::string result_text;  ///< the procedure's result (also shown on the log as it came)
+  std::string text;         ///< the factors in force and where the files are
 };
 
 /// Measured runs the procedure needs at least (UMBmark: its first pass), from its options.
 [[nodiscard]] std::size_t planned_runs(const SessionOptions& options);
 
 /// Runs the whole session on a connected robot. Throws LinkError / InputError /
-/// std::runtime_error with a message for the user; files written so far stay in out_dir.
+/// std::runtime_error / Interrupted with a message for the user. Before it throws, it stops the
+/// robot, puts back every factor it changed and did not save (and says so on the log), and
+/// writes out_dir/session.json with "complete": false; measurements.csv holds every measurement
+/// taken.
 [[nodiscard]] SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
                                         const SessionOptions& options);
+
+/// The runs of an interrupted session's session.json, with the tick logs of its logged runs read
+/// back from `dir` (for --resume). Throws InputError naming the file and what is wrong.
+[[nodiscard]] std::vector<RunRecord> recorded_runs(const nlohmann::json& session,
+                                                   const std::string& dir);
 
 /// Checks `dir` for a new session (refuses one that already holds a session.json, or a path that
 /// is not a directory) and, with `create`, makes it and its parents. Throws InputError.

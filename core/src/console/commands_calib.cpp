@@ -133,7 +133,9 @@ void Console::cmd_lateral_solve() {
 
 void Console::cmd_calib_apply(bool lateral, const Token* words, std::size_t count) {
   std::uint32_t date = 0u;
-  if (!date_arg(words, count, 2u, date)) {
+  std::uint16_t runs = static_cast<std::uint16_t>(
+      lateral ? lateral_.count() : umbmark_.cw_count() + umbmark_.ccw_count());
+  if (!date_arg(words, count, 2u, date, runs)) {
     return;
   }
   if (!(lateral ? lateral_.solved() : umbmark_.solved())) {
@@ -145,8 +147,7 @@ void Console::cmd_calib_apply(bool lateral, const Token* words, std::size_t coun
     const calib::LateralSession::Result& result = lateral_.result();
     const float values[] = {settings_.get(params::ParamId::f_lat) * result.f_lat,
                             settings_.get(params::ParamId::f_lon) * result.f_lon};
-    if (apply_factors(kLateralIds, values, 2u, params::FactorMethod::maddahi,
-                      static_cast<std::uint16_t>(lateral_.count()), date, 0.0f)) {
+    if (apply_factors(kLateralIds, values, 2u, params::FactorMethod::maddahi, runs, date, 0.0f)) {
       lateral_.applied();
     }
     return;
@@ -160,8 +161,7 @@ void Console::cmd_calib_apply(bool lateral, const Token* words, std::size_t coun
   const calib::UmbmarkSession::Result& result = umbmark_.result();
   const params::FactorMethod method =
       result.exact ? params::FactorMethod::umbmark_exact : params::FactorMethod::umbmark;
-  if (apply_factors(kWheelIds, values, 3u, method,
-                    static_cast<std::uint16_t>(umbmark_.cw_count() + umbmark_.ccw_count()), date,
+  if (apply_factors(kWheelIds, values, 3u, method, runs, date,
                     static_cast<float>(result.e_max_syst_mm))) {
     umbmark_.applied();
   }
@@ -179,12 +179,13 @@ void Console::cmd_host_factors(bool fit, const Token* words, std::size_t count) 
     }
   }
   std::uint32_t date = 0u;
-  if (!date_arg(words, count, 2u + id_count, date)) {
+  std::uint16_t runs = 0u;
+  if (!date_arg(words, count, 2u + id_count, date, runs)) {
     return;
   }
   const params::FactorMethod method =
       fit ? params::FactorMethod::fit : params::FactorMethod::bootstrap;
-  (void)apply_factors(ids, values, id_count, method, 0u, date, 0.0f);
+  (void)apply_factors(ids, values, id_count, method, runs, date, 0.0f);
 }
 
 bool Console::apply_factors(const params::ParamId* ids, const float* values, std::size_t count,
@@ -217,9 +218,8 @@ bool Console::apply_factors(const params::ParamId* ids, const float* values, std
   for (std::size_t i = 0; i < count; ++i) {
     append(reply, " %s=%6", params::param_info(ids[i]).name, settings_.get(ids[i]));
   }
-  const bool host =
-      method == params::FactorMethod::fit || method == params::FactorMethod::bootstrap;
-  append(reply, host ? " method=%s unsaved=1" : " method=%s runs=%u unsaved=1",
+  // Factors computed on a host print runs only when the host said how many.
+  append(reply, runs == 0u ? " method=%s unsaved=1" : " method=%s runs=%u unsaved=1",
          params::method_name(method), runs);
   send(reply);
   return true;

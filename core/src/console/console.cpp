@@ -8,7 +8,7 @@
 namespace odocal::console {
 namespace {
 
-constexpr std::size_t kMaxWords = 6u;
+constexpr std::size_t kMaxWords = 7u;  // `fit apply <c_l> <c_r> <wheelbase_mm> <unix_s> <runs>`
 constexpr float kRadToDeg = 180.0f / 3.14159265358979323846f;
 
 }  // namespace
@@ -518,11 +518,20 @@ bool Console::refuse_busy(bool path_only) {
 }
 
 bool Console::date_arg(const Token* words, std::size_t count, std::size_t index,
-                       std::uint32_t& date) {
+                       std::uint32_t& date, std::uint16_t& runs) {
   date = 0u;
   if (count > index && !parse_unsigned(words[index], date)) {
     send_error(ErrorCode::bad_number, "unix_s must be whole seconds");
     return false;
+  }
+  // The runs the result came from, when the host knows more than this console saw (every pass).
+  std::uint32_t given = 0u;
+  if (count > index + 1u) {
+    if (!parse_unsigned(words[index + 1u], given) || given == 0u || given > 65535u) {
+      send_error(ErrorCode::bad_number, "runs must be a whole number from 1 to 65535");
+      return false;
+    }
+    runs = static_cast<std::uint16_t>(given);
   }
   return true;
 }

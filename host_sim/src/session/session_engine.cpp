@@ -217,6 +217,9 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
     std::string line;
     const bool got = static_cast<bool>(std::getline(*options.start_in, line));
     check_interrupt();
+    if (got && options.confirm_in == nullptr) {
+      log << "\n";  // input from a pipe: the Enter did not show
+    }
     if (!got) {
       throw InputError(
           "standard input", 0, "",

@@ -94,11 +94,75 @@ Outcome run_fit(Context& c) {
   outcome.result = fit_result_json(result);
   outcome.text = fit_result_text(result);
   c.log << outcome.text;
-  // `fit apply` puts the three in force at once with provenance `fit` (docs/console.md).
-  char line[128];
-  std::snprintf(line, sizeof line, "fit apply %.6f %.6f %.4f", result.c_l, result.c_r,
-                result.geometry.wheelbase_mm);
+  // Change only what the runs show wrong: a parameter whose interval holds the value in force
+  // keeps it (a fit of a few runs must not replace a better UMBmark result by its noise).
+  const Factors in_force = c.factors();
+  const double d = nominal.wheel_diameter_mm;
+  struct Choice {
+    const char* name;
+    double fitted;
+    double in_force;
+    const std::optional<FitInterval>& ci;
+  };
+  const Choice choices[] = {
+      // The effective diameters in force: F_lat and F_lon fold into them (odometry and eq. 7).
+      {"wheel_diameter_left_mm", result.geometry.wheel_diameter_left_mm,
+       d * in_force.c_l / (in_force.f_lat * in_force.f_lon), result.ci_left_mm},
+      {"wheel_diameter_right_mm", result.geometry.wheel_diameter_right_mm,
+       d * in_force.c_r / in_force.f_lon, result.ci_right_mm},
+      {"wheelbase_mm", result.geometry.wheelbase_mm, in_force.wheelbase_mm, result.ci_wheelbase_mm},
+  };
+  double chosen[3];
+  nlohmann::json shown = nlohmann::json::object();
+  bool any = false;
+  std::ostringstream text;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const Choice& k = choices[i];
+    const bool is_shown = !k.ci || k.in_force < k.ci->lo || k.in_force > k.ci->hi;
+    chosen[i] = is_shown ? k.fitted : k.in_force;
+    shown[k.name] = is_shown;
+    any = any || is_shown;
+    text << fmt::format("  {:<24} fitted {:.4f}, in force {:.4f}: {}\n", k.name, k.fitted,
+                        k.in_force,
+                        is_shown ? "changed (outside the interval)" : "kept (inside the interval)");
+  }
+  outcome.result["shown"] = shown;
+  const double c_l = chosen[0] / d;
+  const double c_r = chosen[1] / d;
+  const double wheelbase = chosen[2];
+  const auto outside = [](double v, double lo, double hi) { return !(v >= lo && v <= hi); };
+  if (outside(c_l, 0.95, 1.05) || outside(c_r, 0.95, 1.05) ||
+      outside(wheelbase, 0.9 * c.initial.wheelbase_mm, 1.1 * c.initial.wheelbase_mm)) {
+    throw std::runtime_error(fmt::format(
+        "fit: c_l {:.6f}, c_r {:.6f}, wheelbase {:.3f} mm: outside the plausible range (c within "
+        "0.95 .. 1.05, wheelbase within 10 % of {:.3f} mm; docs/calibration.md). Nothing "
+        "applied: check the wiring (docs/wiring.md) and the measurements.",
+        c_l, c_r, wheelbase, c.initial.wheelbase_mm));
+  }
+  if (!any) {
+    text << "The runs show nothing wrong with the geometry in force: nothing changed.\n";
+    c.log << text.str();
+    outcome.text += text.str();
+    return outcome;
+  }
+  // `fit apply` puts the three in force at once with provenance `fit` (docs/console.md), the
+  // session's date and its runs.
+  char line[160];
+  std::snprintf(line, sizeof line, "fit apply %.6f %.6f %.4f %llu %zu", c_l, c_r, wheelbase,
+                static_cast<unsigned long long>(c.date()), c.runs.size());
   static_cast<void>(c.robot.expect_ok(line));
+  // The diameters applied already hold what F_lat, F_lon did (the kept ones are the effective
+  // diameters in force): with the fitted geometry eq. 7 needs no Maddahi correction.
+  if (in_force.f_lat != 1.0 || in_force.f_lon != 1.0) {
+    c.set("f_lat", 1.0);
+    c.set("f_lon", 1.0);
+    text << fmt::format(
+        "f_lat, f_lon reset to 1 (were {:.6f}, {:.6f}): the fitted geometry replaces them.\n",
+        in_force.f_lat, in_force.f_lon);
+    outcome.result["f_reset"] = true;
+  }
+  c.log << text.str();
+  outcome.text += text.str();
   outcome.applied = true;
   return outcome;
 }

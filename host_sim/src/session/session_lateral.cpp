@@ -55,6 +55,66 @@ bool in_range(const calib::LateralResult& f) {
   return f.f_lat >= 0.5 && f.f_lat <= 2.0 && f.f_lon >= 0.5 && f.f_lon <= 2.0;
 }
 
+/// Plausible Maddahi factors for a real robot (docs/calibration.md): a few percent from 1, as
+/// the wheel diameters and the wheelbase they stand in for.
+constexpr double plausible_f[2] = {0.9, 1.1};
+
+/// Whether the straight trials show each correction: eq. 4-5 solved trial by trial, the mean and
+/// a Student-t 95 % interval of the corrections.
+struct Shown {
+  bool ok = false;  ///< at least 3 trials each with an answer
+  bool f_lat = false;
+  bool f_lon = false;
+  double lat_lo = 1.0, lat_hi = 1.0, lon_lo = 1.0, lon_hi = 1.0;
+};
+
+Shown shown_corrections(const std::vector<calib::StopPoint>& stops,
+                        const std::vector<double>& theta_l, calib::LateralInput input) {
+  std::vector<double> lat, lon;
+  for (std::size_t i = 0; i < stops.size(); ++i) {
+    // The solver takes two trials at least: this one twice has its own mean.
+    const calib::StopPoint twice[2] = {stops[i], stops[i]};
+    input.trials = twice;
+    input.trial_count = 2;
+    input.theta_l_rad = theta_l[i];
+    calib::LateralResult one;
+    if (calib::solve_lateral(input, one) == calib::LateralStatus::ok) {
+      lat.push_back(one.f_lat);
+      lon.push_back(one.f_lon);
+    }
+  }
+  Shown shown;
+  const std::size_t n = lat.size();
+  if (n < 3) {
+    return shown;
+  }
+  // Two-sided 95 % Student t quantiles for n − 1 = 2 .. 30 degrees of freedom, then normal.
+  static constexpr double t95[] = {4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262,
+                                   2.228, 2.201, 2.179, 2.160, 2.145, 2.131, 2.120, 2.110,
+                                   2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060,
+                                   2.056, 2.052, 2.048, 2.045, 2.042};
+  const double t = n - 1 <= 30 ? t95[n - 3] : 1.96;
+  const auto interval = [&](const std::vector<double>& v, double& lo, double& hi) {
+    double mean = 0.0;
+    for (double x : v) {
+      mean += x;
+    }
+    mean /= static_cast<double>(n);
+    double ss = 0.0;
+    for (double x : v) {
+      ss += (x - mean) * (x - mean);
+    }
+    const double half = t * std::sqrt(ss / static_cast<double>(n - 1) / static_cast<double>(n));
+    lo = mean - half;
+    hi = mean + half;
+    return lo > 1.0 || hi < 1.0;
+  };
+  shown.ok = true;
+  shown.f_lat = interval(lat, shown.lat_lo, shown.lat_hi);
+  shown.f_lon = interval(lon, shown.lon_lo, shown.lon_hi);
+  return shown;
+}
+
 }  // namespace
 
 Outcome run_lateral(Context& c) {
@@ -78,6 +138,7 @@ Outcome run_lateral(Context& c) {
   std::vector<calib::TrainingRow> training;
   double xdot_sum = 0.0;
   double theta_l_sum = 0.0;
+  std::vector<double> theta_l;  // per straight trial, rad
   char line[96];
   try {
     for (std::size_t i = 0; i < n; ++i) {
@@ -88,7 +149,8 @@ Outcome run_lateral(Context& c) {
       stops.push_back({r.measured.x_mm, r.measured.y_mm});
       training.push_back(training_row(r, counts_per_rev));
       xdot_sum += training.back().xdot_mps;
-      theta_l_sum += static_cast<double>(r.count_l) * 2.0 * pi / counts_per_rev;
+      theta_l.push_back(static_cast<double>(r.count_l) * 2.0 * pi / counts_per_rev);
+      theta_l_sum += theta_l.back();
     }
   } catch (...) {
     static_cast<void>(c.robot.command("set v_max_mps " + fmt::format("{:.6f}", cruise)));
@@ -120,9 +182,11 @@ Outcome run_lateral(Context& c) {
 
   Outcome outcome;
   std::ostringstream text;
-  // Eq. 4-5: a correction of what drove the trials, so it composes with the factors in force.
-  const double d_l = diameter * in_force.c_l;
-  const double d_r = diameter * in_force.c_r;
+  // Eq. 4-5: a correction of the drive that ran the trials. That drive already applied c_l, c_r
+  // and the wheelbase in force, so eq. 4 sees equal diameters (their ratio is not counted
+  // twice) and the result composes with the factors in force, as the robot's `lateral solve`.
+  const double d_l = diameter;
+  const double d_r = diameter;
   calib::LateralInput input;
   input.trials = stops.data();
   input.trial_count = stops.size();
@@ -146,6 +210,23 @@ Outcome run_lateral(Context& c) {
   } else {
     outcome.result["eq45"] = nullptr;
     text << "Maddahi eq. 4-5: no answer (" << calib::to_string(eq45_status) << ")\n";
+  }
+
+  // Is each correction shown? Eq. 4-5 trial by trial gives the scatter of the correction; a
+  // factor is changed only where its 95 % interval excludes "no correction" (1), so that noise
+  // is never applied (after UMBmark the straight trials of a calibrated robot drift by noise).
+  const Shown shown = shown_corrections(stops, theta_l, input);
+  if (shown.ok) {
+    outcome.result["shown"] = {{"f_lat", shown.f_lat},
+                               {"f_lon", shown.f_lon},
+                               {"ci_correction_f_lat", {shown.lat_lo, shown.lat_hi}},
+                               {"ci_correction_f_lon", {shown.lon_lo, shown.lon_hi}},
+                               {"level", 0.95}};
+    text << "Shown by the trials (95% interval of the correction excludes 1): f_lat "
+         << (shown.f_lat ? "yes" : "no") << " (" << fmt::format("{:.6f}", shown.lat_lo) << " .. "
+         << fmt::format("{:.6f}", shown.lat_hi) << "), f_lon " << (shown.f_lon ? "yes" : "no")
+         << " (" << fmt::format("{:.6f}", shown.lon_lo) << " .. "
+         << fmt::format("{:.6f}", shown.lon_hi) << ")\n";
   }
 
   // Regression and bootstrap of the wheel rates (absolute: eq. 7 with the diameters in force).
@@ -174,7 +255,8 @@ Outcome run_lateral(Context& c) {
     b.scratch_count = scratch.size();
     calib::BootstrapEstimate estimate;
     const calib::BootstrapStatus status = calib::run_bootstrap(b, &estimate, 1, fit);
-    const calib::WheelGeometry geometry{in_force.wheelbase_mm, d_l, d_r};
+    const calib::WheelGeometry geometry{in_force.wheelbase_mm, diameter * in_force.c_l,
+                                        diameter * in_force.c_r};
     calib::LateralResult cl, cb;
     calib::WheelRateSample sample{unknown.xdot_mps, 0.0, 0.0, estimate.lr_l, estimate.lr_r};
     const bool cl_ok =
@@ -188,10 +270,10 @@ Outcome run_lateral(Context& c) {
       // Eq. 7 straight ahead: F_lon = θ̇_R·D_R/(2v) and F_lat = θ̇_L·D_L/(F_lon·2v), so the
       // wheel-rate prediction intervals map one to one (F_lat's at the point F_lon).
       const double two_v_mm = 2.0 * unknown.xdot_mps * 1000.0;
-      const double lon_lo = estimate.ci_r_lo * d_r / two_v_mm;
-      const double lon_hi = estimate.ci_r_hi * d_r / two_v_mm;
-      const double lat_lo = estimate.ci_l_lo * d_l / (cb.f_lon * two_v_mm);
-      const double lat_hi = estimate.ci_l_hi * d_l / (cb.f_lon * two_v_mm);
+      const double lon_lo = estimate.ci_r_lo * geometry.right_diameter_mm / two_v_mm;
+      const double lon_hi = estimate.ci_r_hi * geometry.right_diameter_mm / two_v_mm;
+      const double lat_lo = estimate.ci_l_lo * geometry.left_diameter_mm / (cb.f_lon * two_v_mm);
+      const double lat_hi = estimate.ci_l_hi * geometry.left_diameter_mm / (cb.f_lon * two_v_mm);
       outcome.result["regression"] = {{"f_lat", cl.f_lat}, {"f_lon", cl.f_lon}};
       outcome.result["bootstrap"] = {{"f_lat", cb.f_lat},
                                      {"f_lon", cb.f_lon},
@@ -229,14 +311,51 @@ Outcome run_lateral(Context& c) {
     chosen = eq45_total;
     from = "eq45";
   }
+  // F_lat scales the left wheel's effective diameter (odometry and eq. 7 alike): the wheel ratio.
+  // Where UMBmark or a fit measured that ratio (on squares of several metres, about ten times
+  // more precisely than these 1 m lines), the straight trials do not replace it.
+  const std::string wheel_method = c.robot.expect_ok("provenance").text("wheel_method");
+  const bool ratio_calibrated =
+      wheel_method == "umbmark" || wheel_method == "umbmark-exact" || wheel_method == "fit";
+  outcome.result["ratio_calibrated_by"] =
+      ratio_calibrated ? nlohmann::json(wheel_method) : nlohmann::json(nullptr);
+  if (ratio_calibrated) {
+    text << "The wheel ratio in force comes from " << wheel_method
+         << ", which measures it more precisely than straight trials: f_lat is kept.\n";
+  }
+  if (chosen && shown.ok) {
+    // Keep what the trials do not show wrong.
+    if (!shown.f_lat || ratio_calibrated) {
+      chosen->f_lat = in_force.f_lat;
+    }
+    if (!shown.f_lon) {
+      chosen->f_lon = in_force.f_lon;
+    }
+    if ((!shown.f_lat || ratio_calibrated) && !shown.f_lon) {
+      text << "Neither correction is shown by the trials: the factors in force are kept.\n";
+      chosen.reset();
+      outcome.result["applied_from"] = nullptr;
+    }
+  }
+  if (chosen && !(chosen->f_lat >= plausible_f[0] && chosen->f_lat <= plausible_f[1] &&
+                  chosen->f_lon >= plausible_f[0] && chosen->f_lon <= plausible_f[1])) {
+    throw std::runtime_error(fmt::format(
+        "lateral: f_lat {:.6f}, f_lon {:.6f}: outside the plausible range {:.2f} .. {:.2f} for a "
+        "real robot (docs/calibration.md). Nothing applied: check the wiring (docs/wiring.md), "
+        "that each trial started on the mark, and the measurements.",
+        chosen->f_lat, chosen->f_lon, plausible_f[0], plausible_f[1]));
+  }
   if (!chosen) {
-    text << "Nothing applied: no factor in the firmware's range 0.5 .. 2.\n";
+    if (!outcome.result.contains("applied_from")) {
+      text << "Nothing applied: no factor in the firmware's range 0.5 .. 2.\n";
+    }
     outcome.result["applied_from"] = nullptr;
   } else {
     if (from == "bootstrap") {
       // `lateral set` keeps the provenance honest: maddahi-bootstrap (docs/console.md).
       char line[96];
-      std::snprintf(line, sizeof line, "lateral set %.6f %.6f", chosen->f_lat, chosen->f_lon);
+      std::snprintf(line, sizeof line, "lateral set %.6f %.6f %llu %zu", chosen->f_lat,
+                    chosen->f_lon, static_cast<unsigned long long>(c.date()), c.runs.size());
       static_cast<void>(c.robot.expect_ok(line));
     } else {
       c.set("f_lat", chosen->f_lat);  // eq. 4-5 computed on the host: provenance `manual`

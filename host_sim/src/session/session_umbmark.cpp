@@ -2,9 +2,12 @@
 // applied on the robot through its own `umbmark add/solve/apply` (so its provenance says
 // umbmark), and a second pass when the 3·SEM rule says one would help.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -18,6 +21,16 @@ namespace {
 constexpr double pi = 3.14159265358979323846;
 /// Two-sided 95 % normal quantile.
 constexpr double z95 = 1.959963984540054;
+
+/// Plausible results (docs/calibration.md): wheels of one make differ by a few percent at most
+/// (tyre wear, pressure, tolerance), and the effective wheelbase (where the tyres bear) lies
+/// within their width of the drawing's, which is within 10 % on any robot this serves.
+constexpr double e_d_range[2] = {0.95, 1.05};
+constexpr double e_b_range[2] = {0.90, 1.10};
+constexpr double c_range[2] = {0.95, 1.05};
+constexpr double wheelbase_share[2] = {0.90, 1.10};
+/// Largest curve of a leg (beta) or turn error (alpha) the square formulas are trusted with.
+constexpr double max_leg_curve_deg = 20.0;
 
 std::string csv_of(const std::vector<calib::ReturnError>& errors) {
   std::ostringstream out;
@@ -80,66 +93,206 @@ std::string describe(const calib::UmbmarkResult& r, const nlohmann::json& ci, in
   return text;
 }
 
+/// One pass solved both ways, and the one the session uses.
+struct Solved {
+  calib::UmbmarkResult result;                ///< the one used
+  std::optional<calib::UmbmarkResult> other;  ///< the other solve, when it has an answer
+  std::string reason;                         ///< why this solver
+  double model_residual_mm = 0.0;  ///< centres against the exact square model of the result
+};
+
+/// The small-angle and the exact solve of one pass; the exact one when asked, or when the two
+/// differ by more than the 95 % half-width the measurement scatter gives E_d or E_b.
+Solved solve_pass(const std::vector<calib::ReturnError> (&errors)[2], double side_mm, double b_mm,
+                  bool force_exact) {
+  calib::UmbmarkInput input;
+  input.cw = errors[0].data();
+  input.cw_count = errors[0].size();
+  input.ccw = errors[1].data();
+  input.ccw_count = errors[1].size();
+  input.side_mm = side_mm;
+  input.wheelbase_mm = b_mm;
+  calib::UmbmarkResult approx;
+  const calib::UmbmarkStatus approx_status = calib::solve_umbmark(input, approx);
+  if (approx_status != calib::UmbmarkStatus::ok) {
+    throw std::runtime_error(std::string("UMBmark cannot solve these runs: ") +
+                             calib::to_string(approx_status) + " (nothing applied)");
+  }
+  input.exact = true;
+  calib::UmbmarkResult exact;
+  const bool exact_ok = calib::solve_umbmark(input, exact) == calib::UmbmarkStatus::ok;
+  Solved solved;
+  if (!exact_ok) {
+    solved.result = approx;
+    solved.reason = "the exact square solve has no answer for these runs";
+    solved.model_residual_mm = std::numeric_limits<double>::infinity();
+    return solved;
+  }
+  const nlohmann::json ci = intervals(approx, side_mm, b_mm);
+  const double half_ed = 0.5 * (ci["e_d"][1].get<double>() - ci["e_d"][0].get<double>());
+  const double half_eb = 0.5 * (ci["e_b"][1].get<double>() - ci["e_b"][0].get<double>());
+  const double off_ed = std::fabs(approx.e_d - exact.e_d);
+  const double off_eb = std::fabs(approx.e_b - exact.e_b);
+  char why[200];
+  if (force_exact) {
+    solved.result = exact;
+    solved.other = approx;
+    solved.reason = "--exact";
+  } else if (off_ed > half_ed || off_eb > half_eb) {
+    solved.result = exact;
+    solved.other = approx;
+    std::snprintf(why, sizeof why,
+                  "the small-angle formulas are off by %.2g in E_d and %.2g in E_b, more than "
+                  "the noise (%.2g, %.2g)",
+                  off_ed, off_eb, half_ed, half_eb);
+    solved.reason = why;
+  } else {
+    solved.result = approx;
+    solved.other = exact;
+    std::snprintf(why, sizeof why,
+                  "within the noise of the exact solve (E_d %.2g, E_b %.2g apart; noise %.2g, "
+                  "%.2g)",
+                  off_ed, off_eb, half_ed, half_eb);
+    solved.reason = why;
+  }
+  // How well the exact square model explains the centres it was solved from.
+  const calib::ReturnError cw =
+      calib::square_return_error(side_mm, b_mm, exact.e_d, exact.e_b, true);
+  const calib::ReturnError ccw =
+      calib::square_return_error(side_mm, b_mm, exact.e_d, exact.e_b, false);
+  solved.model_residual_mm = std::sqrt(
+      0.5 * (std::pow(cw.x_mm - exact.x_cg_cw, 2) + std::pow(cw.y_mm - exact.y_cg_cw, 2) +
+             std::pow(ccw.x_mm - exact.x_cg_ccw, 2) + std::pow(ccw.y_mm - exact.y_cg_ccw, 2)));
+  return solved;
+}
+
+/// Empty when the pass may be applied; otherwise what is wrong and what to do (the ranges and
+/// their reasons are in docs/calibration.md, "Plausible results").
+std::string implausible(const calib::UmbmarkResult& r, const Solved& solved,
+                        const calib::WheelFactors& next, double wheelbase_at_start,
+                        double side_mm) {
+  char text[400];
+  const double beta = std::fabs(r.beta_deg);
+  const double alpha = std::fabs(r.alpha_deg);
+  // A smaller square that keeps each leg's curve near 5 degrees, in half metres.
+  const double worst = std::max(beta, alpha);
+  const double smaller_m = std::max(
+      0.5, std::floor(side_mm / 1000.0 * std::min(1.0, 5.0 / std::max(worst, 1e-9)) * 2.0) / 2.0);
+  if (beta > max_leg_curve_deg || alpha > max_leg_curve_deg || !solved.other) {
+    std::snprintf(text, sizeof text,
+                  "outside the validity of the square formulas: beta %.1f deg, alpha %.1f deg "
+                  "(at most %.0f deg each: the robot must end its square near the start). Use "
+                  "a smaller square, e.g. --side-m %.1f, and check the wiring "
+                  "(docs/wiring.md).",
+                  r.beta_deg, r.alpha_deg, max_leg_curve_deg, smaller_m);
+    return text;
+  }
+  const double residual_limit = std::max(3.0 * r.sem_mm + 2.0, 0.1 * r.e_max_syst_mm);
+  if (solved.model_residual_mm > residual_limit) {
+    std::snprintf(text, sizeof text,
+                  "the runs do not fit the square model: its centres are %.0f mm from what any "
+                  "wheel ratio and wheelbase predict (at most %.0f mm). Check the wiring "
+                  "(docs/wiring.md), that every run started on the mark, and the measurements; "
+                  "or use a smaller square, e.g. --side-m %.1f.",
+                  solved.model_residual_mm, residual_limit, smaller_m);
+    return text;
+  }
+  struct Check {
+    const char* name;
+    double value;
+    double lo;
+    double hi;
+  };
+  const Check checks[] = {
+      {"E_d", r.e_d, e_d_range[0], e_d_range[1]},
+      {"E_b", r.e_b, e_b_range[0], e_b_range[1]},
+      {"c_l", next.c_l, c_range[0], c_range[1]},
+      {"c_r", next.c_r, c_range[0], c_range[1]},
+      {"wheelbase_mm", next.wheelbase_mm, wheelbase_at_start * wheelbase_share[0],
+       wheelbase_at_start * wheelbase_share[1]},
+  };
+  for (const Check& check : checks) {
+    if (!(check.value >= check.lo && check.value <= check.hi)) {
+      std::snprintf(text, sizeof text,
+                    "%s = %.6g is outside the plausible range %.6g .. %.6g for a real robot "
+                    "(docs/calibration.md). Check the wiring (docs/wiring.md) and the "
+                    "measurements, or use a smaller square, e.g. --side-m %.1f.",
+                    check.name, check.value, check.lo, check.hi, smaller_m);
+      return text;
+    }
+  }
+  return std::string();
+}
+
 }  // namespace
 
 Outcome run_umbmark(Context& c) {
   const std::size_t n = c.options.runs.value_or(5);
   const double side_m = c.options.side_m.value_or(4.0);
   const double side_mm = side_m * 1000.0;
+  const std::size_t max_passes = c.options.passes;
   c.need_measurements(
       2 * n, "UMBmark (" + std::to_string(n) + " cw + " + std::to_string(n) + " ccw runs)");
   c.planned = 2 * n;
   Outcome outcome;
   nlohmann::json passes = nlohmann::json::array();
   const double expected_s = c.path_seconds(4.0 * side_m, 2.0 * pi, 8);
+  const double wheelbase_at_start = c.initial.wheelbase_mm;
   char side_text[32];
   std::snprintf(side_text, sizeof side_text, "%.3f", side_m);
-  for (int pass = 1; pass <= 2; ++pass) {
+  for (std::size_t pass = 1; pass <= max_passes; ++pass) {
     const double b = c.get("wheelbase_mm");
-    c.log << "UMBmark pass " << pass << ": " << n << " runs clockwise, then " << n
-          << " counter-clockwise, around a " << side_text << " m square.\n"
+    c.log << "UMBmark pass " << pass << ": " << count_of(n, "run", "runs") << " clockwise, then "
+          << n << " counter-clockwise, around a " << side_text << " m square.\n"
           << "Place the robot on the start mark, aligned with the first leg, before each run.\n";
     std::vector<calib::ReturnError> errors[2];
     for (int direction = 0; direction < 2; ++direction) {
       const std::string name = direction == 0 ? "cw" : "ccw";
       for (std::size_t i = 0; i < n; ++i) {
-        const RunRecord r = c.run(pass == 1 ? name : "pass2-" + name,
+        const RunRecord r = c.run(pass == 1 ? name : "pass" + std::to_string(pass) + "-" + name,
                                   "run umbmark-" + name + " " + side_text, expected_s);
         errors[direction].push_back({r.measured.x_mm - r.odom.x_mm, r.measured.y_mm - r.odom.y_mm});
       }
     }
-    calib::UmbmarkInput input;
-    input.cw = errors[0].data();
-    input.cw_count = errors[0].size();
-    input.ccw = errors[1].data();
-    input.ccw_count = errors[1].size();
-    input.side_mm = side_mm;
-    input.wheelbase_mm = b;
-    calib::UmbmarkResult result;
-    const calib::UmbmarkStatus status = calib::solve_umbmark(input, result);
-    const std::string prefix = pass == 1 ? "umbmark" : "umbmark_pass2";
+    const std::string prefix = pass == 1 ? "umbmark" : "umbmark_pass" + std::to_string(pass);
     c.write_file(prefix + "_cw.csv", csv_of(errors[0]));
     c.write_file(prefix + "_ccw.csv", csv_of(errors[1]));
-    if (status != calib::UmbmarkStatus::ok) {
-      throw std::runtime_error(std::string("UMBmark cannot solve these runs: ") +
-                               calib::to_string(status) + " (nothing applied)");
-    }
+    const Solved solved = solve_pass(errors, side_mm, b, c.options.exact.value_or(false));
+    const calib::UmbmarkResult& result = solved.result;
     const nlohmann::json ci = intervals(result, side_mm, b);
+    const std::size_t runs_so_far = 2 * n * pass;
     Provenance p;
-    p.method = "umbmark";
-    p.runs = 2 * n;
+    p.method = result.exact ? "umbmark-exact" : "umbmark";
+    p.runs = runs_so_far;
     p.date = today_utc();
     p.interval = "normal";
     p.level = 0.95;
     p.extra = {{"side_mm", side_mm}, {"wheelbase_mm", b}, {"pass", pass}};
     nlohmann::json object = with_provenance(umbmark_to_json(result), p);
     object["intervals"] = ci;
-    passes.push_back(object);
-    const std::string text = describe(result, ci, pass, n, side_mm, b);
+    object["solver"] = result.exact ? "exact" : "small-angle";
+    object["solver_reason"] = solved.reason;
+    const std::string text = describe(result, ci, static_cast<int>(pass), n, side_mm, b) +
+                             "  solver            " + object["solver"].get<std::string>() + " (" +
+                             solved.reason + ")\n";
     c.log << text;
     outcome.text += text;
+    // Plausible or refused: nothing is applied from a pass outside the formulas' validity or
+    // outside what a real robot can be (docs/calibration.md, "Plausible results").
+    const calib::WheelFactors next =
+        calib::compose(calib::WheelFactors{c.get("c_l"), c.get("c_r"), b}, result);
+    const std::string refusal = implausible(result, solved, next, wheelbase_at_start, side_mm);
+    object["plausible"] = refusal.empty();
+    passes.push_back(object);
+    c.partial = passes[0];
+    c.partial["passes"] = passes;
+    if (!refusal.empty()) {
+      throw std::runtime_error("UMBmark pass " + std::to_string(pass) + ": " + refusal +
+                               " Nothing from this session stays applied.");
+    }
 
-    // Apply on the robot with its own solver, so `provenance` reads umbmark.
+    // Apply on the robot with its own solver, so that its provenance reads umbmark (or
+    // umbmark-exact) with every run of every pass and the session's date.
     c.robot.expect_ok("umbmark clear");
     c.robot.expect_ok(std::string("umbmark side ") + side_text);
     for (int direction = 0; direction < 2; ++direction) {
@@ -150,28 +303,38 @@ Outcome run_umbmark(Context& c) {
         c.robot.expect_ok(line);
       }
     }
-    c.robot.expect_ok("umbmark solve");
-    const Reply applied = c.robot.expect_ok(
-        "umbmark apply " + std::to_string(static_cast<long long>(std::time(nullptr))));
+    c.robot.expect_ok(result.exact ? "umbmark solve exact" : "umbmark solve");
+    const Reply applied = c.robot.expect_ok("umbmark apply " + std::to_string(c.date()) + " " +
+                                            std::to_string(runs_so_far));
     outcome.applied = true;
     c.log << "Applied on the robot: c_l=" << applied.pairs.at("c_l")
           << " c_r=" << applied.pairs.at("c_r")
           << " wheelbase_mm=" << applied.pairs.at("wheelbase_mm") << "\n";
-    if (pass == 2 || !result.second_pass_recommended) {
+    if (!result.second_pass_recommended) {
+      c.log << "E_max,syst < 3 SEM: another pass is not expected to help; done.\n";
+      break;
+    }
+    if (pass == max_passes) {
+      c.log << "E_max,syst >= 3 SEM, but this was pass " << pass << " of at most " << max_passes
+            << " (--passes): stopping here.\n";
+      outcome.text +=
+          "  (another pass recommended; --passes " + std::to_string(max_passes) + " reached)\n";
       break;
     }
     if (c.source.available(c.runs.size()) < 2 * n) {
-      c.log << "A second pass is recommended, but the measurement file has no rows for it: "
+      c.log << "Another pass is recommended, but the measurement file has no rows for it: "
                "not run.\n";
-      outcome.text += "  (second pass recommended but not run: no more measurement rows)\n";
+      outcome.text += "  (another pass recommended but not run: no more measurement rows)\n";
       break;
     }
-    c.log << "E_max,syst >= 3 SEM: a second pass with the new factors is expected to help.\n";
+    c.log << "E_max,syst >= 3 SEM: pass " << pass + 1 << " with the new factors is expected to "
+          << "help.\n";
     c.planned += 2 * n;
   }
   outcome.result = passes[0];
   outcome.result["passes"] = passes;
   outcome.result["second_pass_run"] = passes.size() > 1;
+  outcome.result["solver"] = passes.back()["solver"];
   return outcome;
 }
 

@@ -251,7 +251,8 @@ class Console {
   /// Parses the `<x_mm> <y_mm>` of a measured point at words[0] and words[1] (as number_arg).
   bool point_args(const Token* words, float& x, float& y);
   /// Parses the optional `unix_s` at words[index] (0 when absent); sends the error when refused.
-  bool date_arg(const Token* words, std::size_t count, std::size_t index, std::uint32_t& date);
+  bool date_arg(const Token* words, std::size_t count, std::size_t index, std::uint32_t& date,
+                std::uint16_t& runs);
   /// Sends the reason a configuration was refused; @return check.ok().
   bool config_accepted(const drive::ConfigCheck& check);
   [[nodiscard]] bool path_running(const drive::LoopStatus& status) const;

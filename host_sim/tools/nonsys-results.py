@@ -35,6 +35,8 @@ robots = [
     ("default (D 60 mm, b 150 mm, slip 0.0005)", {}),
     ("default, 5 mm cables", {"bump_height_mm": 5}),
     ("default, slip 0.005", {"slip_sigma": 0.005}),
+    ("default, 2 mm cables", {"bump_height_mm": 2}),
+    ("default, 2 mm cables, slip 0.01", {"bump_height_mm": 2, "slip_sigma": 0.01}),
     ("small (D 40 mm, b 100 mm)", {"wheel_diameter_mm": 40, "wheelbase_mm": 100}),
     ("large (D 150 mm, b 400 mm)", {"wheel_diameter_mm": 150, "wheelbase_mm": 400}),
     ("large, slip 0.005", {"wheel_diameter_mm": 150, "wheelbase_mm": 400, "slip_sigma": 0.005}),

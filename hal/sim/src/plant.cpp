@@ -79,14 +79,13 @@ Plant::Plant(const RobotModel& model, std::uint64_t seed)
 }
 
 void Plant::set_bumps(double height_m, double spacing_m) {
-  laid_wheel_ = nullptr;
-  laid_count_ = 0u;
   model_.bump_height_m = height_m > 0.0 ? height_m : 0.0;
   if (spacing_m > 0.0) {
     model_.bump_spacing_m = spacing_m;
   }
   Wheel* const wheels[2] = {&left_, &right_};
   for (Wheel* w : wheels) {
+    w->laid_count_ = 0u;
     w->bump_arc_m_ = 0.0;
     w->bump_chord_m_ = 0.0;
     w->bump_ratio_ = 1.0;
@@ -107,33 +106,28 @@ void Plant::set_bumps(double height_m, double spacing_m) {
 
 void Plant::lay_cables(bool right_wheel, double height_m, double first_m, double spacing_m,
                        std::uint32_t count) {
-  set_bumps(height_m, 0.0);
+  set_bumps(height_m, spacing_m);
   if (model_.bump_height_m <= 0.0 || count == 0u) {
     return;
   }
-  laid_wheel_ = right_wheel ? &right_ : &left_;
-  laid_first_m_ = first_m > 0.0 ? first_m : 0.0;
-  laid_spacing_m_ = spacing_m;
-  laid_count_ = count;
+  // The other wheel: one cable at a floor distance no run reaches.
+  Wheel& laid = right_wheel ? right_ : left_;
+  Wheel& clear = right_wheel ? left_ : right_;
+  laid.laid_first_m_ = first_m > 0.0 ? first_m : 0.0;
+  laid.laid_count_ = count;
+  clear.laid_first_m_ = 1.0e300;
+  clear.laid_count_ = 1u;
   place_cables();
 }
 
 void Plant::place_cables() {
   Wheel* const wheels[2] = {&left_, &right_};
-  if (laid_count_ > 0u) {
-    // A floor distance no run reaches: that wheel meets no (further) cable.
-    constexpr double never_m = 1.0e300;
-    for (Wheel* w : wheels) {
-      w->bump_left_m_ = 0.0;
-      w->cables_ahead_ = w == laid_wheel_ ? laid_count_ : 0u;
-      w->bump_next_m_ = w == laid_wheel_ ? laid_first_m_ : never_m;
-    }
-    return;
-  }
   for (Wheel* w : wheels) {
     w->bump_left_m_ = 0.0;
-    w->bump_next_m_ =
-        model_.bump_height_m > 0.0 ? model_.bump_spacing_m * floor_random_.uniform() : 0.0;
+    w->cables_ahead_ = w->laid_count_;
+    w->bump_next_m_ = w->laid_count_ > 0u          ? w->laid_first_m_
+                      : model_.bump_height_m > 0.0 ? model_.bump_spacing_m * floor_random_.uniform()
+                                                   : 0.0;
   }
 }
 
@@ -356,15 +350,13 @@ void Plant::start_bump(Wheel& w) {
   w.bump_left_m_ = w.bump_arc_m_;
   // The next cable lies `spacing` (± jitter) of floor after this one's start; the crossing
   // itself covers the chord. Cables closer than a chord follow each other directly.
-  if (laid_count_ > 0u) {
-    // Laid cables: evenly spaced, then none.
-    w.cables_ahead_ = w.cables_ahead_ > 0u ? w.cables_ahead_ - 1u : 0u;
-    const double next = laid_spacing_m_ - w.bump_chord_m_;
-    w.bump_next_m_ = w.cables_ahead_ == 0u ? 1.0e300 : (next > 0.0 ? next : 0.0);
-  } else {
-    const double jitter = model_.bump_spacing_jitter * floor_random_.uniform(-1.0, 1.0);
-    const double next = model_.bump_spacing_m * (1.0 + jitter) - w.bump_chord_m_;
-    w.bump_next_m_ = next > 0.0 ? next : 0.0;
+  // Laid cables (lay_cables) are evenly spaced, and there are no more after the last one.
+  const double jitter =
+      (w.laid_count_ > 0u ? 0.0 : model_.bump_spacing_jitter) * floor_random_.uniform(-1.0, 1.0);
+  const double next = model_.bump_spacing_m * (1.0 + jitter) - w.bump_chord_m_;
+  w.bump_next_m_ = next > 0.0 ? next : 0.0;
+  if (w.cables_ahead_ > 0u && --w.cables_ahead_ == 0u) {
+    w.bump_next_m_ = 1.0e300;
   }
   // Besides the yaw that follows from this wheel's lost ground travel, the jolt skids the heading
   // a little (zero mean, more for a higher cable).

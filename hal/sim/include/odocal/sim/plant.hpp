@@ -146,7 +146,10 @@ class Wheel {
   double bump_next_m_ = 0.0;   ///< floor distance to the next cable
   double bump_left_m_ = 0.0;   ///< rolled travel still on the current cable
   std::uint32_t bumps_ = 0u;
-  std::uint32_t cables_ahead_ = 0u;  ///< laid cables (Plant::lay_cables) not yet reached
+  // Cables laid under this wheel (Plant::lay_cables); laid_count_ 0: the random floor.
+  double laid_first_m_ = 0.0;        ///< floor distance from the run's start to the first
+  std::uint32_t laid_count_ = 0u;    ///< how many
+  std::uint32_t cables_ahead_ = 0u;  ///< not yet reached in this run
 };
 
 /// Planar pose in the world frame: x, y in m, θ in rad (counter-clockwise, not wrapped).
@@ -215,7 +218,8 @@ class Plant {
   /// cables of `height_m`, the first `first_m` of floor after the start of each run (`place()`),
   /// then every `spacing_m` (no jitter); the other wheel rolls on a smooth floor and, past the
   /// last cable, so does this one. Crossing one is the same physics as set_bumps (arc instead of
-  /// chord, and a random skid of the heading). set_bumps() returns to the random floor.
+  /// chord, and a random skid of the heading). set_bumps() returns to the random floor (the
+  /// spacing stays `spacing_m` until it gives another).
   /// @param right_wheel true: the right wheel's path, false: the left one's.
   /// @param height_m >= 0 and below that wheel's radius (0 = a smooth floor).
   void lay_cables(bool right_wheel, double height_m, double first_m, double spacing_m,
@@ -249,11 +253,6 @@ class Plant {
   double sin_ = 0.0;
   double inverse_wheelbase_ = 0.0;  ///< 1/true wheelbase, 1/m
   double distance_m_ = 0.0;
-  // Cables laid by lay_cables (laid_count_ > 0), instead of the random floor of set_bumps.
-  Wheel* laid_wheel_ = nullptr;
-  double laid_first_m_ = 0.0;
-  double laid_spacing_m_ = 0.0;
-  std::uint32_t laid_count_ = 0u;
 };
 
 }  // namespace odocal::sim

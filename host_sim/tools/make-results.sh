@@ -118,4 +118,5 @@ for name, title in (("umbmark.txt", "UMBmark report"), ("validate.txt", "Validat
     print("```\n")
 PY
 python3 "$here/host_sim/tools/validate-seeds.py" "$bin" 30 >>"$out"
+python3 "$here/host_sim/tools/nonsys-results.py" "$bin" >>"$out"
 echo "wrote $out"

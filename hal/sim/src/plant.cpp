@@ -85,6 +85,7 @@ void Plant::set_bumps(double height_m, double spacing_m) {
   }
   Wheel* const wheels[2] = {&left_, &right_};
   for (Wheel* w : wheels) {
+    w->laid_count_ = 0u;
     w->bump_arc_m_ = 0.0;
     w->bump_chord_m_ = 0.0;
     w->bump_ratio_ = 1.0;
@@ -103,12 +104,30 @@ void Plant::set_bumps(double height_m, double spacing_m) {
   place_cables();
 }
 
+void Plant::lay_cables(bool right_wheel, double height_m, double first_m, double spacing_m,
+                       std::uint32_t count) {
+  set_bumps(height_m, spacing_m);
+  if (model_.bump_height_m <= 0.0 || count == 0u) {
+    return;
+  }
+  // The other wheel: one cable at a floor distance no run reaches.
+  Wheel& laid = right_wheel ? right_ : left_;
+  Wheel& clear = right_wheel ? left_ : right_;
+  laid.laid_first_m_ = first_m > 0.0 ? first_m : 0.0;
+  laid.laid_count_ = count;
+  clear.laid_first_m_ = 1.0e300;
+  clear.laid_count_ = 1u;
+  place_cables();
+}
+
 void Plant::place_cables() {
   Wheel* const wheels[2] = {&left_, &right_};
   for (Wheel* w : wheels) {
     w->bump_left_m_ = 0.0;
-    w->bump_next_m_ =
-        model_.bump_height_m > 0.0 ? model_.bump_spacing_m * floor_random_.uniform() : 0.0;
+    w->cables_ahead_ = w->laid_count_;
+    w->bump_next_m_ = w->laid_count_ > 0u          ? w->laid_first_m_
+                      : model_.bump_height_m > 0.0 ? model_.bump_spacing_m * floor_random_.uniform()
+                                                   : 0.0;
   }
 }
 
@@ -331,9 +350,14 @@ void Plant::start_bump(Wheel& w) {
   w.bump_left_m_ = w.bump_arc_m_;
   // The next cable lies `spacing` (± jitter) of floor after this one's start; the crossing
   // itself covers the chord. Cables closer than a chord follow each other directly.
-  const double jitter = model_.bump_spacing_jitter * floor_random_.uniform(-1.0, 1.0);
+  // Laid cables (lay_cables) are evenly spaced, and there are no more after the last one.
+  const double jitter =
+      (w.laid_count_ > 0u ? 0.0 : model_.bump_spacing_jitter) * floor_random_.uniform(-1.0, 1.0);
   const double next = model_.bump_spacing_m * (1.0 + jitter) - w.bump_chord_m_;
   w.bump_next_m_ = next > 0.0 ? next : 0.0;
+  if (w.cables_ahead_ > 0u && --w.cables_ahead_ == 0u) {
+    w.bump_next_m_ = 1.0e300;
+  }
   // Besides the yaw that follows from this wheel's lost ground travel, the jolt skids the heading
   // a little (zero mean, more for a higher cable).
   const double skid = floor_random_.normal(model_.bump_yaw_sigma_rad * model_.bump_height_m / 0.01);

@@ -190,6 +190,10 @@ struct BootstrapOptions {
 struct Ros2Options {
   std::string from_file, controller = "diff_drive_controller";
   std::optional<double> c_l, c_r, e_b;
+  // Covariances from `odocal fit`'s noise (see fit_noise.hpp, ros2_covariance).
+  double speed_mps = 0.2;
+  double publish_hz = 50.0;  ///< diff_drive_controller's default publish_rate
+  double pose_distance_m = 1.0;
 };
 
 /// Largest multiplier `odocal ros2` writes: a factor of 10 corrects no real robot.

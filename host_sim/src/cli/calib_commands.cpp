@@ -115,6 +115,18 @@ void register_calib_commands(CLI::App& app, int& exit_code) {
     from->excludes(c_l)->excludes(c_r)->excludes(e_b);
     cmd->add_option("--controller", o->controller, "controller name ([A-Za-z_][A-Za-z0-9_]*)")
         ->capture_default_str();
+    cmd->add_option("--speed-mps", o->speed_mps,
+                    "typical speed for the twist covariance (FIT.json with noise), m/s")
+        ->check(range_check(0.0, 20.0, "m/s", toolkit::LowBound::open))
+        ->capture_default_str();
+    cmd->add_option("--publish-hz", o->publish_hz,
+                    "the controller's publish_rate, Hz (the twist is estimated over 1/rate)")
+        ->check(range_check(0.0, 10000.0, "Hz", toolkit::LowBound::open))
+        ->capture_default_str();
+    cmd->add_option("--pose-distance-m", o->pose_distance_m,
+                    "straight distance whose drift the pose covariance gives, m")
+        ->check(range_check(0.0, 10000.0, "m", toolkit::LowBound::open))
+        ->capture_default_str();
     cmd->callback([o, &exit_code] { guarded("ros2", exit_code, [o] { run_ros2(*o); }); });
   }
 }

@@ -15,6 +15,7 @@
 
 #include "odocal/host/csv.hpp"
 #include "odocal/host/fit.hpp"
+#include "odocal/host/fit_noise.hpp"
 #include "odocal/toolkit/cli_checks.hpp"
 
 namespace odocal::host {
@@ -82,7 +83,16 @@ int run_fit(const FitCommandOptions& o) {
               << outcome.error.message << '\n';
     return 2;
   }
-  const nlohmann::json j = fit_result_json(*outcome.result);
+  nlohmann::json j = fit_result_json(*outcome.result);
+  // Beside the geometry: the random error growth from the same runs' residuals.
+  NoiseOptions noise_options;
+  noise_options.seed = o.seed;
+  noise_options.level = o.level;
+  noise_options.heading_length_mm = outcome.result->heading_length_mm;
+  noise_options.replicates = o.replicates > 0u ? noise_options.replicates : 0u;
+  const NoiseEstimate noise =
+      estimate_wheel_noise(logs, nominal, outcome.result->geometry, noise_options);
+  j["noise"] = noise_json(noise);
   // Nothing that is not a number is printed (the bounds above keep every figure finite).
   for (const char* key : {"wheel_diameter_left_mm", "wheel_diameter_right_mm", "wheelbase_mm"}) {
     if (!std::isfinite(j.at(key).get<double>())) {
@@ -93,7 +103,7 @@ int run_fit(const FitCommandOptions& o) {
   if (o.json) {
     std::cout << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
   } else {
-    std::cout << fit_result_text(*outcome.result);
+    std::cout << fit_result_text(*outcome.result) << noise_text(noise);
   }
   return 0;
 }

@@ -1,6 +1,7 @@
 // `odocal ros2`: see docs/calibration.md.
 
 #include "calib_cli.hpp"
+#include "odocal/host/fit_noise.hpp"
 
 namespace odocal::host::calib_cli {
 namespace {
@@ -52,6 +53,31 @@ std::string comment_text(const json& value) {
   return text;
 }
 
+/// A number of `odocal fit`'s noise object: finite and >= 0.
+double noise_key(const json& noise, const std::string& file, const char* key) {
+  const std::string field = std::string("noise.") + key;
+  if (!noise.contains(key)) {
+    throw InputError(file, 0, field, "missing key (expected the JSON of `odocal fit --json`)");
+  }
+  const json& value = noise.at(key);
+  if (!value.is_number() || !std::isfinite(value.get<double>()) || value.get<double>() < 0.0 ||
+      value.get<double>() > 1e6) {
+    throw InputError(file, 0, field,
+                     "must be a number from 0 to 1e6 (mm^2/mm), got " +
+                         value.dump(-1, ' ', false, json::error_handler_t::replace));
+  }
+  return value.get<double>();
+}
+
+/// "[a, b, c, d, e, f]" with YAML doubles.
+std::string yaml_list(const double (&values)[6]) {
+  std::string out = "[";
+  for (int i = 0; i < 6; ++i) {
+    out += (i > 0 ? ", " : "") + yaml_double(values[i]);
+  }
+  return out + "]";
+}
+
 }  // namespace
 
 void run_ros2(const Ros2Options& o) {
@@ -63,6 +89,8 @@ void run_ros2(const Ros2Options& o) {
   }
   double c_l = 0.0, c_r = 0.0, e_b = 0.0;
   std::string source;
+  std::optional<Ros2Covariance> covariance;
+  std::string covariance_note;
   if (!o.from_file.empty()) {
     const std::string text = read_text_file(o.from_file);
     json doc;
@@ -77,6 +105,27 @@ void run_ros2(const Ros2Options& o) {
     c_r = multiplier_key(doc, o.from_file, "c_r");
     e_b = multiplier_key(doc, o.from_file, "e_b");
     source = comment_text(json(o.from_file));
+    // The JSON of `odocal fit` carries the random error growth: the covariances follow from it.
+    if (doc.contains("noise") && doc["noise"].is_object() && !doc["noise"].contains("error")) {
+      const WheelNoise noise{noise_key(doc["noise"], o.from_file, "k_l"),
+                             noise_key(doc["noise"], o.from_file, "k_r")};
+      if (!doc.contains("wheelbase_mm") || !doc["wheelbase_mm"].is_number() ||
+          !(doc["wheelbase_mm"].get<double>() > 0.0) ||
+          !std::isfinite(doc["wheelbase_mm"].get<double>())) {
+        throw InputError(o.from_file, 0, "wheelbase_mm",
+                         "missing or not a positive number (the covariance needs the wheelbase)");
+      }
+      covariance = ros2_covariance(noise, doc["wheelbase_mm"].get<double>(), o.speed_mps,
+                                   1.0 / o.publish_hz, o.pose_distance_m);
+      char note[200];
+      std::snprintf(note, sizeof note,
+                    "# covariances: k_l %.4g, k_r %.4g mm^2/mm; pose after %.4g m straight, twist "
+                    "at %.4g m/s over 1/%.4g s (docs/calibration.md)\n",
+                    noise.k_l, noise.k_r, o.pose_distance_m, o.speed_mps, o.publish_hz);
+      covariance_note = note;
+    } else if (doc.contains("noise") && doc["noise"].is_object()) {
+      covariance_note = "# no covariances: " + comment_text(doc["noise"]["error"]) + "\n";
+    }
     if (doc.contains("provenance") && doc["provenance"].is_object()) {
       const auto& p = doc["provenance"];
       const auto field = [&p](const char* key) {
@@ -101,10 +150,15 @@ void run_ros2(const Ros2Options& o) {
   // E_b scales the wheelbase, c_L and c_R scale each wheel's distance per radian. ROS 2 declares
   // them as doubles and refuses an integer, so each value is written as a float literal.
   std::printf("# ROS 2 diff_drive_controller parameters from odocal (%s)\n", source.c_str());
+  std::printf("%s", covariance_note.c_str());
   std::printf("%s:\n  ros__parameters:\n", o.controller.c_str());
   std::printf("    wheel_separation_multiplier: %s\n", yaml_double(e_b).c_str());
   std::printf("    left_wheel_radius_multiplier: %s\n", yaml_double(c_l).c_str());
   std::printf("    right_wheel_radius_multiplier: %s\n", yaml_double(c_r).c_str());
+  if (covariance) {
+    std::printf("    pose_covariance_diagonal: %s\n", yaml_list(covariance->pose).c_str());
+    std::printf("    twist_covariance_diagonal: %s\n", yaml_list(covariance->twist).c_str());
+  }
 }
 
 }  // namespace odocal::host::calib_cli

@@ -217,6 +217,36 @@ void register_sim_commands(CLI::App& app, int& exit_code) {
                        "validate: " + report.error);
   });
 
+  auto common_e = std::make_shared<CommonOptions>();
+  auto ext = std::make_shared<ExtendedOptions>();
+  auto ext_side_mm = std::make_shared<double>(ext->side_m * 1e3);
+  auto* e = sim->add_subcommand(
+      "extended",
+      "Extended UMBmark: squares with and without ten cables under one wheel (non-systematic)");
+  add_common(e, *common_e);
+  add_side_mm(e, *ext_side_mm, "side of the square, mm (100 to 20000, default 4000)");
+  e->add_option("--runs", ext->runs, "runs per direction on each floor (2 to 64, default 5)")
+      ->check(toolkit::whole_check(2u, 64u));
+  e->callback([&exit_code, common_e, ext, ext_side_mm] {
+    RobotSpec spec;
+    bool svg_created = false;
+    if (!prepare(*common_e, spec, svg_created)) {
+      exit_code = 2;
+      return;
+    }
+    ExtendedOptions options = *ext;
+    options.side_m = *ext_side_mm * 1e-3;
+    options.record_paths = !common_e->svg_file.empty();
+    ExtendedReport report;
+    {
+      Progress progress;
+      report = run_extended(spec, common_e->seed, options, std::ref(progress));
+    }
+    exit_code = finish(*common_e, svg_created, report.ok, extended_report_json(report),
+                       extended_report_text(report), extended_report_svg(report),
+                       "extended: " + report.error);
+  });
+
   auto common_m = std::make_shared<CommonOptions>();
   auto mc = std::make_shared<MonteCarloOptions>();
   mc->umbmark.side_m = 1.5;

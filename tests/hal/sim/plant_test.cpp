@@ -285,6 +285,46 @@ TEST(Plant, TurnInPlaceOverCablesUnderRotatesByTheGroundLossOfAStraightRun) {
               (plant.right().ground_m() - plant.left().ground_m()) / m.wheelbase_m, 1e-9);
 }
 
+TEST(Plant, LaidCablesAreCrossedByOneWheelOnlyExactlyAsManyTimesAsLaid) {
+  // The extended UMBmark's floor: ten cables under the right wheel, 0.2 m from the start, every
+  // 0.4 m. Driving 10 m straight, the right wheel crosses each once and loses each one's geometry;
+  // the left wheel rolls on a smooth floor; the heading turns right by the lost travel / wheelbase.
+  RobotModel m = cable_robot();
+  m.bump_height_m = 0.0;
+  const double lost = loss_per_cable(cable_robot());
+  Plant plant(m, 5u);
+  plant.lay_cables(true, 0.010, 0.2, 0.4, 10u);
+  const double left0 = plant.left().angle_rad();
+  const double right0 = plant.right().angle_rad();
+  set_wheel(plant.left(), 0.3f);
+  set_wheel(plant.right(), 0.3f);
+  plant.advance_to_ns(40'000'000'000u);
+  set_wheel(plant.left(), 0.0f);
+  set_wheel(plant.right(), 0.0f);
+  plant.advance_to_ns(42'000'000'000u);
+  ASSERT_TRUE(plant.at_rest());
+  ASSERT_GT(plant.right().ground_m(), 5.0);  // far past the last cable (3.8 m)
+  EXPECT_EQ(plant.right().bumps_crossed(), 10u);
+  EXPECT_EQ(plant.left().bumps_crossed(), 0u);
+  const double rolled_left = 0.03 * (plant.left().angle_rad() - left0);
+  const double rolled_right = 0.03 * (plant.right().angle_rad() - right0);
+  EXPECT_NEAR(rolled_left - plant.left().ground_m(), 0.0, 1e-9);
+  EXPECT_NEAR(rolled_right - plant.right().ground_m(), 10.0 * lost, 1e-9);
+  EXPECT_NEAR(plant.pose().theta_rad,
+              (plant.right().ground_m() - plant.left().ground_m()) / m.wheelbase_m, 1e-9);
+
+  // A new run (place) lays the same row again; set_bumps returns to the random floor.
+  plant.place();
+  set_wheel(plant.left(), 0.3f);
+  set_wheel(plant.right(), 0.3f);
+  plant.advance_to_ns(60'000'000'000u);
+  EXPECT_EQ(plant.right().bumps_crossed(), 20u);
+  EXPECT_EQ(plant.left().bumps_crossed(), 0u);
+  plant.set_bumps(0.010, 0.2);
+  plant.advance_to_ns(70'000'000'000u);
+  EXPECT_GT(plant.left().bumps_crossed(), 0u);
+}
+
 TEST(Plant, SmoothFloorRunDoesNotDependOnTheCableSettings) {
   // The cables draw from their own random stream: a smooth floor is the same whatever their
   // spacing, jitter or skid.

@@ -163,6 +163,80 @@ struct ValidateReport {
 [[nodiscard]] std::string validate_report_svg(const ValidateReport& report);
 
 // ---------------------------------------------------------------------------------------------
+// Extended UMBmark (non-systematic errors)
+
+struct ExtendedOptions {
+  double side_m = 4.0;         ///< side L of the UMBmark square
+  std::size_t runs = 5;        ///< runs per direction, on each floor (the published test: 5)
+  std::size_t bumps = 10;      ///< cables laid along the first leg (the published test: 10)
+  double bump_height_m = 0.0;  ///< 0: the robot file's bump_height_mm, else 10 mm (published)
+  bool right_wheel = true;     ///< the wheel that rolls over the cables
+  double v_max_mps = 0.2;      ///< cruise speed on the legs
+  bool record_paths = false;   ///< keep the true paths (for --svg)
+};
+
+/// One run of the extended UMBmark: its return errors, measured minus odometry (as UMBmark).
+struct ExtendedRun {
+  bool clockwise = true;
+  double theta_error_deg = 0.0;  ///< measured heading minus odometry heading, wrapped to ±180°
+  double x_mm = 0.0;
+  double y_mm = 0.0;
+  std::uint32_t bumps_crossed = 0;  ///< cables the robot's wheels actually rolled over
+};
+
+/// The figure of the extended UMBmark from its runs (docs/architecture.md): per direction, the
+/// average of |θ_i − θ̄_ref| over the bump runs i, θ̄_ref the bump-free runs' average orientation
+/// error in that direction; e_nonsys_deg = the sum of the two directions' averages.
+struct ExtendedFigure {
+  double reference_cw_deg = 0.0;
+  double reference_ccw_deg = 0.0;
+  double e_cw_deg = 0.0;
+  double e_ccw_deg = 0.0;
+  double e_nonsys_deg = 0.0;
+  double sd_deg = 0.0;     ///< approximate standard error of e_nonsys_deg (run-to-run scatter)
+  double ci_lo_deg = 0.0;  ///< approximate 95 % interval (Student t)
+  double ci_hi_deg = 0.0;
+};
+
+/// Computes the figure; false (and `figure` untouched) unless every list has at least 2 runs.
+[[nodiscard]] bool extended_figure(const std::vector<ExtendedRun>& reference_cw,
+                                   const std::vector<ExtendedRun>& reference_ccw,
+                                   const std::vector<ExtendedRun>& bumps_cw,
+                                   const std::vector<ExtendedRun>& bumps_ccw,
+                                   ExtendedFigure& figure);
+
+struct ExtendedReport {
+  bool ok = false;
+  std::string error;
+  std::vector<ExtendedRun> reference;  ///< bump-free runs, cw then ccw
+  std::vector<ExtendedRun> bump_runs;  ///< runs over the cables, cw then ccw
+  ExtendedFigure figure{};
+  double bump_height_m = 0.0;
+  double bump_first_m = 0.0;    ///< floor distance from the start mark to the first cable
+  double bump_spacing_m = 0.0;  ///< between two cables
+  std::vector<std::vector<PathPoint>> reference_paths;
+  std::vector<std::vector<PathPoint>> bump_paths;
+  double simulated_s = 0.0;
+  std::uint64_t seed = 0;
+  ExtendedOptions options{};
+};
+
+/// Where the cables go: `count` evenly spaced along a leg of `side_m`, half a spacing from each
+/// end (first = side/(2·count), spacing = side/count).
+void extended_bump_layout(double side_m, std::size_t count, double& first_m, double& spacing_m);
+
+/// The extended UMBmark on a robot (its nominal geometry in the firmware): `runs` cw + `runs` ccw
+/// squares on a smooth floor, then the same over `bumps` cables laid under one wheel along the
+/// first leg.
+[[nodiscard]] ExtendedReport run_extended(const RobotSpec& robot, std::uint64_t seed,
+                                          const ExtendedOptions& options,
+                                          const ProgressFn& progress = {});
+
+[[nodiscard]] nlohmann::json extended_report_json(const ExtendedReport& report);
+[[nodiscard]] std::string extended_report_text(const ExtendedReport& report);
+[[nodiscard]] std::string extended_report_svg(const ExtendedReport& report);
+
+// ---------------------------------------------------------------------------------------------
 // Monte Carlo
 
 struct MonteCarloOptions {

@@ -146,6 +146,10 @@ class Wheel {
   double bump_next_m_ = 0.0;   ///< floor distance to the next cable
   double bump_left_m_ = 0.0;   ///< rolled travel still on the current cable
   std::uint32_t bumps_ = 0u;
+  // Cables laid under this wheel (Plant::lay_cables); laid_count_ 0: the random floor.
+  double laid_first_m_ = 0.0;        ///< floor distance from the run's start to the first
+  std::uint32_t laid_count_ = 0u;    ///< how many
+  std::uint32_t cables_ahead_ = 0u;  ///< not yet reached in this run
 };
 
 /// Planar pose in the world frame: x, y in m, θ in rad (counter-clockwise, not wrapped).
@@ -209,6 +213,17 @@ class Plant {
   /// phase; rolling over one it turns through an arc while covering only the chord, so it loses
   /// ground travel, and the heading follows from the two wheels' ground travel.
   void set_bumps(double height_m, double spacing_m);
+
+  /// Lays a fixed row of cables under one wheel only (the extended UMBmark's floor): `count`
+  /// cables of `height_m`, the first `first_m` of floor after the start of each run (`place()`),
+  /// then every `spacing_m` (no jitter); the other wheel rolls on a smooth floor and, past the
+  /// last cable, so does this one. Crossing one is the same physics as set_bumps (arc instead of
+  /// chord, and a random skid of the heading). set_bumps() returns to the random floor (the
+  /// spacing stays `spacing_m` until it gives another).
+  /// @param right_wheel true: the right wheel's path, false: the left one's.
+  /// @param height_m >= 0 and below that wheel's radius (0 = a smooth floor).
+  void lay_cables(bool right_wheel, double height_m, double first_m, double spacing_m,
+                  std::uint32_t count);
 
  private:
   void step(std::uint32_t dt_ns);

@@ -1,0 +1,335 @@
+// `odocal sim extended`: the extended UMBmark (non-systematic errors; Borenstein & Feng's report,
+// section 3.4, and their 1996 paper, section V; our reading in docs/architecture.md).
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "odocal/host/sim_procedures.hpp"
+#include "odocal/host/sim_svg.hpp"
+
+namespace odocal::host {
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+constexpr double deg_per_rad = 180.0 / pi;
+
+/// Student-t distribution function for t >= 0 by Simpson's rule on the density (host code; the
+/// degrees of freedom here are small whole or fractional numbers, the accuracy ~1e-9).
+double student_t_cdf(double t, double dof) {
+  const double log_norm =
+      std::lgamma(0.5 * (dof + 1.0)) - std::lgamma(0.5 * dof) - 0.5 * std::log(dof * pi);
+  const auto density = [&](double x) {
+    return std::exp(log_norm - 0.5 * (dof + 1.0) * std::log1p(x * x / dof));
+  };
+  constexpr int intervals = 2000;
+  const double h = t / intervals;
+  double sum = density(0.0) + density(t);
+  for (int i = 1; i < intervals; ++i) {
+    sum += density(i * h) * (i % 2 == 1 ? 4.0 : 2.0);
+  }
+  return 0.5 + sum * h / 3.0;
+}
+
+/// The t with P(T_dof <= t) = probability (probability in (0.5, 1)).
+double student_t_quantile(double probability, double dof) {
+  double lo = 0.0;
+  double hi = 1.0;
+  while (student_t_cdf(hi, dof) < probability && hi < 1e6) {
+    hi *= 2.0;
+  }
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (student_t_cdf(mid, dof) < probability ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+struct Moments {
+  double mean = 0.0;
+  double variance = 0.0;  ///< sample variance (n − 1)
+};
+
+template <typename Value>
+Moments moments(const std::vector<ExtendedRun>& runs, Value value) {
+  Moments m;
+  const auto n = static_cast<double>(runs.size());
+  for (const ExtendedRun& r : runs) {
+    m.mean += value(r);
+  }
+  m.mean /= n;
+  for (const ExtendedRun& r : runs) {
+    m.variance += (value(r) - m.mean) * (value(r) - m.mean);
+  }
+  m.variance /= n - 1.0;
+  return m;
+}
+
+/// Drives `runs` cw then `runs` ccw squares and records their return errors.
+bool drive_squares(SimulatedRobot& robot, const ExtendedOptions& o, const char* floor,
+                   std::vector<ExtendedRun>& out, std::vector<std::vector<PathPoint>>& paths,
+                   std::string& error, const ProgressFn& progress) {
+  const std::size_t total = 2 * o.runs;
+  for (std::size_t i = 0; i < total; ++i) {
+    const bool clockwise = i < o.runs;
+    if (progress) {
+      progress(std::string("extended: ") + floor + ", run " + std::to_string(i + 1) + "/" +
+               std::to_string(total) + (clockwise ? " (cw)" : " (ccw)"));
+    }
+    std::vector<PathPoint> trace;
+    TraceFn tracer;
+    if (o.record_paths) {
+      tracer = [&trace](const sim::WorldPose& p) { trace.push_back(PathPoint{p.x_m, p.y_m}); };
+    }
+    const std::uint32_t bumps_before = robot.plant().bumps_crossed();
+    const RunOutcome outcome = robot.run_path(
+        drive::make_umbmark_square(clockwise, static_cast<float>(o.side_m)), 3600.0, tracer, 200u);
+    if (!outcome.completed) {
+      error = std::string(floor) + ", " + (clockwise ? "cw" : "ccw") + " run " +
+              std::to_string(i % o.runs + 1) + ": the square did not complete";
+      return false;
+    }
+    ExtendedRun run;
+    run.clockwise = clockwise;
+    // Errors are measured (absolute) minus perceived (odometry), as UMBmark's return errors.
+    run.theta_error_deg =
+        std::remainder(outcome.measured.theta_rad - static_cast<double>(outcome.odometry.theta_rad),
+                       2.0 * pi) *
+        deg_per_rad;
+    run.x_mm = (outcome.measured.x_m - static_cast<double>(outcome.odometry.x_m)) * 1e3;
+    run.y_mm = (outcome.measured.y_m - static_cast<double>(outcome.odometry.y_m)) * 1e3;
+    run.bumps_crossed = robot.plant().bumps_crossed() - bumps_before;
+    out.push_back(run);
+    if (o.record_paths) {
+      paths.push_back(std::move(trace));
+    }
+  }
+  return true;
+}
+
+std::vector<ExtendedRun> direction(const std::vector<ExtendedRun>& runs, bool clockwise) {
+  std::vector<ExtendedRun> out;
+  std::copy_if(runs.begin(), runs.end(), std::back_inserter(out),
+               [clockwise](const ExtendedRun& r) { return r.clockwise == clockwise; });
+  return out;
+}
+
+nlohmann::json run_json(const ExtendedRun& r) {
+  return {{"direction", r.clockwise ? "cw" : "ccw"},
+          {"theta_error_deg", r.theta_error_deg},
+          {"x_mm", r.x_mm},
+          {"y_mm", r.y_mm},
+          {"bumps_crossed", r.bumps_crossed}};
+}
+
+}  // namespace
+
+bool extended_figure(const std::vector<ExtendedRun>& reference_cw,
+                     const std::vector<ExtendedRun>& reference_ccw,
+                     const std::vector<ExtendedRun>& bumps_cw,
+                     const std::vector<ExtendedRun>& bumps_ccw, ExtendedFigure& figure) {
+  for (const auto* runs : {&reference_cw, &reference_ccw, &bumps_cw, &bumps_ccw}) {
+    if (runs->size() < 2) {
+      return false;
+    }
+  }
+  ExtendedFigure f;
+  // Each direction: e = mean |θ_i − θ̄_ref|. Its variance from the run-to-run scatter: that of
+  // the |d_i| over the bump runs, plus the reference mean's, weighted by how much e moves with
+  // it (the mean sign of the d_i); the degrees of freedom by Welch-Satterthwaite.
+  double variance = 0.0;
+  double dof_denominator = 0.0;
+  const auto theta = [](const ExtendedRun& r) { return r.theta_error_deg; };
+  const std::pair<const std::vector<ExtendedRun>*, const std::vector<ExtendedRun>*> sides[2] = {
+      {&reference_cw, &bumps_cw}, {&reference_ccw, &bumps_ccw}};
+  for (int side = 0; side < 2; ++side) {
+    const auto& [reference, bumps] = sides[side];
+    const Moments ref = moments(*reference, theta);
+    const Moments deviation = moments(
+        *bumps, [&](const ExtendedRun& r) { return std::fabs(r.theta_error_deg - ref.mean); });
+    double sign = 0.0;
+    for (const ExtendedRun& r : *bumps) {
+      sign += r.theta_error_deg >= ref.mean ? 1.0 : -1.0;
+    }
+    sign /= static_cast<double>(bumps->size());
+    const double nb = static_cast<double>(bumps->size());
+    const double nr = static_cast<double>(reference->size());
+    const double v_bumps = deviation.variance / nb;
+    const double v_reference = sign * sign * ref.variance / nr;
+    variance += v_bumps + v_reference;
+    dof_denominator += v_bumps * v_bumps / (nb - 1.0) + v_reference * v_reference / (nr - 1.0);
+    (side == 0 ? f.reference_cw_deg : f.reference_ccw_deg) = ref.mean;
+    (side == 0 ? f.e_cw_deg : f.e_ccw_deg) = deviation.mean;
+  }
+  f.e_nonsys_deg = f.e_cw_deg + f.e_ccw_deg;
+  f.sd_deg = std::sqrt(variance);
+  const double dof = dof_denominator > 0.0 ? variance * variance / dof_denominator : 1e6;
+  const double t = student_t_quantile(0.975, std::max(dof, 1.0));
+  f.ci_lo_deg = std::max(0.0, f.e_nonsys_deg - t * f.sd_deg);
+  f.ci_hi_deg = f.e_nonsys_deg + t * f.sd_deg;
+  figure = f;
+  return true;
+}
+
+void extended_bump_layout(double side_m, std::size_t count, double& first_m, double& spacing_m) {
+  spacing_m = side_m / static_cast<double>(count);
+  first_m = 0.5 * spacing_m;
+}
+
+ExtendedReport run_extended(const RobotSpec& robot_spec, std::uint64_t seed,
+                            const ExtendedOptions& options, const ProgressFn& progress) {
+  ExtendedReport report;
+  report.seed = seed;
+  report.options = options;
+  RobotSpec spec = robot_spec;
+  spec.nominal.v_max_mps = static_cast<float>(options.v_max_mps);
+  // The published test lays 10 mm cables; a robot file's bump_height_mm replaces that height (its
+  // bump_spacing_mm does not apply: the cables lie as published, evenly along the first leg).
+  report.bump_height_m = options.bump_height_m > 0.0      ? options.bump_height_m
+                         : spec.truth.bump_height_m > 0.0 ? spec.truth.bump_height_m
+                                                          : 0.010;
+  extended_bump_layout(options.side_m, options.bumps, report.bump_first_m, report.bump_spacing_m);
+  const double wheel_radius_m =
+      0.5 * (options.right_wheel ? spec.truth.right_diameter_m : spec.truth.left_diameter_m);
+  if (!(report.bump_height_m < wheel_radius_m)) {
+    report.error = fmt::format(FMT_STRING("bump height {:.1f} mm: must be below the wheel's radius "
+                                          "({:.1f} mm)"),
+                               report.bump_height_m * 1e3, wheel_radius_m * 1e3);
+    return report;
+  }
+  SimulatedRobot robot(spec, seed);
+  if (!robot.configure(spec.nominal)) {
+    report.error = "the robot's nominal geometry is outside the firmware's parameter ranges";
+    return report;
+  }
+  // 1. The bump-free runs: the robot's systematic orientation error in each direction.
+  robot.plant().set_bumps(0.0, 0.0);
+  if (!drive_squares(robot, options, "bump-free floor", report.reference, report.reference_paths,
+                     report.error, progress)) {
+    report.simulated_s = robot.simulated_s();
+    return report;
+  }
+  // 2. The same squares with the cables under one wheel along the first leg.
+  robot.plant().lay_cables(options.right_wheel, report.bump_height_m, report.bump_first_m,
+                           report.bump_spacing_m, static_cast<std::uint32_t>(options.bumps));
+  if (!drive_squares(robot, options, "bumps", report.bump_runs, report.bump_paths, report.error,
+                     progress)) {
+    report.simulated_s = robot.simulated_s();
+    return report;
+  }
+  report.simulated_s = robot.simulated_s();
+  if (!extended_figure(direction(report.reference, true), direction(report.reference, false),
+                       direction(report.bump_runs, true), direction(report.bump_runs, false),
+                       report.figure)) {
+    report.error = "at least 2 runs per direction are needed";
+    return report;
+  }
+  report.ok = true;
+  return report;
+}
+
+nlohmann::json extended_report_json(const ExtendedReport& r) {
+  nlohmann::json j;
+  j["simulated_s"] = r.simulated_s;
+  j["seed"] = r.seed;
+  if (!r.ok) {
+    j["error"] = r.error;
+    return j;
+  }
+  const ExtendedFigure& f = r.figure;
+  j["e_nonsys_deg"] = f.e_nonsys_deg;
+  j["e_nonsys_cw_deg"] = f.e_cw_deg;
+  j["e_nonsys_ccw_deg"] = f.e_ccw_deg;
+  j["ci"] = {f.ci_lo_deg, f.ci_hi_deg};
+  j["sd_deg"] = f.sd_deg;
+  j["reference"] = {{"cw", f.reference_cw_deg}, {"ccw", f.reference_ccw_deg}};
+  nlohmann::json runs = nlohmann::json::array();
+  for (const ExtendedRun& run : r.bump_runs) {
+    runs.push_back(run_json(run));
+  }
+  j["runs"] = runs;
+  nlohmann::json reference_runs = nlohmann::json::array();
+  for (const ExtendedRun& run : r.reference) {
+    reference_runs.push_back(run_json(run));
+  }
+  j["reference_runs"] = reference_runs;
+  j["bumps"] = {{"count", r.options.bumps},
+                {"height_mm", r.bump_height_m * 1e3},
+                {"first_mm", r.bump_first_m * 1e3},
+                {"spacing_mm", r.bump_spacing_m * 1e3},
+                {"wheel", r.options.right_wheel ? "right" : "left"}};
+  j["side_mm"] = r.options.side_m * 1e3;
+  return j;
+}
+
+std::string extended_report_text(const ExtendedReport& r) {
+  std::ostringstream out;
+  out << "Extended UMBmark on the simulated robot ("
+      << fmt::format(FMT_STRING("{:.0f}"), r.options.side_m * 1e3) << " mm square, "
+      << r.options.runs << " cw + " << r.options.runs << " ccw runs on each floor, seed " << r.seed
+      << ")\n";
+  if (!r.ok) {
+    out << "failed: " << r.error << "\n";
+    return out.str();
+  }
+  out << fmt::format(FMT_STRING("{} cables of {:.1f} mm under the {} wheel on the first leg, the "
+                                "first {:.0f} mm from the start, then every {:.0f} mm\n"),
+                     r.options.bumps, r.bump_height_m * 1e3,
+                     r.options.right_wheel ? "right" : "left", r.bump_first_m * 1e3,
+                     r.bump_spacing_m * 1e3);
+  out << "return errors (measured minus odometry): heading deg, x mm, y mm\n";
+  const auto table = [&out](const char* title, const std::vector<ExtendedRun>& runs) {
+    out << "  " << title << "\n";
+    for (const ExtendedRun& run : runs) {
+      out << fmt::format(FMT_STRING("    {:<3} {:9.3f} {:9.1f} {:9.1f}   ({} cables crossed)\n"),
+                         run.clockwise ? "cw" : "ccw", run.theta_error_deg, run.x_mm, run.y_mm,
+                         run.bumps_crossed);
+    }
+  };
+  table("bump-free runs", r.reference);
+  table("runs over the cables", r.bump_runs);
+  const ExtendedFigure& f = r.figure;
+  out << fmt::format(FMT_STRING("bump-free average heading error: cw {:.3f} deg, ccw {:.3f} deg\n"),
+                     f.reference_cw_deg, f.reference_ccw_deg);
+  out << fmt::format(FMT_STRING("average |bump run - bump-free average|: cw {:.3f} deg, ccw {:.3f} "
+                                "deg\n"),
+                     f.e_cw_deg, f.e_ccw_deg);
+  out << fmt::format(FMT_STRING("e_nonsys = {:.3f} deg (95 % interval {:.3f} to {:.3f} deg)\n"),
+                     f.e_nonsys_deg, f.ci_lo_deg, f.ci_hi_deg);
+  out << fmt::format(FMT_STRING("simulated {:.0f} s of robot time\n"), r.simulated_s);
+  return out.str();
+}
+
+std::string extended_report_svg(const ExtendedReport& r) {
+  SvgFigure fig;
+  if (!r.ok) {
+    return fig.finish();
+  }
+  SvgPanel& scatter = fig.panel(0, "Return errors: heading (deg) against run", "run",
+                                "heading "
+                                "error, deg");
+  for (std::size_t i = 0; i < r.reference.size(); ++i) {
+    scatter.add_marker(static_cast<double>(i + 1), r.reference[i].theta_error_deg, "#2471a3",
+                       r.reference[i].clockwise ? 'o' : 's');
+  }
+  for (std::size_t i = 0; i < r.bump_runs.size(); ++i) {
+    scatter.add_marker(static_cast<double>(i + 1), r.bump_runs[i].theta_error_deg, "#c0392b",
+                       r.bump_runs[i].clockwise ? 'o' : 's');
+  }
+  scatter.legend({{"#2471a3", "bump-free (o cw, square ccw)"}, {"#c0392b", "over the cables"}});
+  SvgPanel& paths =
+      fig.panel(1, "True paths: bump-free (blue), over the cables (red)", "x, m", "y, m");
+  for (const auto& path : r.reference_paths) {
+    paths.add_line(path, "#2471a3");
+  }
+  for (const auto& path : r.bump_paths) {
+    paths.add_line(path, "#c0392b");
+  }
+  return fig.finish();
+}
+
+}  // namespace odocal::host

@@ -1,0 +1,130 @@
+// `odocal fit`'s noise object and `odocal ros2 --from FIT.json`'s covariances, end to end through
+// the program.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "odocal/host/fit.hpp"
+#include "odocal/host/fit_noise.hpp"
+#include "odocal/host/sim_procedures.hpp"
+
+namespace odocal::host {
+namespace {
+
+std::string odocal_binary() {
+  const char* bin = std::getenv("ODOCAL_BIN_DIR");
+  const std::string odocal = bin != nullptr ? std::string(bin) + "/odocal" : "";
+  return odocal.empty() || !std::ifstream(odocal) ? std::string() : odocal;
+}
+
+int run_command(const std::string& command, std::string& out, std::string& err) {
+  const std::string tag = std::to_string(::getpid());
+  const std::string out_file = ::testing::TempDir() + "odocal_noise_out_" + tag + ".txt";
+  const std::string err_file = ::testing::TempDir() + "odocal_noise_err_" + tag + ".txt";
+  const int status = std::system((command + " >" + out_file + " 2>" + err_file).c_str());
+  std::ifstream o(out_file);
+  out.assign(std::istreambuf_iterator<char>(o), std::istreambuf_iterator<char>());
+  std::ifstream e(err_file);
+  err.assign(std::istreambuf_iterator<char>(e), std::istreambuf_iterator<char>());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/// The six numbers of a YAML line `key: [a, b, c, d, e, f]`.
+std::vector<double> yaml_list(const std::string& text, const std::string& key) {
+  std::vector<double> values;
+  const auto at = text.find(key + ": [");
+  if (at == std::string::npos) {
+    return values;
+  }
+  std::string list = text.substr(at + key.size() + 3);
+  list = list.substr(0, list.find(']'));
+  std::stringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    values.push_back(std::stod(item));
+  }
+  return values;
+}
+
+TEST(OdocalFitNoise, FitJsonCarriesNoiseAndRos2WritesItsCovariances) {
+  const std::string odocal = odocal_binary();
+  if (odocal.empty()) {
+    GTEST_SKIP() << "odocal not built";
+  }
+  RobotSpec spec = default_robot();
+  spec.truth.slip_sigma = 0.003;
+  SimulatedRobot robot(spec, 31u);
+  std::string logs;
+  for (int i = 0; i < 16; ++i) {
+    const drive::Path path =
+        i % 4 == 3 ? drive::make_line(2.0f) : drive::make_umbmark_square(i % 2 == 0, 2.0f);
+    TickLog log;
+    ASSERT_TRUE(run_path_logged(robot, path, log, LogTruth::end_only, 20u).completed);
+    const std::string file = ::testing::TempDir() + "noise_cmd_run" + std::to_string(i) + ".csv";
+    std::ofstream out(file);
+    write_tick_log(log, out);
+    logs += " " + file;
+  }
+  std::string out, err;
+  ASSERT_EQ(run_command(odocal + " fit --log" + logs +
+                            " --wheel-diameter-mm 60 --wheelbase-mm 150 --counts-per-rev 1440"
+                            " --b 100 --seed 2 --json",
+                        out, err),
+            0)
+      << err << out;
+  const nlohmann::json fit = nlohmann::json::parse(out);
+  ASSERT_TRUE(fit.contains("noise")) << out;
+  const nlohmann::json& noise = fit["noise"];
+  for (const char* key : {"k_l", "k_r", "ci"}) {
+    ASSERT_TRUE(noise.contains(key)) << key;
+  }
+  for (const char* key : {"k_l", "k_r"}) {
+    const double k = noise[key].get<double>();
+    ASSERT_EQ(noise["ci"][key].size(), 2u);
+    EXPECT_LE(noise["ci"][key][0].get<double>(), k);
+    EXPECT_GE(noise["ci"][key][1].get<double>(), k);
+    EXPECT_GE(k, 0.0);
+  }
+
+  const std::string fit_file = ::testing::TempDir() + "noise_cmd_fit.json";
+  std::ofstream(fit_file) << out;
+  ASSERT_EQ(run_command(odocal + " ros2 --from " + fit_file +
+                            " --speed-mps 0.3 --publish-hz 20 --pose-distance-m 2",
+                        out, err),
+            0)
+      << err;
+  const std::vector<double> pose = yaml_list(out, "pose_covariance_diagonal");
+  const std::vector<double> twist = yaml_list(out, "twist_covariance_diagonal");
+  ASSERT_EQ(pose.size(), 6u) << out;
+  ASSERT_EQ(twist.size(), 6u) << out;
+  const Ros2Covariance expected =
+      ros2_covariance(WheelNoise{noise["k_l"].get<double>(), noise["k_r"].get<double>()},
+                      fit["wheelbase_mm"].get<double>(), 0.3, 1.0 / 20.0, 2.0);
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_NEAR(pose[i], expected.pose[i], 1e-12 * expected.pose[i]) << i;
+    EXPECT_NEAR(twist[i], expected.twist[i], 1e-12 * expected.twist[i]) << i;
+  }
+  EXPECT_NE(out.find("wheel_separation_multiplier"), std::string::npos);
+
+  // A noise object with a negative growth is refused, naming the field.
+  nlohmann::json bad = fit;
+  bad["noise"]["k_r"] = -1.0;
+  const std::string bad_file = ::testing::TempDir() + "noise_cmd_bad.json";
+  std::ofstream(bad_file) << bad.dump();
+  EXPECT_EQ(run_command(odocal + " ros2 --from " + bad_file, out, err), 2);
+  EXPECT_NE(err.find("noise.k_r"), std::string::npos) << err;
+  EXPECT_TRUE(out.empty()) << out;
+  EXPECT_EQ(run_command(odocal + " ros2 --from " + fit_file + " --publish-hz 0", out, err), 2);
+  EXPECT_NE(err.find("--publish-hz"), std::string::npos) << err;
+}
+
+}  // namespace
+}  // namespace odocal::host

@@ -416,6 +416,7 @@ FitModelChoice choose_model(const std::vector<TickLog>& runs, const FitNominal& 
     }
     const ModelSpec spec = spec_for(kind, nominal);
     const Params start = start_for(kind, one_start);
+    std::string unsupported;  // determined too loosely to be chosen; still predicted, to compare
     if (kind != FitModelKind::one_wheelbase) {
       std::vector<std::size_t> all(units.size());
       for (std::size_t i = 0; i < all.size(); ++i) {
@@ -426,6 +427,26 @@ FitModelChoice choose_model(const std::vector<TickLog>& runs, const FitNominal& 
         c.note = "did not converge on all the logs";
       } else if (const Determination d = determination(full, o, kind, turning.total_rad); !d.ok) {
         c.note = d.error.message;
+      } else {
+        // Both wheelbases must be known from the scatter between runs, not only from the noise
+        // floor: a second wheelbase fitted to a few incidental arcs (the drift corrections of
+        // straight legs) is an extrapolation.
+        const fit_detail::ClusterInterval ci = fit_detail::cluster_interval(
+            fit_detail::unit_rows(units, full.p, spec, o.heading_length_mm), full.p, 0, o.seed,
+            o.level);
+        if (!ci.ok || ci.se[2] > o.max_wheelbase_sd || ci.se[3] > o.max_wheelbase_sd) {
+          unsupported = format(
+              "the logs do not tell two wheelbases apart: from run to run they vary by ±%.2f %% "
+              "and ±%.2f %% (each needs ",
+              100.0 * ci.se[2], 100.0 * ci.se[3]);
+          unsupported +=
+              format("%.2f %% or better); %.0f° of turning in place, ", 100.0 * o.max_wheelbase_sd,
+                     turning.in_place_rad * 180.0 / fit_detail::pi);
+          unsupported += format("%.0f° on arcs", turning.arcs_rad * 180.0 / fit_detail::pi);
+          if (kind == FitModelKind::arc_wheelbase) {
+            unsupported = "only one kind of turning in the logs that counts: " + unsupported;
+          }
+        }
       }
     }
     PathScore total;
@@ -447,6 +468,8 @@ FitModelChoice choose_model(const std::vector<TickLog>& runs, const FitNominal& 
     }
     if (c.note.empty() && total.rows > 0) {
       c.tried = true;
+      c.supported = unsupported.empty();
+      c.note = unsupported;
       c.folds = folds.size();
       c.heldout_path_rms_mm = std::sqrt(total.sum / static_cast<double>(total.rows));
     } else if (c.note.empty()) {
@@ -457,7 +480,7 @@ FitModelChoice choose_model(const std::vector<TickLog>& runs, const FitNominal& 
   const FitCandidate& one = choice.candidates.front();
   const FitCandidate* best = &one;
   for (const FitCandidate& c : choice.candidates) {
-    if (c.tried && one.tried && c.kind != FitModelKind::one_wheelbase &&
+    if (c.tried && c.supported && one.tried && c.kind != FitModelKind::one_wheelbase &&
         c.heldout_path_rms_mm <= (1.0 - o.min_gain) * one.heldout_path_rms_mm &&
         c.heldout_path_rms_mm < best->heldout_path_rms_mm) {
       best = &c;

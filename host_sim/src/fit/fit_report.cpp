@@ -76,6 +76,7 @@ nlohmann::json fit_result_json(const FitResult& r) {
   for (const FitCandidate& c : r.model.candidates) {
     candidates.push_back({{"name", model_name(c.kind)},
                           {"tried", c.tried},
+                          {"supported", c.supported},
                           {"heldout_path_rms_mm", c.tried ? nlohmann::json(c.heldout_path_rms_mm)
                                                           : nlohmann::json(nullptr)},
                           {"folds", c.folds},
@@ -128,6 +129,11 @@ nlohmann::json fit_result_json(const FitResult& r) {
   j["relative_sd"] = {{"wheel_diameter_left_mm", r.relative_sd[0]},
                       {"wheel_diameter_right_mm", r.relative_sd[1]},
                       {"wheelbase_mm", r.relative_sd[2]}};
+  if (r.geometry.model != FitModelKind::one_wheelbase) {
+    j["relative_sd"][r.geometry.model == FitModelKind::arc_wheelbase ? "wheelbase_arc_mm"
+                                                                     : "wheelbase_at_1radps_mm"] =
+        r.relative_sd[3];
+  }
   j["heading_length_mm"] = r.heading_length_mm;
   j["iterations"] = r.iterations;
   return j;
@@ -177,7 +183,8 @@ std::string fit_result_text(const FitResult& r) {
   out << "Model: " << model_name(r.model.kind) << " (" << r.model.reason << ")\n";
   for (const FitCandidate& c : r.model.candidates) {
     out << "  " << model_name(c.kind) << ": "
-        << (c.tried ? line("held-out path RMS %.2f mm", c.heldout_path_rms_mm) : c.note) << '\n';
+        << (c.tried ? line("held-out path RMS %.2f mm", c.heldout_path_rms_mm) : "")
+        << (c.tried && !c.note.empty() ? "; " : "") << c.note << '\n';
   }
   if (r.lag) {
     out << line(

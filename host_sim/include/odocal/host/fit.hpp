@@ -129,6 +129,10 @@ struct FitOptions {
   /// A richer model is chosen only when its held-out path RMS is below the simpler one's by this
   /// fraction or more.
   double min_gain = 0.02;
+  /// A model with two wheelbases is tried only when the logs fix each to this relative CR2
+  /// standard error over runs or better (a fifth of the 1.3 mm between the June robot's turns in
+  /// place and arcs, relative to its 200 mm).
+  double max_wheelbase_sd = 0.0013;
   /// Estimate the time lag between counts and ground truth (two refits per probe).
   bool estimate_lag = true;
   FitProgressFn progress;  ///< called from the calling thread only (the bootstrap uses two)
@@ -153,10 +157,11 @@ struct FitInterval {
 /// run, each predicted by a fit of the others), or why it was not tried.
 struct FitCandidate {
   FitModelKind kind = FitModelKind::one_wheelbase;
-  bool tried = false;
+  bool tried = false;      ///< held-out prediction computed
+  bool supported = false;  ///< the logs determine its parameters: it may be chosen
   double heldout_path_rms_mm = 0.0;
   std::size_t folds = 0;
-  std::string note;  ///< why not tried, or ""
+  std::string note;  ///< why not tried or not supported, or ""
 };
 
 /// Which model was used and why.

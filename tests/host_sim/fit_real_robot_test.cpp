@@ -197,5 +197,46 @@ TEST(FitRealRobot, OneKindOfTurningKeepsOneWheelbaseAndSaysWhy) {
   EXPECT_NE(r.model.kind, FitModelKind::arc_wheelbase);
 }
 
+/// A run along one arc of constant curvature turning `turn_rad`, its truth exact at every row.
+TickLog one_arc(double turn_rad) {
+  constexpr double pi = 3.14159265358979323846;
+  const FitNominal n = nominal();
+  const double mm_per_count = pi * n.wheel_diameter_mm / n.counts_per_rev;
+  TickLog log;
+  log.source = "arc";
+  TickRow row;
+  row.has_xy = row.has_theta = true;
+  double theta = 0.0;
+  while (theta < turn_rad) {
+    log.rows.push_back(row);
+    const double left = 20.0 * mm_per_count, right = 35.0 * mm_per_count;
+    const double turn = (right - left) / n.wheelbase_mm;
+    const double chord = 0.5 * (left + right) * std::sin(0.5 * turn) / (0.5 * turn);
+    row.x_mm += chord * std::cos(theta + 0.5 * turn);
+    row.y_mm += chord * std::sin(theta + 0.5 * turn);
+    theta += turn;
+    row.theta_deg = theta * 180.0 / pi;
+    row.t_s += 0.05;
+    row.count_l += 20.0;
+    row.count_r += 35.0;
+  }
+  log.rows.push_back(row);
+  return log;
+}
+
+TEST(FitRealRobot, OneArcIsRefusedForItsOneCurvatureNotForTurningTooLittle) {
+  const FitOutcome out =
+      fit_geometry({one_arc(3.14159265358979323846)}, nominal(), point_only(std::nullopt));
+  ASSERT_FALSE(out);
+  EXPECT_EQ(out.error.message.find("hardly turn"), std::string::npos) << out.error.message;
+  EXPECT_NE(out.error.message.find("one curvature"), std::string::npos) << out.error.message;
+  EXPECT_NE(out.error.message.find("turns in place"), std::string::npos) << out.error.message;
+  // A nearly straight arc still says the runs hardly turn.
+  const FitOutcome straight = fit_geometry({one_arc(0.2)}, nominal(), point_only(std::nullopt));
+  ASSERT_FALSE(straight);
+  EXPECT_NE(straight.error.message.find("hardly turn"), std::string::npos)
+      << straight.error.message;
+}
+
 }  // namespace
 }  // namespace odocal::host

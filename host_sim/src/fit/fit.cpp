@@ -721,10 +721,40 @@ FitOutcome fit_geometry(const std::vector<TickLog>& runs, const FitNominal& nomi
   fit_detail::ClusterInterval ci;
   if (o.replicates > 0 && o.interval != FitIntervalMethod::percentile) {
     const std::vector<Unit> boot = bootstrap_units(runs, o.min_units);
-    ci = fit_detail::cluster_interval(fit_detail::unit_rows(boot, main.p, k, o.heading_length_mm),
-                                      main.p, o.replicates, o.seed, o.level);
+    std::vector<fit_detail::UnitRows> rows =
+        fit_detail::unit_rows(boot, main.p, k, o.heading_length_mm);
     r.interval = o.interval;
     r.bootstrap_units = boot.size();
+    // Runs of one data set share what changed between sets (a floor, a tyre pressure, the
+    // capture's calibration): with 3 sets or more the sets are the clusters, so that the
+    // intervals hold across the robot's data sets, not only across the runs of one.
+    const std::vector<std::string> names = set_names(runs, o);
+    std::vector<std::string> distinct = names;
+    std::sort(distinct.begin(), distinct.end());
+    distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+    if (distinct.size() >= 3 && boot.size() == runs.size()) {
+      std::vector<fit_detail::UnitRows> merged(distinct.size());
+      for (std::size_t i = 0; i < runs.size(); ++i) {
+        const auto g = static_cast<std::size_t>(
+            std::lower_bound(distinct.begin(), distinct.end(), names[i]) - distinct.begin());
+        fit_detail::UnitRows& m = merged[g];
+        const Eigen::Index old_rows = m.residual.size();
+        const Eigen::Index add = rows[i].residual.size();
+        Eigen::VectorXd residual(old_rows + add);
+        Eigen::MatrixXd jacobian(old_rows + add, main.p.size());
+        residual << m.residual, rows[i].residual;
+        if (old_rows > 0) {
+          jacobian.topRows(old_rows) = m.jacobian;
+        }
+        jacobian.bottomRows(add) = rows[i].jacobian;
+        m.residual = std::move(residual);
+        m.jacobian = std::move(jacobian);
+      }
+      rows = std::move(merged);
+      r.clusters = "set";
+      r.bootstrap_units = rows.size();
+    }
+    ci = fit_detail::cluster_interval(rows, main.p, o.replicates, o.seed, o.level);
   }
   // One unit (a single tape-measure run) shows no scatter between runs: no intervals.
   if (ci.ok) {

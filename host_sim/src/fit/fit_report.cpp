@@ -113,6 +113,7 @@ nlohmann::json fit_result_json(const FitResult& r) {
                   {"counts_per_rev", r.nominal.counts_per_rev}};
   j["bootstrap"] = {{"replicates", r.replicates},
                     {"units", r.bootstrap_units},
+                    {"clusters", r.clusters},
                     {"redrawn", r.redrawn},
                     {"level", r.level},
                     {"seed", r.seed},
@@ -168,8 +169,9 @@ std::string fit_result_text(const FitResult& r) {
   row("e_d", r.e_d, std::nullopt, "");
   row("e_b", r.e_b, std::nullopt, "");
   if (r.replicates > 0) {
-    out << "  bootstrap: B = " << r.replicates << " over " << r.bootstrap_units << " unit(s), seed "
-        << r.seed << ", " << interval_name(r.interval) << " intervals";
+    out << "  bootstrap: B = " << r.replicates << " over " << r.bootstrap_units << " "
+        << (r.clusters == "set" ? "data set(s)" : "unit(s)") << ", seed " << r.seed << ", "
+        << interval_name(r.interval) << " intervals";
     if (r.interval == FitIntervalMethod::percentile) {
       out << line(" widened x%.3f (small sample)\n", r.widen);
     } else {
@@ -205,6 +207,11 @@ std::string fit_result_text(const FitResult& r) {
   }
   out << "Firmware: set c_l " << line("%.6f", r.c_l) << ", set c_r " << line("%.6f", r.c_r)
       << ", set wheelbase_mm " << line("%.4f", r.geometry.wheelbase_mm) << '\n';
+  if (r.geometry.model == FitModelKind::arc_wheelbase) {
+    out << "  (wheelbase_mm is the turn-in-place wheelbase; on an arc of radius R the robot turns "
+           "with b + w·(b_arc − b), w = R/(R + b/2): no firmware parameter holds b_arc yet, so "
+           "for a robot that mostly drives arcs of one radius set that value instead)\n";
+  }
   return out.str();
 }
 

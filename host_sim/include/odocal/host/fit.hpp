@@ -194,9 +194,12 @@ struct FitResult {
   /// Intervals at `level` by FitOptions::interval (absent when B = 0, or with a single unit).
   std::optional<FitInterval> ci_left_mm, ci_right_mm, ci_wheelbase_mm, ci_c_l, ci_c_r;
   FitIntervalMethod interval = FitIntervalMethod::wild_t;
-  std::size_t bootstrap_units = 0;  ///< runs (or pieces of runs) resampled
-  std::uint32_t replicates = 0;     ///< B
-  std::uint32_t redrawn = 0;        ///< percentile: resamples drawn again (determined nothing)
+  std::size_t bootstrap_units = 0;  ///< runs (or pieces of runs, or data sets) resampled
+  /// What the intervals treat as independent: "run" (runs or pieces of runs), or "set" (with 3
+  /// data sets or more, FitOptions::sets: the intervals hold across sets).
+  std::string clusters = "run";
+  std::uint32_t replicates = 0;  ///< B
+  std::uint32_t redrawn = 0;     ///< percentile: resamples drawn again (determined nothing)
   double widen = 1.0;  ///< percentile: each end's distance from the estimate × sqrt(n/(n − 3))
   /// wild_t, student_t: D_L, D_R, b relative CR2 standard errors over runs and their
   /// Bell-McCaffrey degrees of freedom.

@@ -446,6 +446,15 @@ FitModelChoice choose_model(const std::vector<TickLog>& runs, const FitNominal& 
           if (kind == FitModelKind::arc_wheelbase) {
             unsupported = "only one kind of turning in the logs that counts: " + unsupported;
           }
+        } else if (const double apart = std::fabs(full.p[3] - full.p[2]),
+                   scatter = ci.se[2] * full.p[2] + ci.se[3] * full.p[3];
+                   apart <= 2.0 * scatter) {
+          // The two wheelbases must differ by more than twice their run-to-run standard errors
+          // together (a bound on the difference's): else the logs show one wheelbase.
+          unsupported = format(
+              "the two wheelbases differ by %.2f mm, within twice their run-to-run scatter "
+              "(%.2f mm): the logs show one wheelbase",
+              apart, 2.0 * scatter);
         }
       }
     }

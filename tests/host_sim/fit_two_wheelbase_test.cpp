@@ -232,5 +232,46 @@ TEST(FitTwoWheelbases, ARobotWithOneWheelbaseKeepsOne) {
               *std::max_element(chosen.begin(), chosen.end()));
 }
 
+TEST(FitTwoWheelbases, ALagBetweenCountsAndTruthIsEstimated) {
+  const TrueRobot r;
+  const std::vector<Set> sets = data_sets(r, 31);
+  std::vector<TickLog> aligned, late;
+  for (const Set& s : sets) {
+    for (const TickLog& log : s.runs) {
+      aligned.push_back(log);
+      // The counts stamped one 50 ms row late: the row at t holds what was counted at t − 50 ms.
+      TickLog shifted = log;
+      for (std::size_t i = shifted.rows.size() - 1; i > 0; --i) {
+        shifted.rows[i].count_l = log.rows[i - 1].count_l;
+        shifted.rows[i].count_r = log.rows[i - 1].count_r;
+      }
+      late.push_back(shifted);
+    }
+  }
+  FitOptions o = point_only(FitModelKind::one_wheelbase);
+  o.estimate_lag = true;
+  const FitOutcome a = fit_geometry(aligned, nominal(), o);
+  const FitOutcome b = fit_geometry(late, nominal(), o);
+  ASSERT_TRUE(a && b);
+  ASSERT_TRUE(a.result->lag && b.result->lag);
+  std::printf(
+      "lag: aligned %+.4f s, late %+.4f s; D_L %.4f -> %.4f (at estimate %.4f), %+.4f mm "
+      "per 50 ms\n",
+      a.result->lag->estimate_s, b.result->lag->estimate_s,
+      a.result->geometry.wheel_diameter_left_mm, b.result->geometry.wheel_diameter_left_mm,
+      b.result->lag->geometry_at_estimate[0], b.result->lag->per_50ms[0]);
+  // A row is 50 ms; the parabola through the costs at ±50 ms finds the lag to a fifth of that.
+  EXPECT_NEAR(a.result->lag->estimate_s, 0.0, 0.01);
+  EXPECT_NEAR(b.result->lag->estimate_s, 0.05, 0.01);
+  // Refitted at the estimate, the late logs give what the aligned ones give (within 0.02 %, a
+  // fifth of the 0.1 % per 50 ms the issue measured).
+  for (int i = 0; i < 3; ++i) {
+    const double aligned_value = i == 0   ? a.result->geometry.wheel_diameter_left_mm
+                                 : i == 1 ? a.result->geometry.wheel_diameter_right_mm
+                                          : a.result->geometry.wheelbase_mm;
+    EXPECT_NEAR(b.result->lag->geometry_at_estimate[i] / aligned_value, 1.0, 2e-4) << i;
+  }
+}
+
 }  // namespace
 }  // namespace odocal::host

@@ -197,6 +197,38 @@ TEST(FitRealRobot, OneKindOfTurningKeepsOneWheelbaseAndSaysWhy) {
   EXPECT_NE(r.model.kind, FitModelKind::arc_wheelbase);
 }
 
+TEST(FitRealRobot, EachSetsIntervalsHoldWhatTheOtherSetsFit) {
+  // Intervals that hold across data sets of one robot: each set fitted alone (95 % intervals over
+  // its runs) against the fit of the nine others (squares and circles, the chosen model). The
+  // diameters of every set, and the wheelbase of the square sets (their turns are in place, so
+  // they measure wheelbase_mm itself), are checked: 24 intervals; at 95 % one or two may miss
+  // by chance, so at least 85 % must hold.
+  const std::vector<DataSet> sets = load_sets();
+  std::size_t checked = 0, held = 0;
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    FitOptions alone = point_only(std::nullopt);
+    alone.replicates = 500;
+    const FitOutcome own = fit_geometry(sets[s].runs, nominal(), alone);
+    const FitOutcome others = fit_geometry(runs_of(sets, s, false), nominal(), point_only({}));
+    ASSERT_TRUE(own && others);
+    const FitResult& a = *own.result;
+    const FitGeometry& g = others.result->geometry;
+    std::vector<std::pair<FitInterval, double>> pairs = {
+        {*a.ci_left_mm, g.wheel_diameter_left_mm}, {*a.ci_right_mm, g.wheel_diameter_right_mm}};
+    if (sets[s].square) {
+      pairs.push_back({*a.ci_wheelbase_mm, g.wheelbase_mm});
+    }
+    for (const auto& [ci, value] : pairs) {
+      ++checked;
+      held += ci.lo <= value && value <= ci.hi ? 1 : 0;
+      std::printf("%-22s [%.3f, %.3f] %s %.3f\n", sets[s].name.c_str(), ci.lo, ci.hi,
+                  ci.lo <= value && value <= ci.hi ? "holds" : "MISSES", value);
+    }
+  }
+  EXPECT_EQ(checked, 2 * sets.size() + 4);
+  EXPECT_GE(static_cast<double>(held), 0.85 * static_cast<double>(checked));
+}
+
 /// A run along one arc of constant curvature turning `turn_rad`, its truth exact at every row.
 TickLog one_arc(double turn_rad) {
   constexpr double pi = 3.14159265358979323846;

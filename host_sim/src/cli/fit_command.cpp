@@ -1,5 +1,5 @@
 // `odocal fit --log FILE... --wheel-diameter-mm D --wheelbase-mm b --counts-per-rev N
-//  [--holdout FILE...] [--b B] [--seed S] [--level 0.95] [--json]`
+//  [--holdout FILE...] [--b B] [--seed S] [--level 0.95] [--model auto|one|arc|turn-rate] [--json]`
 
 #include "odocal/host/fit_command.hpp"
 
@@ -30,6 +30,7 @@ struct FitCommandOptions {
   std::uint32_t replicates = 500;
   std::uint64_t seed = 1;
   double level = 0.95;
+  std::string model = "auto";
   bool json = false;
 };
 
@@ -72,6 +73,13 @@ int run_fit(const FitCommandOptions& o) {
   options.seed = o.seed;
   options.level = o.level;
   options.progress = progress_printer();
+  if (o.model == "one") {
+    options.model = FitModelKind::one_wheelbase;
+  } else if (o.model == "arc") {
+    options.model = FitModelKind::arc_wheelbase;
+  } else if (o.model == "turn-rate") {
+    options.model = FitModelKind::turn_rate_wheelbase;
+  }
   const FitOutcome outcome = fit_geometry(logs, nominal, options, holdout);
   if (isatty(2) == 1) {
     std::cerr << "\r\033[K" << std::flush;
@@ -138,6 +146,11 @@ void register_fit_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--level", o->level, "interval level")
       ->check(toolkit::number_check("a finite number strictly between 0 and 1 (e.g. 0.95)",
                                     [](double v) { return v > 0.0 && v < 1.0; }))
+      ->capture_default_str();
+  cmd->add_option(
+         "--model", o->model,
+         "auto (chosen by held-out prediction), one, arc or turn-rate (docs/calibration.md)")
+      ->check(CLI::IsMember({"auto", "one", "arc", "turn-rate"}))
       ->capture_default_str();
   cmd->add_flag("--json", o->json, "print one JSON object");
   cmd->callback([o, &exit_code] { exit_code = run_fit(*o); });

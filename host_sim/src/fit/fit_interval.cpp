@@ -20,16 +20,16 @@
 namespace odocal::host::fit_detail {
 namespace {
 
-using Matrix3 = Eigen::Matrix3d;
-using Vector3 = Eigen::Vector3d;
+using Matrix3 = Square;  // the parameters' count square (3 or 4), fixed maximum size
+using Vector3 = Params;
 
 /// Per unit: N_g (scaled JᵀJ), P_g = I + N_g W_g (so that J_gᵀ A_g v = P_g J_gᵀ v), and
 /// s_g = J_gᵀ A_g r_g.
 struct Cluster {
-  Matrix3 n = Matrix3::Zero();
-  Matrix3 w = Matrix3::Zero();
-  Matrix3 pmat = Matrix3::Identity();
-  Vector3 s = Vector3::Zero();
+  Matrix3 n;
+  Matrix3 w;
+  Matrix3 pmat;
+  Vector3 s;
 };
 
 /// Regularized incomplete beta I_x(a, b) by its continued fraction (modified Lentz).
@@ -74,7 +74,8 @@ double student_t_cdf_upper_half(double t, double dof) {
 
 /// CR2 covariance (scaled parameters) of residual sums c_g = J_gᵀ e_g.
 Matrix3 cr2_meat(const std::vector<Cluster>& clusters, const std::vector<Vector3>& c) {
-  Matrix3 meat = Matrix3::Zero();
+  const Eigen::Index np = c.front().size();
+  Matrix3 meat = Matrix3::Zero(np, np);
   for (std::size_t g = 0; g < clusters.size(); ++g) {
     const Vector3 s = clusters[g].pmat * c[g];
     meat.noalias() += s * s.transpose();
@@ -110,13 +111,13 @@ double student_t_quantile(double probability, double dof) {
   return 0.5 * (lo + hi);
 }
 
-std::vector<UnitRows> unit_rows(const std::vector<Unit>& units, const Params& p, double k,
+std::vector<UnitRows> unit_rows(const std::vector<Unit>& units, const Params& p, const ModelSpec& k,
                                 double heading_length_mm) {
   std::vector<UnitRows> out;
   out.reserve(units.size());
   for (const Unit& unit : units) {
     std::vector<double> r;
-    std::vector<Eigen::Vector3d> j;
+    std::vector<Params> j;
     integrate(unit, p, k, true, [&](const TickRow& row, const ModelState& s) {
       if (row.has_xy) {
         r.push_back(s.x - row.x_mm);
@@ -131,7 +132,7 @@ std::vector<UnitRows> unit_rows(const std::vector<Unit>& units, const Params& p,
     });
     UnitRows u;
     u.residual = Eigen::Map<const Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(r.size()));
-    u.jacobian.resize(static_cast<Eigen::Index>(j.size()), 3);
+    u.jacobian.resize(static_cast<Eigen::Index>(j.size()), p.size());
     for (std::size_t i = 0; i < j.size(); ++i) {
       u.jacobian.row(static_cast<Eigen::Index>(i)) = j[i].transpose();
     }
@@ -148,11 +149,14 @@ ClusterInterval cluster_interval(const std::vector<UnitRows>& rows, const Params
     return out;
   }
   // Relative parameters (ln p): columns scaled by p.
+  const Eigen::Index np = p.size();
+  const int npi = static_cast<int>(np);
+  const Matrix3 identity = Matrix3::Identity(np, np);
   std::vector<Cluster> clusters(g_count);
   std::vector<Vector3> c(g_count);
-  Matrix3 jtj = Matrix3::Zero();
+  Matrix3 jtj = Matrix3::Zero(np, np);
   for (std::size_t g = 0; g < g_count; ++g) {
-    const Eigen::MatrixX3d j = rows[g].jacobian * p.asDiagonal();
+    const Eigen::MatrixXd j = rows[g].jacobian * p.asDiagonal();
     clusters[g].n = j.transpose() * j;
     c[g] = j.transpose() * rows[g].residual;
     jtj += clusters[g].n;
@@ -167,9 +171,9 @@ ClusterInterval cluster_interval(const std::vector<UnitRows>& rows, const Params
     // F = Q((1 − λ)^(−1/2) − 1)Qᵀ; U = J_g V S⁻¹, so W_g = V S⁻¹ F S⁻¹ Vᵀ.
     Cluster& cl = clusters[g];
     const Eigen::SelfAdjointEigenSolver<Matrix3> ne(cl.n);
-    const double top = std::max(ne.eigenvalues()[2], 0.0);
-    Vector3 inv_s = Vector3::Zero();
-    for (int i = 0; i < 3; ++i) {
+    const double top = std::max(ne.eigenvalues()[np - 1], 0.0);
+    Vector3 inv_s = Vector3::Zero(np);
+    for (int i = 0; i < npi; ++i) {
       const double v = ne.eigenvalues()[i];
       inv_s[i] = v > 1e-12 * top && v > 0.0 ? 1.0 / std::sqrt(v) : 0.0;
     }
@@ -178,19 +182,19 @@ ClusterInterval cluster_interval(const std::vector<UnitRows>& rows, const Params
                          ne.eigenvectors().transpose();  // S Vᵀ
     const Matrix3 kmat = s_vt * m * s_vt.transpose();
     const Eigen::SelfAdjointEigenSolver<Matrix3> ke(kmat);
-    Vector3 f = Vector3::Zero();
-    for (int i = 0; i < 3; ++i) {
+    Vector3 f = Vector3::Zero(np);
+    for (int i = 0; i < npi; ++i) {
       const double lambda = std::clamp(ke.eigenvalues()[i], 0.0, 1.0 - 1e-6);
       f[i] = 1.0 / std::sqrt(1.0 - lambda) - 1.0;
     }
     const Matrix3 fm = ke.eigenvectors() * f.asDiagonal() * ke.eigenvectors().transpose();
     cl.w = vs * fm * vs.transpose();
-    cl.pmat = Matrix3::Identity() + cl.n * cl.w;
+    cl.pmat = identity + cl.n * cl.w;
     cl.s = cl.pmat * c[g];
   }
   const Matrix3 cov = m * cr2_meat(clusters, c) * m;
   const double tail = 0.5 * (1.0 - level);
-  for (int l = 0; l < 3; ++l) {
+  for (int l = 0; l < npi; ++l) {
     out.se[l] = std::sqrt(std::max(cov(l, l), 0.0));
     // Bell-McCaffrey degrees of freedom: with a_g = A_g J_g M e_l, the G×G matrix
     // diag(|a_g|²) − Sᵀ M S (S's columns J_gᵀ a_g) has trace² / |·|²_F degrees of freedom.
@@ -222,11 +226,11 @@ ClusterInterval cluster_interval(const std::vector<UnitRows>& rows, const Params
   static const double webb[6] = {-std::sqrt(1.5), -1.0, -std::sqrt(0.5),
                                  std::sqrt(0.5),  1.0,  std::sqrt(1.5)};
   calib::Random random(seed);
-  std::vector<double> t_star[3];
+  std::vector<double> t_star[4];
   std::vector<double> weight(g_count);
   std::vector<Vector3> c_star(g_count);
   for (std::uint32_t b = 0; b < replicates; ++b) {
-    Vector3 sum = Vector3::Zero();
+    Vector3 sum = Vector3::Zero(np);
     for (std::size_t g = 0; g < g_count; ++g) {
       weight[g] = webb[random.below(6)];
       sum += weight[g] * clusters[g].s;
@@ -236,12 +240,12 @@ ClusterInterval cluster_interval(const std::vector<UnitRows>& rows, const Params
       c_star[g] = weight[g] * clusters[g].s + clusters[g].n * delta;
     }
     const Matrix3 cov_star = m * cr2_meat(clusters, c_star) * m;
-    for (int l = 0; l < 3; ++l) {
+    for (int l = 0; l < npi; ++l) {
       const double se = std::sqrt(std::max(cov_star(l, l), 0.0));
       t_star[l].push_back(se > 0.0 ? delta[l] / se : 0.0);
     }
   }
-  for (int l = 0; l < 3 && replicates > 0; ++l) {
+  for (int l = 0; l < npi && replicates > 0; ++l) {
     const double q_hi = quantile_of(t_star[l], 1.0 - tail);
     const double q_lo = quantile_of(t_star[l], tail);
     out.lo[l] = p[l] * (1.0 - q_hi * out.se[l]);

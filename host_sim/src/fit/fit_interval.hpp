@@ -12,23 +12,23 @@ namespace odocal::host::fit_detail {
 
 /// Residuals and Jacobian rows of one bootstrap unit at the fitted parameters.
 struct UnitRows {
-  Eigen::MatrixX3d jacobian;  ///< ∂r/∂(D_L, D_R, b), one row per residual
-  Eigen::VectorXd residual;   ///< model − ground truth (mm; heading × heading_length_mm)
+  Eigen::MatrixXd jacobian;  ///< ∂r/∂(parameters), one row per residual
+  Eigen::VectorXd residual;  ///< model − ground truth (mm; heading × heading_length_mm)
 };
 
 /// Collects every unit's residuals and Jacobian rows at `p`.
 [[nodiscard]] std::vector<UnitRows> unit_rows(const std::vector<Unit>& units, const Params& p,
-                                              double k, double heading_length_mm);
+                                              const ModelSpec& spec, double heading_length_mm);
 
 /// What the interval computation gives per parameter.
 struct ClusterInterval {
   bool ok = false;
-  double se[3] = {0, 0, 0};   ///< CR2 cluster-robust standard error, relative to p
-  double dof[3] = {0, 0, 0};  ///< Bell-McCaffrey degrees of freedom
-  double lo[3] = {0, 0, 0};   ///< wild bootstrap-t interval ends
-  double hi[3] = {0, 0, 0};
-  double t_lo[3] = {0, 0, 0};  ///< Student-t (Bell-McCaffrey) interval ends
-  double t_hi[3] = {0, 0, 0};
+  double se[4] = {0, 0, 0, 0};   ///< CR2 cluster-robust standard error, relative to p
+  double dof[4] = {0, 0, 0, 0};  ///< Bell-McCaffrey degrees of freedom
+  double lo[4] = {0, 0, 0, 0};   ///< wild bootstrap-t interval ends
+  double hi[4] = {0, 0, 0, 0};
+  double t_lo[4] = {0, 0, 0, 0};  ///< Student-t (Bell-McCaffrey) interval ends
+  double t_hi[4] = {0, 0, 0, 0};
 };
 
 /// Wild cluster bootstrap-t: the units' (CR2-adjusted) residuals are multiplied by one random

@@ -1,6 +1,11 @@
 #pragma once
 // Internal to host_sim/src/fit: the odometry model of a run and its normal equations.
 
+// Eigen's matrices of dynamic size with a fixed maximum (no allocation) leave their unused
+// storage unset: GCC 12 cannot see that no code reads it and warns.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <Eigen/Dense>
 #include <cmath>
 #include <cstddef>
@@ -21,32 +26,58 @@ struct Unit {
   std::size_t end = 0;
 };
 
-/// Parameters (D_L, D_R, b), mm.
-using Params = Eigen::Vector3d;
+/// Parameters, mm: (D_L, D_R, b) for the one-wheelbase model, (D_L, D_R, b_turn, b_arc) for the
+/// arc-wheelbase model, (D_L, D_R, b_still, b_1radps) for the turn-rate model (FitModelKind).
+/// At most four: fixed maximum size, no allocation in the inner loops.
+using Params = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 4, 1>;
+using Square = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4>;
 
-/// Pose (mm, rad) and its derivatives with respect to the three parameters.
+/// Number of parameters of a model.
+inline int parameter_count(FitModelKind kind) {
+  return kind == FitModelKind::one_wheelbase ? 3 : 4;
+}
+
+/// What the model needs besides the parameters.
+struct ModelSpec {
+  FitModelKind kind = FitModelKind::one_wheelbase;
+  double k = 0.0;  ///< π / counts_per_rev: mm per count per mm of diameter
+  /// Turn-rate model: rad/s of turn per (count difference per second), from the nominal geometry.
+  double rate_per_count_s = 0.0;
+};
+
+/// The blend weight of a row of the arc-wheelbase model: forward over forward plus differential
+/// wheel travel, counted in encoder counts (as the firmware counts them): 0 for a turn in place,
+/// 1 for a straight line, R/(R + b/2) on an arc of radius R.
+inline double arc_weight(double count_l, double count_r) {
+  const double forward = std::fabs(count_l + count_r);
+  const double differential = std::fabs(count_r - count_l);
+  const double sum = forward + differential;
+  return sum > 0.0 ? forward / sum : 0.0;
+}
+
+/// Pose (mm, rad) and its derivatives with respect to the parameters.
 struct ModelState {
   double x = 0.0, y = 0.0, theta = 0.0;
-  Eigen::Vector3d dx = Eigen::Vector3d::Zero();
-  Eigen::Vector3d dy = Eigen::Vector3d::Zero();
-  Eigen::Vector3d dtheta = Eigen::Vector3d::Zero();
+  Params dx, dy, dtheta;
+  explicit ModelState(int n) : dx(Params::Zero(n)), dy(Params::Zero(n)), dtheta(Params::Zero(n)) {}
 };
 
 /// Integrates the unit's odometry with parameters `p` (mm) and calls
 /// `visit(row, state)` at every row after the start that has ground truth. With `jacobian`, the
-/// derivatives are carried too. `mm_per_count_per_mm` = π / counts_per_rev: a wheel of diameter D
-/// moves D·π/N mm per count.
+/// derivatives are carried too. A wheel of diameter D moves D·k mm per count.
 template <typename Visit>
-void integrate(const Unit& unit, const Params& p, double mm_per_count_per_mm, bool jacobian,
+void integrate(const Unit& unit, const Params& p, const ModelSpec& spec, bool jacobian,
                Visit&& visit) {
   const std::vector<TickRow>& rows = unit.log->rows;
-  ModelState s;
+  const int n = static_cast<int>(p.size());
+  const double k = spec.k;
+  ModelState s(n);
   const TickRow& start = rows[unit.begin];
   if (start.has_xy && start.has_theta) {
     // The start pose: the first row's truth, averaged over the rows after it at which the wheels
     // have not turned yet (motion capture of a robot at rest: its jitter averages out).
     double sx = 0.0, sy = 0.0, st = 0.0;
-    std::size_t n = 0;
+    std::size_t count = 0;
     for (std::size_t i = unit.begin; i < unit.end; ++i) {
       const TickRow& row = rows[i];
       if (row.count_l != start.count_l || row.count_r != start.count_r) {
@@ -56,20 +87,42 @@ void integrate(const Unit& unit, const Params& p, double mm_per_count_per_mm, bo
         sx += row.x_mm;
         sy += row.y_mm;
         st += std::remainder((row.theta_deg - start.theta_deg) * pi / 180.0, 2.0 * pi);
-        ++n;
+        ++count;
       }
     }
-    s.x = sx / static_cast<double>(n);
-    s.y = sy / static_cast<double>(n);
-    s.theta = start.theta_deg * pi / 180.0 + st / static_cast<double>(n);
+    s.x = sx / static_cast<double>(count);
+    s.y = sy / static_cast<double>(count);
+    s.theta = start.theta_deg * pi / 180.0 + st / static_cast<double>(count);
   }
+  Params ds_d = Params::Zero(n);
+  Params dtheta_d = Params::Zero(n);
+  Params chord_d = Params::Zero(n);
+  Params mid_d = Params::Zero(n);
   for (std::size_t i = unit.begin + 1; i < unit.end; ++i) {
-    const double a = mm_per_count_per_mm * (rows[i].count_l - rows[i - 1].count_l);
-    const double c = mm_per_count_per_mm * (rows[i].count_r - rows[i - 1].count_r);
+    const double count_l = rows[i].count_l - rows[i - 1].count_l;
+    const double count_r = rows[i].count_r - rows[i - 1].count_r;
+    const double a = k * count_l;
+    const double c = k * count_r;
     const double dl = a * p[0];
     const double dr = c * p[1];
     const double ds = 0.5 * (dl + dr);
-    const double dtheta = (dr - dl) / p[2];
+    // The wheelbase in force over this row, and its derivatives along p[2] and p[3].
+    double b = p[2];
+    double b_d2 = 1.0, b_d3 = 0.0;
+    if (spec.kind == FitModelKind::arc_wheelbase) {
+      const double w = arc_weight(count_l, count_r);
+      b = (1.0 - w) * p[2] + w * p[3];
+      b_d2 = 1.0 - w;
+      b_d3 = w;
+    } else if (spec.kind == FitModelKind::turn_rate_wheelbase) {
+      const double dt = rows[i].t_s - rows[i - 1].t_s;
+      const double rate =
+          dt > 0.0 ? spec.rate_per_count_s * std::fabs(count_r - count_l) / dt : 0.0;
+      b = p[2] + rate * (p[3] - p[2]);
+      b_d2 = 1.0 - rate;
+      b_d3 = rate;
+    }
+    const double dtheta = (dr - dl) / b;
     const double h = 0.5 * dtheta;
     // sinc(h) = sin(h)/h and its derivative; series where cancellation would cost digits.
     double sinc = 0.0;
@@ -87,10 +140,16 @@ void integrate(const Unit& unit, const Params& p, double mm_per_count_per_mm, bo
     const double sm = std::sin(mid);
     const double chord = ds * sinc;  // chord of an arc of length ds turning dtheta
     if (jacobian) {
-      const Eigen::Vector3d ds_d(0.5 * a, 0.5 * c, 0.0);
-      const Eigen::Vector3d dtheta_d(-a / p[2], c / p[2], -dtheta / p[2]);
-      const Eigen::Vector3d chord_d = ds_d * sinc + (ds * sinc_dh * 0.5) * dtheta_d;
-      const Eigen::Vector3d mid_d = s.dtheta + 0.5 * dtheta_d;
+      ds_d[0] = 0.5 * a;
+      ds_d[1] = 0.5 * c;
+      dtheta_d[0] = -a / b;
+      dtheta_d[1] = c / b;
+      dtheta_d[2] = -dtheta / b * b_d2;
+      if (n > 3) {
+        dtheta_d[3] = -dtheta / b * b_d3;
+      }
+      chord_d = ds_d * sinc + (ds * sinc_dh * 0.5) * dtheta_d;
+      mid_d = s.dtheta + 0.5 * dtheta_d;
       s.dx += chord_d * cm - (chord * sm) * mid_d;
       s.dy += chord_d * sm + (chord * cm) * mid_d;
       s.dtheta += dtheta_d;
@@ -108,8 +167,8 @@ void integrate(const Unit& unit, const Params& p, double mm_per_count_per_mm, bo
 struct Normal {
   double cost = 0.0;
   std::size_t residuals = 0;
-  Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
+  Square jtj;
+  Params jtr;
 };
 
 /// Heading difference wrapped to (−π, π]: unwrapped ground truth compares correctly.
@@ -118,9 +177,12 @@ inline double heading_error(double model_rad, const TickRow& row) {
 }
 
 inline Normal normal_equations(const std::vector<Unit>& units, const std::vector<std::size_t>& pick,
-                               const Params& p, double k, double heading_length_mm, bool jacobian) {
+                               const Params& p, const ModelSpec& spec, double heading_length_mm,
+                               bool jacobian) {
   Normal n;
-  const auto add = [&](double r, const Eigen::Vector3d& j) {
+  n.jtj = Square::Zero(p.size(), p.size());
+  n.jtr = Params::Zero(p.size());
+  const auto add = [&](double r, const Params& j) {
     n.cost += r * r;
     ++n.residuals;
     if (jacobian) {
@@ -129,7 +191,7 @@ inline Normal normal_equations(const std::vector<Unit>& units, const std::vector
     }
   };
   for (const std::size_t u : pick) {
-    integrate(units[u], p, k, jacobian, [&](const TickRow& row, const ModelState& s) {
+    integrate(units[u], p, spec, jacobian, [&](const TickRow& row, const ModelState& s) {
       if (row.has_xy) {
         add(s.x - row.x_mm, s.dx);
         add(s.y - row.y_mm, s.dy);

@@ -66,6 +66,46 @@ nlohmann::json fit_result_json(const FitResult& r) {
              {"wheelbase_mm", interval_json(r.ci_wheelbase_mm)},
              {"c_l", interval_json(r.ci_c_l)},
              {"c_r", interval_json(r.ci_c_r)}};
+  if (r.geometry.model != FitModelKind::one_wheelbase) {
+    const char* name = r.geometry.model == FitModelKind::arc_wheelbase ? "wheelbase_arc_mm"
+                                                                       : "wheelbase_at_1radps_mm";
+    j[name] = r.geometry.second_wheelbase_mm;
+    j["ci"][name] = interval_json(r.ci_second_wheelbase_mm);
+  }
+  nlohmann::json candidates = nlohmann::json::array();
+  for (const FitCandidate& c : r.model.candidates) {
+    candidates.push_back({{"name", model_name(c.kind)},
+                          {"tried", c.tried},
+                          {"supported", c.supported},
+                          {"heldout_path_rms_mm", c.tried ? nlohmann::json(c.heldout_path_rms_mm)
+                                                          : nlohmann::json(nullptr)},
+                          {"folds", c.folds},
+                          {"note", c.note}});
+  }
+  j["model"] = {
+      {"name", model_name(r.model.kind)},
+      {"reason", r.model.reason},
+      {"left_out", r.model.unit.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.model.unit)},
+      {"candidates", candidates}};
+  if (r.lag) {
+    const int np = r.geometry.model == FitModelKind::one_wheelbase ? 3 : 4;
+    const char* names[4] = {"wheel_diameter_left_mm", "wheel_diameter_right_mm", "wheelbase_mm",
+                            r.geometry.model == FitModelKind::arc_wheelbase
+                                ? "wheelbase_arc_mm"
+                                : "wheelbase_at_1radps_mm"};
+    nlohmann::json per = nlohmann::json::object();
+    nlohmann::json at = nlohmann::json::object();
+    for (int i = 0; i < np; ++i) {
+      per[names[i]] = r.lag->per_50ms[i];
+      at[names[i]] = r.lag->geometry_at_estimate[i];
+    }
+    j["time_lag"] = {{"estimate_s", r.lag->estimate_s},
+                     {"per_50ms", per},
+                     {"at_estimate", at},
+                     {"within_intervals", r.lag->within_intervals}};
+  } else {
+    j["time_lag"] = nullptr;
+  }
   j["fit"] = figures_json(r.fit);
   j["holdout"] = r.holdout ? figures_json(*r.holdout) : nlohmann::json(nullptr);
   j["nominal"] = {{"wheel_diameter_mm", r.nominal.wheel_diameter_mm},
@@ -73,6 +113,7 @@ nlohmann::json fit_result_json(const FitResult& r) {
                   {"counts_per_rev", r.nominal.counts_per_rev}};
   j["bootstrap"] = {{"replicates", r.replicates},
                     {"units", r.bootstrap_units},
+                    {"clusters", r.clusters},
                     {"redrawn", r.redrawn},
                     {"level", r.level},
                     {"seed", r.seed},
@@ -89,6 +130,11 @@ nlohmann::json fit_result_json(const FitResult& r) {
   j["relative_sd"] = {{"wheel_diameter_left_mm", r.relative_sd[0]},
                       {"wheel_diameter_right_mm", r.relative_sd[1]},
                       {"wheelbase_mm", r.relative_sd[2]}};
+  if (r.geometry.model != FitModelKind::one_wheelbase) {
+    j["relative_sd"][r.geometry.model == FitModelKind::arc_wheelbase ? "wheelbase_arc_mm"
+                                                                     : "wheelbase_at_1radps_mm"] =
+        r.relative_sd[3];
+  }
   j["heading_length_mm"] = r.heading_length_mm;
   j["iterations"] = r.iterations;
   return j;
@@ -113,13 +159,19 @@ std::string fit_result_text(const FitResult& r) {
   row("wheel_diameter_left_mm", r.geometry.wheel_diameter_left_mm, r.ci_left_mm, "mm");
   row("wheel_diameter_right_mm", r.geometry.wheel_diameter_right_mm, r.ci_right_mm, "mm");
   row("wheelbase_mm", r.geometry.wheelbase_mm, r.ci_wheelbase_mm, "mm");
+  if (r.geometry.model == FitModelKind::arc_wheelbase) {
+    row("wheelbase_arc_mm", r.geometry.second_wheelbase_mm, r.ci_second_wheelbase_mm, "mm");
+  } else if (r.geometry.model == FitModelKind::turn_rate_wheelbase) {
+    row("wheelbase_at_1radps_mm", r.geometry.second_wheelbase_mm, r.ci_second_wheelbase_mm, "mm");
+  }
   row("c_l", r.c_l, r.ci_c_l, "");
   row("c_r", r.c_r, r.ci_c_r, "");
   row("e_d", r.e_d, std::nullopt, "");
   row("e_b", r.e_b, std::nullopt, "");
   if (r.replicates > 0) {
-    out << "  bootstrap: B = " << r.replicates << " over " << r.bootstrap_units << " unit(s), seed "
-        << r.seed << ", " << interval_name(r.interval) << " intervals";
+    out << "  bootstrap: B = " << r.replicates << " over " << r.bootstrap_units << " "
+        << (r.clusters == "set" ? "data set(s)" : "unit(s)") << ", seed " << r.seed << ", "
+        << interval_name(r.interval) << " intervals";
     if (r.interval == FitIntervalMethod::percentile) {
       out << line(" widened x%.3f (small sample)\n", r.widen);
     } else {
@@ -130,6 +182,22 @@ std::string fit_result_text(const FitResult& r) {
   } else {
     out << "  no bootstrap (B = 0): no intervals\n";
   }
+  out << "Model: " << model_name(r.model.kind) << " (" << r.model.reason << ")\n";
+  for (const FitCandidate& c : r.model.candidates) {
+    out << "  " << model_name(c.kind) << ": "
+        << (c.tried ? line("held-out path RMS %.2f mm", c.heldout_path_rms_mm) : "")
+        << (c.tried && !c.note.empty() ? "; " : "") << c.note << '\n';
+  }
+  if (r.lag) {
+    out << line(
+               "Time lag of the counts behind the ground truth: %+.3f s (diameters move "
+               "%+.3f / %+.3f mm",
+               r.lag->estimate_s, r.lag->per_50ms[0], r.lag->per_50ms[1])
+        << line(", the wheelbase %+.3f mm per +50 ms)\n", r.lag->per_50ms[2])
+        << (r.lag->within_intervals ? ""
+                                    : "  warning: corrected for that lag the fit leaves its "
+                                      "intervals: check the clocks of counts and ground truth\n");
+  }
   out << "Accuracy, nominal -> fitted geometry:\n";
   out << figures_text("fit", r.fit);
   if (r.holdout) {
@@ -139,6 +207,11 @@ std::string fit_result_text(const FitResult& r) {
   }
   out << "Firmware: set c_l " << line("%.6f", r.c_l) << ", set c_r " << line("%.6f", r.c_r)
       << ", set wheelbase_mm " << line("%.4f", r.geometry.wheelbase_mm) << '\n';
+  if (r.geometry.model == FitModelKind::arc_wheelbase) {
+    out << "  (wheelbase_mm is the turn-in-place wheelbase; on an arc of radius R the robot turns "
+           "with b + w·(b_arc − b), w = R/(R + b/2): no firmware parameter holds b_arc yet, so "
+           "for a robot that mostly drives arcs of one radius set that value instead)\n";
+  }
   return out.str();
 }
 

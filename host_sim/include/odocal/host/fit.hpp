@@ -65,11 +65,30 @@ struct FitNominal {
   double counts_per_rev = 1440.0;   ///< counts per wheel turn after x4 decoding; may be fractional
 };
 
+/// Which geometry describes the robot (docs/calibration.md "Models"; DESIGN "Real-robot model").
+enum class FitModelKind {
+  one_wheelbase,  ///< D_L, D_R and one wheelbase b
+  /// D_L, D_R, b (turns in place) and wheelbase_arc_mm: the wheelbase in force over a stretch is
+  /// b + w·(b_arc − b), w = |n_L + n_R| / (|n_L + n_R| + |n_R − n_L|) from its encoder counts
+  /// (0 turning in place, R/(R + b/2) on an arc of radius R, 1 straight).
+  arc_wheelbase,
+  /// D_L, D_R, b (at rest) and the wheelbase at 1 rad/s of turn rate, linear in |ω| between (|ω|
+  /// from the counts and the nominal geometry): a comparison candidate (slip growing with the
+  /// turn rate).
+  turn_rate_wheelbase,
+};
+
+/// "one-wheelbase", "arc-wheelbase", "turn-rate-wheelbase".
+[[nodiscard]] const char* model_name(FitModelKind kind);
+
 /// The estimated geometry.
 struct FitGeometry {
   double wheel_diameter_left_mm = 0.0;
   double wheel_diameter_right_mm = 0.0;
-  double wheelbase_mm = 0.0;
+  double wheelbase_mm = 0.0;  ///< the wheelbase for turns in place (or the one wheelbase)
+  FitModelKind model = FitModelKind::one_wheelbase;
+  /// arc_wheelbase: wheelbase_arc_mm; turn_rate_wheelbase: the wheelbase at 1 rad/s; else unused.
+  double second_wheelbase_mm = 0.0;
 };
 
 /// Receives one-line progress messages during the bootstrap ("fit: bootstrap 200/1000").
@@ -102,6 +121,20 @@ struct FitOptions {
   /// along the path are cut into pieces (each restarting at its first row's ground truth) so that
   /// there are about this many units to resample.
   std::size_t min_units = 6;
+  /// The model: forced, or (empty) chosen by held-out prediction (FitModelChoice).
+  std::optional<FitModelKind> model;
+  /// Data set of each run (same length as the runs, or empty: the folder of each log's source).
+  /// Model selection leaves out one set at a time when there are 3 sets or more, else one run.
+  std::vector<std::string> sets;
+  /// A richer model is chosen only when its held-out path RMS is below the simpler one's by this
+  /// fraction or more.
+  double min_gain = 0.02;
+  /// A model with two wheelbases is tried only when the logs fix each to this relative CR2
+  /// standard error over runs or better (a fifth of the 1.3 mm between the June robot's turns in
+  /// place and arcs, relative to its 200 mm).
+  double max_wheelbase_sd = 0.0013;
+  /// Estimate the time lag between counts and ground truth (two refits per probe).
+  bool estimate_lag = true;
   FitProgressFn progress;  ///< called from the calling thread only (the bootstrap uses two)
 };
 
@@ -120,8 +153,39 @@ struct FitInterval {
   double hi = 0.0;
 };
 
+/// One model tried: its held-out path RMS (mm; every ground-truth row of every left-out set or
+/// run, each predicted by a fit of the others), or why it was not tried.
+struct FitCandidate {
+  FitModelKind kind = FitModelKind::one_wheelbase;
+  bool tried = false;      ///< held-out prediction computed
+  bool supported = false;  ///< the logs determine its parameters: it may be chosen
+  double heldout_path_rms_mm = 0.0;
+  std::size_t folds = 0;
+  std::string note;  ///< why not tried or not supported, or ""
+};
+
+/// Which model was used and why.
+struct FitModelChoice {
+  FitModelKind kind = FitModelKind::one_wheelbase;
+  std::string reason;
+  std::string unit;  ///< "set" or "run": what each fold left out ("" when nothing was compared)
+  std::vector<FitCandidate> candidates;
+};
+
+/// Time lag between counts and ground truth: the shift of the counts' clock that fits best, and
+/// how much each parameter moves per 50 ms of shift (the result's sensitivity to it).
+struct FitLag {
+  double estimate_s = 0.0;  ///< > 0: the counts were stamped late (count at t happened at t − lag)
+  double per_50ms[4] = {0, 0, 0, 0};              ///< D_L, D_R, b, second wheelbase: mm per +50 ms
+  double geometry_at_estimate[4] = {0, 0, 0, 0};  ///< the fit with the counts shifted by it
+  bool within_intervals = true;                   ///< the shifted fit stays inside the intervals
+};
+
 struct FitResult {
   FitGeometry geometry;
+  FitModelChoice model;
+  std::optional<FitInterval> ci_second_wheelbase_mm;  ///< the model's second wheelbase
+  std::optional<FitLag> lag;
   FitNominal nominal;
   double c_l = 1.0;  ///< D_L / D (the firmware's c_l)
   double c_r = 1.0;  ///< D_R / D
@@ -130,21 +194,24 @@ struct FitResult {
   /// Intervals at `level` by FitOptions::interval (absent when B = 0, or with a single unit).
   std::optional<FitInterval> ci_left_mm, ci_right_mm, ci_wheelbase_mm, ci_c_l, ci_c_r;
   FitIntervalMethod interval = FitIntervalMethod::wild_t;
-  std::size_t bootstrap_units = 0;  ///< runs (or pieces of runs) resampled
-  std::uint32_t replicates = 0;     ///< B
-  std::uint32_t redrawn = 0;        ///< percentile: resamples drawn again (determined nothing)
+  std::size_t bootstrap_units = 0;  ///< runs (or pieces of runs, or data sets) resampled
+  /// What the intervals treat as independent: "run" (runs or pieces of runs), or "set" (with 3
+  /// data sets or more, FitOptions::sets: the intervals hold across sets).
+  std::string clusters = "run";
+  std::uint32_t replicates = 0;  ///< B
+  std::uint32_t redrawn = 0;     ///< percentile: resamples drawn again (determined nothing)
   double widen = 1.0;  ///< percentile: each end's distance from the estimate × sqrt(n/(n − 3))
   /// wild_t, student_t: D_L, D_R, b relative CR2 standard errors over runs and their
   /// Bell-McCaffrey degrees of freedom.
-  double cluster_sd[3] = {0, 0, 0};
-  double dof[3] = {0, 0, 0};
+  double cluster_sd[4] = {0, 0, 0, 0};
+  double dof[4] = {0, 0, 0, 0};
   double level = 0.95;
   std::uint64_t seed = 0;
   double heading_length_mm = 0.0;
-  std::size_t iterations = 0;         ///< Levenberg-Marquardt iterations of the main fit
-  double relative_sd[3] = {0, 0, 0};  ///< D_L, D_R, b relative standard deviations (linearised)
-  FitFigures fit;                     ///< on the logs fitted
-  std::optional<FitFigures> holdout;  ///< on the held-out logs, when given
+  std::size_t iterations = 0;            ///< Levenberg-Marquardt iterations of the main fit
+  double relative_sd[4] = {0, 0, 0, 0};  ///< D_L, D_R, b (, second) relative sd (linearised)
+  FitFigures fit;                        ///< on the logs fitted
+  std::optional<FitFigures> holdout;     ///< on the held-out logs, when given
 };
 
 /// Why the data cannot give a result.

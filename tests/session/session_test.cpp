@@ -20,8 +20,10 @@
 #include <nlohmann/json.hpp>
 
 #include "odocal/calib/umbmark.hpp"
+#include "session_harness.hpp"
 
 namespace {
+using namespace odocal_session_test;
 
 using nlohmann::json;
 
@@ -38,110 +40,6 @@ const char* const robot_json =
         "true_left_diameter_mm": 59.85, "true_right_diameter_mm": 60.15,
         "true_wheelbase_mm": 153, "slip_sigma": 0, "bump_height_mm": 0,
         "measure_sigma_mm": 2})";
-
-std::string bin(const std::string& name) {
-  return std::string(ODOCAL_SESSION_BIN_DIR) + "/" + name;
-}
-
-std::string temp(const std::string& name) {
-  return ::testing::TempDir() + "odocal_session_" + name;
-}
-
-std::string write(const std::string& name, const std::string& content) {
-  const std::string path = temp(name);
-  std::ofstream(path, std::ios::binary) << content;
-  return path;
-}
-
-bool exists(const std::string& path) {
-  struct stat info {};
-  return ::stat(path.c_str(), &info) == 0;
-}
-
-struct Result {
-  int status = -1;
-  std::string out;
-  std::string err;
-};
-
-Result shell(const std::string& command) {
-  const std::string err_file = temp("stderr.txt");
-  Result r;
-  FILE* pipe = popen((command + " 2>" + err_file).c_str(), "r");
-  if (pipe == nullptr) {
-    return r;
-  }
-  char buffer[4096];
-  std::size_t n = 0;
-  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) {
-    r.out.append(buffer, n);
-  }
-  const int raw = pclose(pipe);
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  std::ifstream err(err_file);
-  std::stringstream text;
-  text << err.rdbuf();
-  r.err = text.str();
-  return r;
-}
-
-/// `odocal session ARGS`, stdin from `input` (a file; /dev/null by default: no terminal).
-Result session(const std::string& args, const std::string& input = "/dev/null") {
-  return shell(bin("odocal") + " session " + args + " <" + input);
-}
-
-json parse(const Result& r) {
-  EXPECT_EQ(r.status, 0) << r.err;
-  json doc = json::parse(r.out, nullptr, false);
-  EXPECT_TRUE(doc.is_object()) << r.out << r.err;
-  return doc;
-}
-
-/// What a restarted odocal-sim with `store` holds: `get NAME` through scripted stdin.
-double stored(const std::string& robot, const std::string& store, const std::string& name) {
-  const std::string script = write("get.txt", "get " + name + "\n");
-  const Result r =
-      shell(bin("odocal-sim") + " --robot " + robot + " --store " + store + " <" + script);
-  const auto at = r.out.find(name + "=");
-  EXPECT_NE(at, std::string::npos) << r.out << r.err;
-  return at == std::string::npos ? NAN : std::atof(r.out.c_str() + at + name.size() + 1);
-}
-
-/// odocal-sim on a pty, as a robot on a serial port would be.
-class SimOnPty {
- public:
-  SimOnPty(const std::string& robot, const std::string& store) {
-    int out[2];
-    EXPECT_EQ(::pipe(out), 0);
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      ::dup2(out[1], STDOUT_FILENO);
-      ::close(out[0]);
-      ::execl(bin("odocal-sim").c_str(), "odocal-sim", "--pty", "--speed", "0", "--robot",
-              robot.c_str(), "--store", store.c_str(), static_cast<char*>(nullptr));
-      ::_exit(127);
-    }
-    ::close(out[1]);
-    std::string line;
-    char c = 0;
-    while (::read(out[0], &c, 1) == 1 && c != '\n') {
-      line += c;
-    }
-    ::close(out[0]);
-    const auto at = line.find("/dev/");
-    path_ = at == std::string::npos ? "" : line.substr(at);
-  }
-  ~SimOnPty() {
-    ::kill(pid_, SIGTERM);
-    int status = 0;
-    ::waitpid(pid_, &status, 0);
-  }
-  const std::string& path() const { return path_; }
-
- private:
-  pid_t pid_ = -1;
-  std::string path_;
-};
 
 /// UMBmark's first-order standard error of β (rad) for a per-axis run scatter `s_mm`, n runs per
 /// direction, side L: each of β's x- and y-based estimates is (x_cw − x_ccw)/(−4L), averaged.
@@ -210,8 +108,11 @@ TEST(Session, SimUmbmarkRecoversTheHiddenRobotAndTheFactorsSurviveARestart) {
     EXPECT_TRUE(exists(out + "/" + file)) << file;
   }
   // The CSVs are what `odocal umbmark` reads, and give the same first-pass answer.
+  // (With the solver the session used for that pass.)
+  const bool exact = doc["result"]["passes"][0]["solver"] == "exact";
   const Result again = shell(bin("odocal") + " umbmark --side-mm 2000 --wheelbase-mm 150 --cw " +
-                             out + "/umbmark_cw.csv --ccw " + out + "/umbmark_ccw.csv --json");
+                             out + "/umbmark_cw.csv --ccw " + out + "/umbmark_ccw.csv --json" +
+                             (exact ? " --exact" : ""));
   ASSERT_EQ(again.status, 0) << again.err;
   EXPECT_NEAR(json::parse(again.out)["e_d"].get<double>(), doc["result"]["e_d"].get<double>(),
               1e-9);
@@ -265,7 +166,7 @@ TEST(Session, ThroughAPtyWithScriptedMeasurements) {
   const std::string out = temp("pty_out");
   std::system(("rm -rf " + out).c_str());
   const json doc = parse(session("--port " + sim.path() +
-                                 " --procedure umbmark --side-m 1 --runs 2 "
+                                 " --procedure umbmark --side-m 1 --runs 2 --no-wait "
                                  "--json --out " +
                                  out + " --measurements " + write("pty.csv", csv)));
   ASSERT_TRUE(doc.is_object());
@@ -290,14 +191,19 @@ TEST(Session, TypedMeasurementsAreAskedAgainUntilTheyMakeSense) {
   std::remove(store.c_str());
   SimOnPty sim(robot, store);
   ASSERT_FALSE(sim.path().empty());
+  // Enter before each run (the user's moment), then the reading after it.
   const std::string typed = write("typed.txt",
+                                  "\n"
                                   "abc\n"
                                   "abc 2\n"
                                   "1 2 3 4\n"
                                   "\n"
                                   "-40 -45\n"  // scattered about the origin: no second
-                                  "41, 44\n"   // pass is expected to help
+                                  "\n"
+                                  "41, 44\n"  // pass is expected to help
+                                  "\n"
                                   "-5 8 0.5\n"
+                                  "\n"
                                   "6 -9\n");
   const std::string out = temp("typed_out");
   std::system(("rm -rf " + out).c_str());
@@ -321,7 +227,7 @@ TEST(Session, TypedMeasurementsAreAskedAgainUntilTheyMakeSense) {
                                          " --procedure umbmark --side-m 1 "
                                          "--runs 2 --yes --out " +
                                          temp("typed_out2"),
-                                     write("typed2.txt", "1 2\n"));
+                                     write("typed2.txt", "\n1 2\n\n"));
   EXPECT_EQ(short_input.status, 2);
   EXPECT_NE(short_input.err.find("no measurement for run 2"), std::string::npos) << short_input.err;
 }
@@ -384,6 +290,7 @@ TEST(Session, ABusyPortIsRefused) {
 }  // namespace
 
 namespace {
+using namespace odocal_session_test;
 
 TEST(Session, LateralRecoversTheWheelRatioAndTheDistanceScale) {
   // A robot whose wheels differ but whose wheelbase is right (what UMBmark leaves to Maddahi):
@@ -471,6 +378,7 @@ TEST(Session, VerifyAfterUmbmarkShowsTheImprovementAndKeepsTheFactors) {
 }  // namespace
 
 namespace {
+using namespace odocal_session_test;
 
 TEST(Session, FitFromLoggedRunsRecoversTheTrueGeometry) {
   const std::string robot = write("robot.json", robot_json);
@@ -511,6 +419,7 @@ TEST(Session, FitFromLoggedRunsRecoversTheTrueGeometry) {
 }  // namespace
 
 namespace {
+using namespace odocal_session_test;
 
 TEST(Session, AtATerminalItAsksBeforeSavingAndSavesOnYes) {
   // The person's terminal is a pty too: odocal's stdin is its slave, the test types on the master.
@@ -524,7 +433,7 @@ TEST(Session, AtATerminalItAsksBeforeSavingAndSavesOnYes) {
   ASSERT_EQ(::grantpt(master), 0);
   ASSERT_EQ(::unlockpt(master), 0);
   const std::string slave = ::ptsname(master);
-  const std::string typed = "-40 -45\n41 44\n-5 8\n6 -9\nmaybe\ny\n";
+  const std::string typed = "\n-40 -45\n\n41 44\n\n-5 8\n\n6 -9\nmaybe\ny\n";
   ASSERT_EQ(::write(master, typed.data(), typed.size()), static_cast<ssize_t>(typed.size()));
   const std::string out = temp("confirm_out");
   std::system(("rm -rf " + out).c_str());
@@ -544,6 +453,7 @@ TEST(Session, AtATerminalItAsksBeforeSavingAndSavesOnYes) {
 }  // namespace
 
 namespace {
+using namespace odocal_session_test;
 
 TEST(Session, LateralSaysSoWhenItsDesignIsDegenerate) {
   // Every stop point typed as the start itself: the trials' body velocities are all zero, so
@@ -558,7 +468,7 @@ TEST(Session, LateralSaysSoWhenItsDesignIsDegenerate) {
   const std::string out = temp("degenerate_out");
   std::system(("rm -rf " + out).c_str());
   const Result r = session("--port " + sim.path() +
-                           " --procedure lateral --runs 2 --json "
+                           " --procedure lateral --runs 2 --no-wait --json "
                            "--out " +
                            out + " --measurements " + write("zeros.csv", csv));
   const json doc = parse(r);

@@ -227,7 +227,8 @@ int run(const SessionFlags& given, const CLI::App& cmd) {
     throw InputError("--port", 0, "", "give --port DEV (a robot) or --sim ROBOT.json (odocal-sim)");
   }
   if (f.procedure.empty()) {
-    throw InputError("--procedure", 0, "", "give --procedure umbmark, lateral, fit or verify");
+    throw InputError("--procedure", 0, "",
+                     "--procedure is required (umbmark, lateral, fit or verify), or --resume DIR");
   }
   SessionOptions options;
   options.procedure = procedure_of(f.procedure);

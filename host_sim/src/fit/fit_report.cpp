@@ -32,9 +32,9 @@ std::string line(const char* fmt, double a, double b = 0.0, double c = 0.0, doub
 std::string figures_text(const char* what, const FitFigures& f) {
   char text[256];
   std::snprintf(text, sizeof text,
-                "  %-8s %3zu run(s): end RMS %8.2f -> %8.2f mm, path RMS %8.2f -> %8.2f mm\n", what,
-                f.runs, f.end_rms_before_mm, f.end_rms_after_mm, f.path_rms_before_mm,
-                f.path_rms_after_mm);
+                "  %-8s %3zu %-4s: end RMS %8.2f -> %8.2f mm, path RMS %8.2f -> %8.2f mm\n", what,
+                f.runs, f.runs == 1 ? "run" : "runs", f.end_rms_before_mm, f.end_rms_after_mm,
+                f.path_rms_before_mm, f.path_rms_after_mm);
   return text;
 }
 

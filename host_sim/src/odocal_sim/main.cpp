@@ -269,7 +269,8 @@ int main(int argc, char** argv) {
     }
     file_store = std::make_unique<posix::FileBlockStore>(store_file);
     if (!file_store->open(error)) {
-      std::fprintf(stderr, "odocal-sim: %s: %s\n", store_file.c_str(), error.c_str());
+      // The store's message names its file already.
+      std::fprintf(stderr, "odocal-sim: %s\n", error.c_str());
       return 2;
     }
     flash = file_store.get();

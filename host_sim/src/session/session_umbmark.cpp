@@ -73,7 +73,7 @@ std::string describe(const calib::UmbmarkResult& r, const nlohmann::json& ci, in
   };
   char text[1536];
   std::snprintf(text, sizeof text,
-                "UMBmark pass %d: %zu cw + %zu ccw runs, L = %.0f mm, b = %.3f mm\n"
+                "UMBmark pass %d: %zu cw + %zu ccw %s, L = %.0f mm, b = %.3f mm\n"
                 "  centre cw  x, y   %9.1f %9.1f mm\n"
                 "  centre ccw x, y   %9.1f %9.1f mm\n"
                 "  E_max,syst        %9.1f mm   (scatter sigma %.1f mm, SEM %.1f mm)\n"
@@ -84,10 +84,11 @@ std::string describe(const calib::UmbmarkResult& r, const nlohmann::json& ci, in
                 "  c_l, c_r          %.6f %.6f %s\n"
                 "  new wheelbase     %.3f mm %s\n"
                 "  second pass       %s\n",
-                pass, runs, runs, side_mm, b_mm, r.x_cg_cw, r.y_cg_cw, r.x_cg_ccw, r.y_cg_ccw,
-                r.e_max_syst_mm, r.sigma_mm, r.sem_mm, r.alpha_deg, r.beta_deg, r.e_d,
-                range("e_d").c_str(), r.e_b, range("e_b").c_str(), r.c_l, r.c_r,
-                range("c_l").c_str(), r.wheelbase_new_mm, range("wheelbase_new_mm").c_str(),
+                pass, runs, runs, runs == 1 ? "run" : "runs", side_mm, b_mm, plain(r.x_cg_cw),
+                plain(r.y_cg_cw), plain(r.x_cg_ccw), plain(r.y_cg_ccw), r.e_max_syst_mm, r.sigma_mm,
+                r.sem_mm, plain(r.alpha_deg, 4), plain(r.beta_deg, 4), r.e_d, range("e_d").c_str(),
+                r.e_b, range("e_b").c_str(), r.c_l, r.c_r, range("c_l").c_str(), r.wheelbase_new_mm,
+                range("wheelbase_new_mm").c_str(),
                 r.second_pass_recommended ? "recommended (E_max,syst >= 3 SEM)"
                                           : "not expected to help (E_max,syst < 3 SEM)");
   return text;

@@ -1,5 +1,6 @@
 #include "odocal/host/sim_robot.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -85,6 +86,47 @@ bool fail(std::string& error, const std::string& source, const std::string& key,
   return false;
 }
 
+/// Every key a robot file may hold (the numeric ones set_key takes, and the named ones).
+constexpr const char* robot_file_keys[] = {
+    "wheel_diameter_mm",      "wheelbase_mm",      "counts_per_rev", "true_left_diameter_mm",
+    "true_right_diameter_mm", "true_wheelbase_mm", "slip_sigma",     "bump_height_mm",
+    "bump_spacing_mm",        "measure_sigma_mm",  "encoder_fault",  "encoder_fault_after_s"};
+
+/// Edit distance (insertions, deletions, substitutions) between two short keys.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) {
+    row[j] = j;
+  }
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+/// "unknown key", with the closest known key when the typo is small.
+std::string unknown_key(const std::string& key) {
+  const char* best = nullptr;
+  std::size_t best_distance = 0;
+  for (const char* known : robot_file_keys) {
+    const std::size_t d = edit_distance(key, known);
+    if (best == nullptr || d < best_distance) {
+      best = known;
+      best_distance = d;
+    }
+  }
+  if (best != nullptr && best_distance <= std::max<std::size_t>(2, key.size() / 4)) {
+    return std::string("unknown key (did you mean \"") + best + "\"?)";
+  }
+  return "unknown key";
+}
+
 std::string mm(double value) {
   return fmt::format("{:.6g} mm", value);
 }
@@ -151,7 +193,7 @@ bool parse_robot(const std::string& text, const std::string& source, RobotSpec& 
     }
     RobotSpec probe;
     if (!set_key(key, 1.0, probe)) {
-      return fail(error, source, key, "unknown key");
+      return fail(error, source, key, unknown_key(key));
     }
     if (!it.value().is_number()) {
       return fail(error, source, key, "must be a number");

@@ -82,11 +82,15 @@ std::string SvgPanel::render(double left, double top, double size) const {
     span = 1.0;
   }
   span *= 1.1;
+  // The legend has a band of its own at the top: no data point under its text.
+  const double band = legend_.empty() ? 0.0 : 15.0 * static_cast<double>(legend_.size()) + 10.0;
   const double cx = 0.5 * (min_x_ + max_x_);
   const double cy = 0.5 * (min_y_ + max_y_);
-  const double lo_x = cx - span / 2;
-  const double lo_y = cy - span / 2;
-  const double scale = plot / span;
+  const double scale = (plot - band) / span;
+  // The data span in the lower (plot - band) square; the axes show everything the frame holds.
+  const double lo_x = cx - 0.5 * plot / scale;
+  const double lo_y = cy - 0.5 * span;
+  span = plot / scale;
   auto px = [&](double x) { return x0 + (x - lo_x) * scale; };
   auto py = [&](double y) { return y0 + plot - (y - lo_y) * scale; };
   const double step = tick_step(span);

@@ -278,6 +278,45 @@ TEST(SessionExtended, RefusesMeasurementsWithoutHeadingBeforeAnythingMoves) {
   EXPECT_EQ(p.err.find("Run 1/"), std::string::npos) << p.err;
 }
 
+TEST(SessionExtended, MeasurementsFromAFileWithHeadingsOnTheSimulator) {
+  // The simulator still lays the cables; the figure comes from the file's headings.
+  const std::string robot = write("file_robot.json", robot_10mm);
+  std::string rows = "# 2 cw, 2 ccw bump-free, then over the cables\nx_mm,y_mm,theta_deg\n";
+  const double theta[8] = {1.0, 1.4, -0.5, -0.3, -9.0, -10.0, -11.5, -12.5};
+  for (double t : theta) {
+    rows += "5.0,-3.0," + std::to_string(t) + "\n";
+  }
+  const std::string file = write("with_heading.csv", rows);
+  const std::string out = temp("file_out");
+  std::system(("rm -rf " + out).c_str());
+  const Result r = shell(bin("odocal") + " session --sim " + robot +
+                         " --procedure extended --runs 2 --side-m 1 --measurements " + file +
+                         " --json --out " + out + " </dev/null");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("odocal-sim laid them"), std::string::npos) << r.err;
+  const json doc = read_json(out + "/session.json");
+  ASSERT_TRUE(doc.is_object());
+  const json& result = doc["result"];
+  EXPECT_EQ(result["bumps"]["laid_by"], "odocal-sim");
+  EXPECT_NEAR(result["bumps"]["first_mm"].get<double>(), 50.0, 1e-9);
+  EXPECT_NEAR(result["bumps"]["spacing_mm"].get<double>(), 100.0, 1e-9);
+  double figure = 0.0;
+  for (int direction = 0; direction < 2; ++direction) {
+    // Measured headings against the odometry's, per run (the odometry's from session.json).
+    double e[4];
+    for (int i = 0; i < 2; ++i) {
+      for (int floor = 0; floor < 2; ++floor) {
+        const int index = floor * 4 + direction * 2 + i;
+        e[floor * 2 + i] = std::remainder(
+            theta[index] - doc["runs"][index]["odom"]["theta_deg"].get<double>(), 360.0);
+      }
+    }
+    const double reference = 0.5 * (e[0] + e[1]);
+    figure += 0.5 * (std::fabs(e[2] - reference) + std::fabs(e[3] - reference));
+  }
+  EXPECT_NEAR(result["e_nonsys_deg"].get<double>(), figure, 1e-9);
+}
+
 TEST(SessionExtended, SimulatorLaysCablesOnlyWhenAskedRight) {
   const std::string script = write("cables.txt",
                                    "measure cables 200 400 10 right\n"

@@ -1,7 +1,9 @@
 // `odocal session --procedure extended` end to end: the real `odocal` drives the real `odocal-sim`
 // (--sim: its tape measure with heading, and its `measure cables` floor), and refuses
 // measurements without a heading before anything moves.
+#include <signal.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -278,6 +280,44 @@ TEST(SessionExtended, RefusesMeasurementsWithoutHeadingBeforeAnythingMoves) {
   EXPECT_EQ(p.err.find("Run 1/"), std::string::npos) << p.err;
 }
 
+/// odocal-sim on a pty, as a robot on a serial port would be.
+class SimOnPty {
+ public:
+  explicit SimOnPty(const std::string& robot) {
+    int out[2];
+    EXPECT_EQ(::pipe(out), 0);
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      ::dup2(out[1], STDOUT_FILENO);
+      ::close(out[0]);
+      ::execl(bin("odocal-sim").c_str(), "odocal-sim", "--pty", "--speed", "0", "--robot",
+              robot.c_str(), static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    ::close(out[1]);
+    std::string line;
+    char c = 0;
+    while (::read(out[0], &c, 1) == 1 && c != '\n') {
+      line += c;
+    }
+    ::close(out[0]);
+    const auto at = line.find("/dev/");
+    path_ = at == std::string::npos ? "" : line.substr(at);
+  }
+  ~SimOnPty() {
+    ::kill(pid_, SIGTERM);
+    int status = 0;
+    ::waitpid(pid_, &status, 0);
+  }
+  SimOnPty(const SimOnPty&) = delete;
+  SimOnPty& operator=(const SimOnPty&) = delete;
+  [[nodiscard]] const std::string& path() const { return path_; }
+
+ private:
+  pid_t pid_ = -1;
+  std::string path_;
+};
+
 TEST(SessionExtended, MeasurementsFromAFileWithHeadingsOnTheSimulator) {
   // The simulator still lays the cables; the figure comes from the file's headings.
   const std::string robot = write("file_robot.json", robot_10mm);
@@ -348,6 +388,65 @@ TEST(SessionExtended, SimulatorLaysCablesOnlyWhenAskedRight) {
   EXPECT_EQ(lines[6].rfind("err bad_argument", 0), 0u) << lines[6];  // above the 30 mm radius
   EXPECT_EQ(lines[7].rfind("err wrong_arity", 0), 0u) << lines[7];
   EXPECT_EQ(lines[8].rfind("ok x_mm=", 0), 0u) << lines[8];
+}
+
+TEST(SessionExtended, OnAPortTheUserLaysTheCablesAndIsAskedForAMissingHeading) {
+  const std::string robot = write("port_robot.json", robot_10mm);
+  SimOnPty sim(robot);
+  ASSERT_FALSE(sim.path().empty());
+  // Before each run an Enter, then the measurement; run 2 comes without its heading, which is
+  // asked for alone (a word first: asked again).
+  const std::string typed = write("port_typed.txt",
+                                  "\n1 2 0.5\n"
+                                  "\n3 4\nabc\n0.7\n"
+                                  "\n1 1 -0.2\n"
+                                  "\n2 2 0.1\n"
+                                  "\n0 0 -19\n"
+                                  "\n0 0 -20\n"
+                                  "\n0 0 -21\n"
+                                  "\n0 0 -20.5\n");
+  const std::string out = temp("port_out");
+  std::system(("rm -rf " + out).c_str());
+  const Result r =
+      shell(bin("odocal") + " session --port " + sim.path() +
+            " --procedure extended --runs 2 --side-m 1 --json --out " + out + " <" + typed);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("two marks"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("Heading of run 2 (cw)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("Not taken: 'abc'"), std::string::npos) << r.err;
+  // The user lays the cables, told where before the first run over them; a robot on a port is
+  // never sent the simulator's floor command.
+  const auto lay = r.err.find("Now lay the cables");
+  ASSERT_NE(lay, std::string::npos) << r.err;
+  EXPECT_LT(lay, r.err.find("Run 5/8 (bumps-cw)"));
+  EXPECT_GT(lay, r.err.find("Run 4/8: ccw"));
+  EXPECT_NE(r.err.find("50, 150, 250, 350, 450, 550, 650, 750, 850, 950"), std::string::npos);
+  EXPECT_EQ(r.err.find("laid them"), std::string::npos) << r.err;
+  const json doc = read_json(out + "/session.json");
+  ASSERT_TRUE(doc.is_object());
+  EXPECT_EQ(doc["result"]["bumps"]["laid_by"], "you");
+  EXPECT_EQ(doc["runs"][1]["measured"]["theta_deg"].get<double>(), 0.7);
+  EXPECT_FALSE(doc["applied"].get<bool>());
+  // Nothing typed is lost: the late heading is in the journal too.
+  std::ifstream journal(out + "/measurements.csv");
+  std::stringstream rows;
+  rows << journal.rdbuf();
+  EXPECT_NE(rows.str().find("\n2,3.000,4.000,0.700\n"), std::string::npos) << rows.str();
+  // The figure from the typed headings, by hand: |bump − mean(reference)| per direction.
+  double figure = 0.0;
+  for (int direction = 0; direction < 2; ++direction) {
+    double e[4];
+    for (int i = 0; i < 4; ++i) {
+      const int index = (i / 2) * 4 + direction * 2 + i % 2;
+      const json& run = doc["runs"][index];
+      e[i] = std::remainder(
+          run["measured"]["theta_deg"].get<double>() - run["odom"]["theta_deg"].get<double>(),
+          360.0);
+    }
+    const double reference = 0.5 * (e[0] + e[1]);
+    figure += 0.5 * (std::fabs(e[2] - reference) + std::fabs(e[3] - reference));
+  }
+  EXPECT_NEAR(doc["result"]["e_nonsys_deg"].get<double>(), figure, 1e-9);
 }
 
 }  // namespace

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <optional>
+#include <ostream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -17,6 +19,7 @@
 #include "odocal/host/csv.hpp"
 #include "odocal/host/robot_link.hpp"
 #include "odocal/host/sim_procedures.hpp"
+#include "odocal/toolkit/numbers.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
@@ -94,6 +97,62 @@ void check_file_headings(const Context& c, std::size_t total) {
   throw InputError(path, 0, "theta_deg",
                    "the extended UMBmark needs each run's measured heading; the file " + what +
                        ". Nothing was run. " + heading_howto);
+}
+
+bool typed_at_terminal(const Context& c) {
+  return !from_file(c) && c.source.describe().find("terminal") != std::string::npos;
+}
+
+/// measurements.csv again from the runs (as the engine writes it on --resume), so that a heading
+/// typed after its run's x and y is on the disk before the next run.
+void rewrite_journal(Context& c) {
+  std::string journal = "run,x_mm,y_mm,theta_deg\n";
+  for (std::size_t i = 0; i < c.runs.size(); ++i) {
+    const SessionPose& m = c.runs[i].measured;
+    journal += fmt::format("{},{:.3f},{:.3f},", i + 1, m.x_mm, m.y_mm);
+    if (m.theta_deg) {
+      journal += fmt::format("{:.3f}", *m.theta_deg);
+    }
+    journal += "\n";
+  }
+  c.write_file("measurements.csv", journal);
+}
+
+/// A run typed at the terminal without its heading: asks for the heading alone (again until it is
+/// a number), and keeps it with the run. Elsewhere (a file is checked before the start) a missing
+/// heading is left to need_heading.
+void complete_heading(Context& c, std::size_t number) {
+  RunRecord& r = c.runs.back();
+  if (r.measured.theta_deg || !typed_at_terminal(c) || c.options.start_in == nullptr) {
+    return;
+  }
+  c.log << "The extended UMBmark needs each run's heading. " << heading_howto << "\n";
+  for (;;) {
+    c.log << fmt::format("Heading of run {} ({}), degrees, counter-clockwise positive: ", number,
+                         r.label)
+          << std::flush;
+    std::string line;
+    const bool got = static_cast<bool>(std::getline(*c.options.start_in, line));
+    check_interrupt();
+    if (!got) {
+      throw InputError("standard input", 0, "",
+                       fmt::format("end of input at the heading of run {}", number));
+    }
+    if (c.options.confirm_in == nullptr) {
+      c.log << line << "\n";  // input from a file or pipe: show what was read
+    }
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) {
+      line.pop_back();
+    }
+    const std::optional<double> value = toolkit::parse_real(line);
+    if (value && std::fabs(*value) <= 3600.0) {
+      r.measured.theta_deg = *value;
+      rewrite_journal(c);
+      c.write_session_json(false, c.partial, false, false);
+      return;
+    }
+    c.log << "  Not taken: '" << line << "' is not a heading in degrees (e.g. -1.5)\n";
+  }
 }
 
 /// The heading of a run measured at the terminal (the file's are checked before the start).
@@ -187,10 +246,11 @@ Outcome run_extended(Context& c) {
     for (int direction = 0; direction < 2; ++direction) {
       const std::string name = direction == 0 ? "cw" : "ccw";
       for (std::size_t i = 0; i < n; ++i) {
-        const RunRecord r = c.run(floor == 0 ? name : "bumps-" + name,
-                                  "run umbmark-" + name + " " + side_text, expected_s);
-        need_heading(r, c.runs.size());
-        runs[floor][direction].push_back(error_of(r, direction == 0));
+        static_cast<void>(c.run(floor == 0 ? name : "bumps-" + name,
+                                "run umbmark-" + name + " " + side_text, expected_s));
+        complete_heading(c, c.runs.size());
+        need_heading(c.runs.back(), c.runs.size());
+        runs[floor][direction].push_back(error_of(c.runs.back(), direction == 0));
       }
     }
   };

@@ -16,6 +16,7 @@
 
 #include <fmt/format.h>
 
+#include "odocal/host/calib_json.hpp"
 #include "odocal/host/csv.hpp"
 #include "odocal/host/robot_link.hpp"
 #include "odocal/host/sim_procedures.hpp"
@@ -155,7 +156,7 @@ void complete_heading(Context& c, std::size_t number) {
   }
 }
 
-/// The heading of a run measured at the terminal (the file's are checked before the start).
+/// Every run has its heading, and one a square can end with.
 void need_heading(const RunRecord& r, std::size_t number) {
   if (!r.measured.theta_deg) {
     throw std::runtime_error(fmt::format(
@@ -305,7 +306,6 @@ Outcome run_extended(Context& c) {
   }
   Outcome outcome;
   outcome.result = {
-      {"method", "extended-umbmark"},
       {"e_nonsys_deg", figure.e_nonsys_deg},
       {"e_nonsys_cw_deg", figure.e_cw_deg},
       {"e_nonsys_ccw_deg", figure.e_ccw_deg},
@@ -319,9 +319,16 @@ Outcome run_extended(Context& c) {
       {"reference", {{"cw", figure.reference_cw_deg}, {"ccw", figure.reference_ccw_deg}}},
       {"reference_runs", reference_runs},
       {"bumps", bumps},
-      {"side_mm", side_mm},
-      {"date", c.date()},
-      {"runs_used", total}};
+      {"side_mm", side_mm}};
+  // Provenance: every run the figure came from (both floors), the session's date.
+  Provenance p;
+  p.method = "extended-umbmark";
+  p.runs = total;
+  p.interval = "student-t";
+  p.level = 0.95;
+  p.date = today_utc();
+  p.extra = {{"side_mm", side_mm}, {"date_unix_s", c.date()}};
+  outcome.result = with_provenance(outcome.result, p);
   std::vector<ExtendedRun> reference = runs[0][0];
   reference.insert(reference.end(), runs[0][1].begin(), runs[0][1].end());
   std::vector<ExtendedRun> over = runs[1][0];

@@ -71,6 +71,9 @@ Procedure procedure_of(const std::string& name) {
   if (name == "fit") {
     return Procedure::fit;
   }
+  if (name == "extended") {
+    return Procedure::extended;
+  }
   return Procedure::verify;
 }
 
@@ -95,6 +98,10 @@ void check_runs(Procedure procedure, std::uint64_t runs) {
       break;
     case Procedure::verify:
       lo = 1;
+      hi = 16;
+      break;
+    case Procedure::extended:
+      lo = 2;  // the figure's intervals need 2 runs per direction and floor
       hi = 16;
       break;
   }
@@ -228,7 +235,8 @@ int run(const SessionFlags& given, const CLI::App& cmd) {
   }
   if (f.procedure.empty()) {
     throw InputError("--procedure", 0, "",
-                     "--procedure is required (umbmark, lateral, fit or verify), or --resume DIR");
+                     "--procedure is required (umbmark, lateral, fit, verify or extended), or "
+                     "--resume DIR");
   }
   SessionOptions options;
   options.procedure = procedure_of(f.procedure);
@@ -346,8 +354,8 @@ void register_session_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--seed", flags->seed, "seed of the simulated robot and the bootstrap")
       ->check(toolkit::whole_check(0u, UINT64_MAX));
   cmd->add_option("--store", flags->store, "odocal-sim's parameter store file (with --sim)");
-  cmd->add_option("--procedure", flags->procedure, "umbmark, lateral, fit or verify")
-      ->check(CLI::IsMember({"umbmark", "lateral", "fit", "verify"}));
+  cmd->add_option("--procedure", flags->procedure, "umbmark, lateral, fit, verify or extended")
+      ->check(CLI::IsMember({"umbmark", "lateral", "fit", "verify", "extended"}));
   cmd->add_option("--resume", flags->resume,
                   "continue the interrupted session in this directory: runs already measured "
                   "are not driven again; options come from its session.json");

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "odocal/console/console.hpp"
+#include "odocal/console/text.hpp"
 #include "odocal/host/sim_robot.hpp"
 #include "odocal/params/param_store.hpp"
 #include "odocal/params/param_table.hpp"
@@ -101,21 +102,118 @@ bool robot_defaults(const odocal::host::RobotSpec& spec, odocal::params::ParamSe
   return true;
 }
 
-/// `measure`, the simulated tape measure (DESIGN "Trials, logs and the simulated tape measure"):
-/// the true pose of the robot in the odometry frame, plus the robot file's measurement noise.
-void measure_command(void* context, const odocal::console::Token*, std::size_t count,
+/// The simulator's own console command, in the console's one target slot (`measure`): the tape
+/// measure, and the floor the extended UMBmark needs (docs/simulation.md, "odocal-sim"). Real
+/// targets have neither: they answer `err unknown_command`.
+class SimCommand {
+ public:
+  /// @param default_cable_height_m the height `measure cables` lays when it is not given.
+  SimCommand(odocal::host::SimulatedRobot& robot, double default_cable_height_m)
+      : robot_(robot), default_cable_height_m_(default_cable_height_m) {}
+
+  static void handle(void* context, const odocal::console::Token* words, std::size_t count,
                      odocal::console::Reply& reply) {
-  if (count != 1u) {
-    reply.text("err wrong_arity usage: measure");
-    return;
+    auto& self = *static_cast<SimCommand*>(context);
+    if (count == 1u) {
+      self.measure(reply);
+    } else if (words[1].is("cables")) {
+      self.cables(words, count, reply);
+    } else {
+      reply.text("err wrong_arity usage: ").text(usage);
+    }
   }
-  auto& robot = *static_cast<odocal::host::SimulatedRobot*>(context);
-  const odocal::sim::WorldPose pose = robot.measure_in_odometry_frame();
-  reply.text("ok")
-      .pair("x_mm", pose.x_m * 1000.0, 3)
-      .pair("y_mm", pose.y_m * 1000.0, 3)
-      .pair("theta_deg", pose.theta_rad * 180.0 / 3.14159265358979323846, 3);
-}
+
+  /// Call after each tick: at every odometry reset (a new run from the start mark) laid cables
+  /// lie ahead of the robot again, as they do on a real floor for a robot put back on its mark.
+  void follow_resets() {
+    if (!laid_) {
+      return;
+    }
+    const std::uint32_t resets = robot_.loop().status().pose_resets;
+    if (resets != resets_seen_) {
+      resets_seen_ = resets;
+      lay();
+    }
+  }
+
+  static constexpr const char* usage =
+      "measure [cables off | cables FIRST_MM SPACING_MM COUNT left|right [HEIGHT_MM]] (sim only)";
+
+ private:
+  /// `measure` (DESIGN "Trials, logs and the simulated tape measure"): the true pose of the
+  /// robot in the odometry frame, plus the robot file's measurement noise.
+  void measure(odocal::console::Reply& reply) {
+    const odocal::sim::WorldPose pose = robot_.measure_in_odometry_frame();
+    reply.text("ok")
+        .pair("x_mm", pose.x_m * 1000.0, 3)
+        .pair("y_mm", pose.y_m * 1000.0, 3)
+        .pair("theta_deg", pose.theta_rad * 180.0 / 3.14159265358979323846, 3);
+  }
+
+  /// `measure cables off`: a smooth floor. `measure cables FIRST SPACING COUNT WHEEL [HEIGHT]`:
+  /// COUNT cables of HEIGHT mm (default: the robot file's bump_height_mm, else 10 mm) under one
+  /// wheel only, the first FIRST mm of floor from the start of each run, then every SPACING mm
+  /// (sim::Plant::lay_cables). A refused line changes nothing.
+  void cables(const odocal::console::Token* words, std::size_t count,
+              odocal::console::Reply& reply) {
+    if (count == 3u && words[2].is("off")) {
+      laid_ = false;
+      robot_.plant().set_bumps(0.0, 0.0);
+      reply.text("ok cables=0");
+      return;
+    }
+    if (count != 6u && count != 7u) {
+      reply.text("err wrong_arity usage: ").text(usage);
+      return;
+    }
+    float first_mm = 0.0f;
+    float spacing_mm = 0.0f;
+    float height_mm = static_cast<float>(default_cable_height_m_ * 1000.0);
+    std::uint32_t cables = 0u;
+    const bool right = words[5].is("right");
+    if (!odocal::console::parse_number(words[2], first_mm) || !(first_mm >= 0.0f) ||
+        first_mm > 100000.0f || !odocal::console::parse_number(words[3], spacing_mm) ||
+        !(spacing_mm > 0.0f) || spacing_mm > 100000.0f ||
+        !odocal::console::parse_unsigned(words[4], cables) || cables == 0u || cables > 1000u ||
+        (!right && !words[5].is("left")) ||
+        (count == 7u && !odocal::console::parse_number(words[6], height_mm))) {
+      reply.text("err bad_argument usage: ").text(usage);
+      return;
+    }
+    const odocal::sim::RobotModel& truth = robot_.spec().truth;
+    const double radius_mm = 500.0 * (right ? truth.right_diameter_m : truth.left_diameter_m);
+    if (!(height_mm > 0.0f) || !(height_mm < radius_mm)) {
+      reply.text("err bad_argument cable height must be above 0 and below the wheel radius");
+      return;
+    }
+    laid_ = true;
+    right_ = right;
+    height_m_ = static_cast<double>(height_mm) * 1e-3;
+    first_m_ = static_cast<double>(first_mm) * 1e-3;
+    spacing_m_ = static_cast<double>(spacing_mm) * 1e-3;
+    count_ = cables;
+    resets_seen_ = robot_.loop().status().pose_resets;
+    lay();
+    reply.text("ok")
+        .pair_u("cables", count_)
+        .pair("height_mm", height_mm, 3)
+        .pair("first_mm", first_mm, 3)
+        .pair("spacing_mm", spacing_mm, 3)
+        .pair_s("wheel", right_ ? "right" : "left");
+  }
+
+  void lay() { robot_.plant().lay_cables(right_, height_m_, first_m_, spacing_m_, count_); }
+
+  odocal::host::SimulatedRobot& robot_;
+  double default_cable_height_m_;
+  bool laid_ = false;
+  bool right_ = true;
+  double height_m_ = 0.0;
+  double first_m_ = 0.0;
+  double spacing_m_ = 0.0;
+  std::uint32_t count_ = 0u;
+  std::uint32_t resets_seen_ = 0u;
+};
 
 /// Reads scripted input from a non-blocking stream (waiting with poll) in pieces: each piece is
 /// the rest of a line up to and including its end (CR, LF or CRLF), or, while no line end has
@@ -330,10 +428,13 @@ int main(int argc, char** argv) {
   console_options.crlf = terminal;
   console_options.banner = terminal;
   console_options.defaults = &defaults;
+  // The published extended UMBmark lays 10 mm cables; a robot file's bump_height_mm replaces
+  // that height, as in `odocal sim extended`.
+  SimCommand sim_command(robot, spec.truth.bump_height_m > 0.0 ? spec.truth.bump_height_m : 0.010);
   console_options.extra.name = "measure";
-  console_options.extra.usage = "measure: simulated tape measure, true pose x_mm y_mm theta_deg";
-  console_options.extra.handler = measure_command;
-  console_options.extra.context = &robot;
+  console_options.extra.usage = SimCommand::usage;
+  console_options.extra.handler = SimCommand::handle;
+  console_options.extra.context = &sim_command;
   console::Console console(*console_stream, robot.loop(), store, console_options);
 
   struct sigaction action {};
@@ -399,6 +500,7 @@ int main(int argc, char** argv) {
       }
       robot.tick_once();
       robot.follow_odometry_frame();
+      sim_command.follow_resets();
       continue;
     }
     pollfd wait{pty->input_fd(), POLLIN, 0};
@@ -437,6 +539,7 @@ int main(int argc, char** argv) {
     }
     robot.tick_once();
     robot.follow_odometry_frame();
+    sim_command.follow_resets();
     pacer.wait_for(robot.simulated_s());
     if (terminal && speed == 0.0 && console.idle() && !busy(robot.loop().status())) {
       // Nothing to simulate: wait for input instead of spinning.

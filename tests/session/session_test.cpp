@@ -223,6 +223,7 @@ TEST(Session, TypedMeasurementsAreAskedAgainUntilTheyMakeSense) {
   EXPECT_FALSE(doc["saved"].get<bool>());
 
   // Input ends before the last run: exit 2, nothing saved.
+  std::system(("rm -rf " + temp("typed_out2")).c_str());
   const Result short_input = session("--port " + sim.path() +
                                          " --procedure umbmark --side-m 1 "
                                          "--runs 2 --yes --out " +

@@ -513,8 +513,25 @@ TEST(SessionOnARealRobot, TheDocumentedOrderNeverMakesTheUnseenPathWorse) {
       const std::string out = temp(std::string("order_") + procedure);
       std::system(("rm -rf " + out).c_str());
       const Result r = session("--sim " + file + " --store " + store + " --procedure " + procedure +
-                               " --yes --out " + out);
+                               " --yes --json --out " + out);
       ASSERT_EQ(r.status, 0) << procedure << r.err;
+      if (std::string(procedure) == "lateral") {
+        // Eq. 4-5 for the drive that ran the trials: the wheel ratio UMBmark put in force shaped
+        // them already, so the session's correction is `odocal lateral` with equal diameters.
+        const json doc = json::parse(r.out);
+        const json& eq45 = doc["result"]["eq45"];
+        char args[512];
+        std::snprintf(args, sizeof args,
+                      " lateral --trials %s/lateral.csv --length-mm 1000 --wheelbase-mm %.6f "
+                      "--dl-mm %.1f --dr-mm %.1f --theta-l-rad %.9f --json",
+                      out.c_str(), doc["factors"]["wheelbase_mm"].get<double>(), robot.d, robot.d,
+                      eq45["theta_l_rad"].get<double>());
+        const Result cli = shell(bin("odocal") + args);
+        ASSERT_EQ(cli.status, 0) << cli.err;
+        EXPECT_NEAR(json::parse(cli.out)["f_lat"].get<double>(), eq45["f_lat"].get<double>(), 1e-6);
+        // After UMBmark the wheel ratio is UMBmark's: f_lat stays.
+        EXPECT_EQ(doc["factors"]["f_lat"].get<double>(), 1.0);
+      }
       after.push_back(verify(file, store, temp(std::string("order_v_") + procedure)));
     }
     // The oracle: the robot's true geometry in force.
@@ -541,6 +558,13 @@ TEST(SessionOnARealRobot, TheDocumentedOrderNeverMakesTheUnseenPathWorse) {
         << "end " << after.back().rms_mm << " oracle " << oracle.rms_mm;
     EXPECT_LT(after.back().rms_mm, 0.1 * after.front().rms_mm);
   }
+}
+
+TEST(SessionOnARealRobot, AMistypedRobotFileKeySaysWhichWasMeant) {
+  const Result r = shell(bin("odocal-sim") + " --robot " +
+                         write("typo.json", R"({"true_left_diamter_mm": 59.9})") + " </dev/null");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("did you mean \"true_left_diameter_mm\""), std::string::npos) << r.err;
 }
 
 }  // namespace

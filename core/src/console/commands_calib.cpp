@@ -8,8 +8,10 @@ namespace {
 
 constexpr float kTwoPi = 6.28318530717958647692f;
 
+// UMBmark applies the first three; `fit apply` all four (the arc wheelbase 0 when not given).
 constexpr params::ParamId kWheelIds[] = {params::ParamId::c_l, params::ParamId::c_r,
-                                         params::ParamId::wheelbase_mm};
+                                         params::ParamId::wheelbase_mm,
+                                         params::ParamId::wheelbase_arc_mm};
 constexpr params::ParamId kLateralIds[] = {params::ParamId::f_lat, params::ParamId::f_lon};
 
 }  // namespace
@@ -171,7 +173,18 @@ void Console::cmd_host_factors(bool fit, const Token* words, std::size_t count) 
   // Every value is checked against its parameter's range before anything changes.
   const params::ParamId* ids = fit ? kWheelIds : kLateralIds;
   const std::size_t id_count = fit ? 3u : 2u;
-  float values[3] = {};
+  // values[3]: `fit apply`'s arc wheelbase, 0 (one wheelbase) unless `arc <mm>` ends the line.
+  float values[4] = {};
+  if (fit && count > 6u && words[count - 2u].is("arc")) {
+    count -= 2u;
+    const params::ParamInfo& info = params::param_info(params::ParamId::wheelbase_arc_mm);
+    if (!number_arg(words[count + 1u], info.min, info.max, values[3])) {
+      return;
+    }
+  } else if (count > 4u + id_count) {  // `lateral set` ends at runs, `fit apply` at `arc <mm>`
+    send_usage(ErrorCode::wrong_arity);
+    return;
+  }
   for (std::size_t i = 0; i < id_count; ++i) {
     const params::ParamInfo& info = params::param_info(ids[i]);
     if (!number_arg(words[2u + i], info.min, info.max, values[i])) {
@@ -185,7 +198,7 @@ void Console::cmd_host_factors(bool fit, const Token* words, std::size_t count) 
   }
   const params::FactorMethod method =
       fit ? params::FactorMethod::fit : params::FactorMethod::bootstrap;
-  (void)apply_factors(ids, values, id_count, method, runs, date, 0.0f);
+  (void)apply_factors(ids, values, id_count + (fit ? 1u : 0u), method, runs, date, 0.0f);
 }
 
 bool Console::apply_factors(const params::ParamId* ids, const float* values, std::size_t count,

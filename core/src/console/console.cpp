@@ -8,7 +8,8 @@
 namespace odocal::console {
 namespace {
 
-constexpr std::size_t kMaxWords = 7u;  // `fit apply <c_l> <c_r> <wheelbase_mm> <unix_s> <runs>`
+// `fit apply <c_l> <c_r> <wheelbase_mm> <unix_s> <runs> arc <wheelbase_arc_mm>`
+constexpr std::size_t kMaxWords = 9u;
 constexpr float kRadToDeg = 180.0f / 3.14159265358979323846f;
 
 }  // namespace
@@ -488,7 +489,10 @@ bool Console::config_accepted(const drive::ConfigCheck& check) {
     send_error_line(ErrorCode::rejected, "drive refused %s (outside its range)",
                     drive::config_fields[check.field].name);
   } else {
-    send_error(ErrorCode::rejected, "drive refused (need wheelbase_mm > wheel_diameter_mm/4)");
+    send_error(ErrorCode::rejected,
+               check.error == drive::ConfigError::wheelbase_arc
+                   ? "drive refused (need wheelbase_arc_mm 0 or within 20% of wheelbase_mm)"
+                   : "drive refused (need wheelbase_mm > wheel_diameter_mm/4)");
   }
   return false;
 }

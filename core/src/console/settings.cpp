@@ -9,7 +9,7 @@ bool usable(const params::ParamSet& set) {
 
 bool is_wheel_factor(params::ParamId id) {
   return id == params::ParamId::c_l || id == params::ParamId::c_r ||
-         id == params::ParamId::wheelbase_mm;
+         id == params::ParamId::wheelbase_mm || id == params::ParamId::wheelbase_arc_mm;
 }
 
 bool is_lateral_factor(params::ParamId id) {

@@ -259,7 +259,9 @@ void ControlLoop::tick(std::uint32_t now_us) {
   odometry_.update(
       static_cast<float>(left_speed_.delta_counts()) * kinematics_.left_m_per_count(),
       static_cast<float>(right_speed_.delta_counts()) * kinematics_.right_m_per_count(),
-      kinematics_.wheelbase_m());
+      // The wheelbase in force: b, or with an arc wheelbase the blend for the wheels' measured
+      // rates (M/T speeds: a tick's 0-3 counts would quantise the weight and bias it).
+      kinematics_.wheelbase_for_rates_m(left_speed_.speed_radps(), right_speed_.speed_radps()));
 
   // Faults are sticky and park the motors.
   check_faults(left_snap, right_snap, dt_us);

@@ -1,5 +1,7 @@
 #include "odocal/drive/diff_drive_kinematics.hpp"
 
+#include <cmath>
+
 namespace odocal::drive {
 namespace {
 constexpr float kPi = 3.14159265358979323846f;
@@ -12,6 +14,8 @@ void DiffDriveKinematics::configure(const DriveConfig& config) {
   left_diameter_m_ = average_m * config.c_l / (config.f_lat * config.f_lon);
   right_diameter_m_ = average_m * config.c_r / config.f_lon;
   wheelbase_m_ = config.wheelbase_mm * 1e-3f;
+  arc_gap_m_ =
+      config.wheelbase_arc_mm == 0.0f ? 0.0f : config.wheelbase_arc_mm * 1e-3f - wheelbase_m_;
   left_m_per_count_ = kPi * left_diameter_m_ / config.counts_per_rev;
   right_m_per_count_ = kPi * right_diameter_m_ / config.counts_per_rev;
 
@@ -28,14 +32,41 @@ void DiffDriveKinematics::configure(const DriveConfig& config) {
   forward_(1, 1) = right_diameter_m_ / (2.0f * wheelbase_m_);
 }
 
+float DiffDriveKinematics::blend_rates_m(float left, float right) const {
+  const float forward = std::fabs(left + right);
+  const float sum = forward + std::fabs(right - left);
+  // At rest the weight is 0 (as the fit takes it); nothing turns then anyway.
+  return sum > 0.0f ? wheelbase_m_ + arc_gap_m_ * (forward / sum) : wheelbase_m_;
+}
+
+float DiffDriveKinematics::blend_twist_m(const Twist& twist) const {
+  // w·(|v| + u·(b + w·g)) = |v| with u = |ω|/2, g = b_arc − b: the positive root of
+  // g·u·w² + (|v| + u·b)·w − |v| = 0, written without cancellation. Its discriminant stays
+  // positive for |g| <= 0.2·b (drive_config: wheelbase_arc_tolerance).
+  const float v = std::fabs(twist.v_mps);
+  if (v == 0.0f) {
+    return wheelbase_m_;  // turning in place (or at rest): w = 0
+  }
+  const float u = 0.5f * std::fabs(twist.w_radps);
+  const float p = v + u * wheelbase_m_;
+  const float w = 2.0f * v / (p + std::sqrt(p * p + 4.0f * arc_gap_m_ * u * v));
+  return wheelbase_m_ + arc_gap_m_ * w;
+}
+
 WheelRates DiffDriveKinematics::inverse(const Twist& twist) const {
-  return WheelRates{inverse_(0, 0) * twist.v_mps + inverse_(0, 1) * twist.w_radps,
-                    inverse_(1, 0) * twist.v_mps + inverse_(1, 1) * twist.w_radps};
+  // The ω column is proportional to the wheelbase: scaled to the one in force.
+  float w = twist.w_radps;
+  if (arc_gap_m_ != 0.0f) {
+    w *= blend_twist_m(twist) / wheelbase_m_;
+  }
+  return WheelRates{inverse_(0, 0) * twist.v_mps + inverse_(0, 1) * w,
+                    inverse_(1, 0) * twist.v_mps + inverse_(1, 1) * w};
 }
 
 Twist DiffDriveKinematics::forward(const WheelRates& rates) const {
+  const float scale = wheelbase_m_ / wheelbase_for_rates_m(rates.left_radps, rates.right_radps);
   return Twist{forward_(0, 0) * rates.left_radps + forward_(0, 1) * rates.right_radps,
-               forward_(1, 0) * rates.left_radps + forward_(1, 1) * rates.right_radps};
+               (forward_(1, 0) * rates.left_radps + forward_(1, 1) * rates.right_radps) * scale};
 }
 
 }  // namespace odocal::drive

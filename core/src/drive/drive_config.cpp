@@ -26,6 +26,11 @@ ConfigCheck check(const DriveConfig& config) {
   if (!(config.wheelbase_mm > config.wheel_diameter_mm * 0.25f)) {
     return ConfigCheck{ConfigError::wheelbase_short, 0u};
   }
+  const float arc_gap = config.wheelbase_arc_mm - config.wheelbase_mm;
+  if (config.wheelbase_arc_mm != 0.0f &&
+      !(std::fabs(arc_gap) <= wheelbase_arc_tolerance * config.wheelbase_mm)) {
+    return ConfigCheck{ConfigError::wheelbase_arc, 0u};
+  }
   return ConfigCheck{};
 }
 
@@ -37,6 +42,8 @@ const char* to_string(const ConfigCheck& result) {
       return "a value is outside its range";
     case ConfigError::wheelbase_short:
       return "wheelbase_mm must exceed wheel_diameter_mm/4";
+    case ConfigError::wheelbase_arc:
+      return "wheelbase_arc_mm must be 0 or within 20% of wheelbase_mm";
   }
   return "refused";
 }

@@ -185,6 +185,20 @@ def main():
     checks.check(status.get("mode") == "idle" and math.hypot(x, y) < 30.0 and abs(wrapped) < 3.0,
                  "umbmark-ccw 1 m square closes in odometry", f"x={x} y={y} theta={theta}")
 
+    # An arc with an arc wheelbase (the blend in odometry and inverse kinematics): the tick's
+    # longest path, measured by the tick maximum below. 0.2 m/s at 1 rad/s for 1 s turns ~57°.
+    reply = guest.command("set wheelbase_arc_mm 151.5")
+    checks.check(reply is not None and reply.startswith("ok"), "set wheelbase_arc_mm", reply)
+    guest.command("odom reset")
+    guest.command("drive 0.2 1 1000")
+    wait_idle(guest, 60.0)
+    pose = fields(guest.command("odom"))
+    x, y, theta = (float(pose.get(k, "nan")) for k in ("x_mm", "y_mm", "theta_deg"))
+    checks.check(40.0 <= theta <= 75.0 and x > 100.0 and y > 20.0,
+                 "drive 0.2 1 with an arc wheelbase turned left on an arc",
+                 f"x={x} y={y} theta={theta}")
+    guest.command("set wheelbase_arc_mm 0")
+
     second = fields(guest.command("status"))
     checks.check(second.get("faults") == "none", "no faults", second.get("faults", "?"))
     if not args.no_icount:

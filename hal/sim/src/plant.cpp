@@ -74,6 +74,8 @@ Plant::Plant(const RobotModel& model, std::uint64_t seed)
     w.slip_left_m_ = model.slip_length_m;
   }
   inverse_wheelbase_ = ok_ ? 1.0 / model.wheelbase_m : 0.0;
+  arc_gap_m_ =
+      ok_ && model.wheelbase_arc_m != 0.0 ? model.wheelbase_arc_m - model.wheelbase_m : 0.0;
   set_bumps(model.bump_height_m, model.bump_spacing_m);
   place();
 }
@@ -404,7 +406,13 @@ void Plant::step(std::uint32_t dt_ns) {
 
     // Rigid body, no lateral slip: the centre moves on the arc the two contact points define.
     const double ds = 0.5 * (s_left + s_right);
-    const double dtheta = (s_right - s_left) * inverse_wheelbase_;
+    double dtheta = (s_right - s_left) * inverse_wheelbase_;
+    if (arc_gap_m_ != 0.0) {
+      // The wheelbase in force this step: the blend by the forward share of the wheels' rotation.
+      const double forward = std::fabs(left_delta + right_delta);
+      const double sum = forward + std::fabs(right_delta - left_delta);
+      dtheta = (s_right - s_left) / (model_.wheelbase_m + arc_gap_m_ * (forward / sum));
+    }
     const Turn half = turn_of(0.5 * dtheta);
     const double cm = cos_ * half.cos - sin_ * half.sin;
     const double sm = sin_ * half.cos + cos_ * half.sin;

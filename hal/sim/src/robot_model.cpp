@@ -31,6 +31,10 @@ ModelError check(const RobotModel& model) {
   if (!positive(model.wheelbase_m) || model.wheelbase_m <= larger) {
     return ModelError::wheelbase;
   }
+  if (model.wheelbase_arc_m != 0.0 &&
+      (!positive(model.wheelbase_arc_m) || model.wheelbase_arc_m <= larger)) {
+    return ModelError::wheelbase_arc;
+  }
   if (model.counts_per_rev == 0u || model.counts_per_rev % 4u != 0u) {
     return ModelError::counts_per_rev;
   }
@@ -66,6 +70,8 @@ const char* to_string(ModelError error) {
       return "right diameter";
     case ModelError::wheelbase:
       return "wheelbase";
+    case ModelError::wheelbase_arc:
+      return "arc wheelbase";
     case ModelError::counts_per_rev:
       return "counts per revolution";
     case ModelError::slip:

@@ -43,6 +43,8 @@ bool set_key(const std::string& key, double value, RobotSpec& spec) {
     spec.truth.right_diameter_m = value * 1e-3;
   } else if (key == "true_wheelbase_mm") {
     spec.truth.wheelbase_m = value * 1e-3;
+  } else if (key == "true_wheelbase_arc_mm") {
+    spec.truth.wheelbase_arc_m = value * 1e-3;
   } else if (key == "slip_sigma") {
     spec.truth.slip_sigma = value;
   } else if (key == "bump_height_mm") {
@@ -274,6 +276,17 @@ bool parse_robot(const std::string& text, const std::string& source, RobotSpec& 
                 mm(true_wheelbase_mm) + " is not within 10 % of wheelbase_mm (" + mm(wheelbase_mm) +
                     "): the calibrations correct errors of a few percent (give the real "
                     "wheelbase when the firmware is told another one)");
+  }
+  // The arc wheelbase (0 = none), near the turn one: the firmware's wheelbase_arc_mm is within
+  // 20 % of wheelbase_mm, and a real robot's differ by a few millimetres.
+  const double true_arc_mm = t.wheelbase_arc_m * 1e3;
+  if (true_arc_mm != 0.0 && !(std::fabs(true_arc_mm - true_wheelbase_mm) <=
+                              drive::wheelbase_arc_tolerance * true_wheelbase_mm)) {
+    return fail(error, source, "true_wheelbase_arc_mm",
+                mm(true_arc_mm) +
+                    " is neither 0 (one wheelbase) nor within 20 % of the true "
+                    "wheelbase (" +
+                    mm(true_wheelbase_mm) + ")");
   }
   if (!(t.slip_sigma >= 0.0 && t.slip_sigma < 0.5)) {
     return fail(error, source, "slip_sigma", "must be in [0, 0.5)");

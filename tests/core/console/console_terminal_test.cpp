@@ -168,7 +168,8 @@ TEST(ConsoleHostFactors, FitApplyAndLateralSetKeepTheirProvenance) {
   auto rig = std::make_unique<test::Rig>();
   rig->console.start(rig->now_us);
   EXPECT_EQ(rig->reply("fit apply 0.998 1.002 151.5 1700000000"),
-            "ok c_l=0.998000 c_r=1.002000 wheelbase_mm=151.500000 method=fit unsaved=1");
+            "ok c_l=0.998000 c_r=1.002000 wheelbase_mm=151.500000 wheelbase_arc_mm=0.000000 "
+            "method=fit unsaved=1");
   EXPECT_EQ(rig->reply("lateral set 1.01 0.99"),
             "ok f_lat=1.010000 f_lon=0.990000 method=maddahi-bootstrap unsaved=1");
   const std::string provenance = rig->reply("provenance");
@@ -184,9 +185,43 @@ TEST(ConsoleHostFactors, FitApplyAndLateralSetKeepTheirProvenance) {
   }
   // Saved and reloaded, the methods stay (they are stored with the values).
   EXPECT_EQ(rig->reply("save").rfind("ok ", 0), 0u);
-  EXPECT_EQ(rig->reply("defaults"), "ok params=21 unsaved=1");
+  EXPECT_EQ(rig->reply("defaults"), "ok params=22 unsaved=1");
   EXPECT_EQ(rig->reply("load").rfind("ok ", 0), 0u);
   EXPECT_EQ(test::value_of(rig->reply("provenance"), "wheel_method"), "fit");
+}
+
+// `fit apply` with the arc-wheelbase model's second wheelbase: `arc <mm>` after the rest; without
+// it the arc wheelbase goes back to 0 (one wheelbase), as a one-wheelbase fit says.
+TEST(ConsoleHostFactors, FitApplyTakesTheArcWheelbase) {
+  auto rig = std::make_unique<test::Rig>();
+  rig->console.start(rig->now_us);
+  EXPECT_EQ(rig->reply("fit apply 0.998 1.002 150.6 1700000000 60 arc 152.1"),
+            "ok c_l=0.998000 c_r=1.002000 wheelbase_mm=150.600006 wheelbase_arc_mm=152.100006 "
+            "method=fit runs=60 unsaved=1");
+  EXPECT_EQ(test::value_of(rig->reply("get wheelbase_arc_mm"), "wheelbase_arc_mm"), "152.100006");
+  EXPECT_EQ(test::value_of(rig->reply("provenance"), "wheel_runs"), "60");
+  EXPECT_EQ(rig->reply("fit apply 1 1 150.5 arc 151"),
+            "ok c_l=1.000000 c_r=1.000000 wheelbase_mm=150.500000 wheelbase_arc_mm=151.000000 "
+            "method=fit unsaved=1");
+  // Refused whole: too far from wheelbase_mm, not a number, the keyword misplaced or alone, a
+  // word too many.
+  for (const char* bad :
+       {"fit apply 1 1 150 arc 200", "fit apply 1 1 150 arc wide", "fit apply 1 1 150 arc",
+        "fit apply 1 1 150 1700000000 60 7 arc 151", "fit apply 1 1 150 1700000000 60 151",
+        "fit apply 1 1 150 arc -3", "lateral set 1 1 1700000000 3 arc 151"}) {
+    const params::ParamSet before = rig->console.params();
+    EXPECT_EQ(rig->reply(bad).rfind("err ", 0), 0u) << bad;
+    EXPECT_TRUE(params::same(before, rig->console.params())) << bad;
+  }
+  EXPECT_EQ(rig->reply("fit apply 1 1 150 arc 200"),
+            "err rejected drive refused (need wheelbase_arc_mm 0 or within 20% of wheelbase_mm)");
+  // The old line: one wheelbase, the arc one cleared.
+  EXPECT_EQ(rig->reply("fit apply 1 1 150.5"),
+            "ok c_l=1.000000 c_r=1.000000 wheelbase_mm=150.500000 wheelbase_arc_mm=0.000000 "
+            "method=fit unsaved=1");
+  // `set` reaches it too, as a wheel factor typed by hand.
+  EXPECT_EQ(rig->reply("set wheelbase_arc_mm 151.5").rfind("ok ", 0), 0u);
+  EXPECT_EQ(test::value_of(rig->reply("provenance"), "wheel_method"), "manual");
 }
 
 }  // namespace

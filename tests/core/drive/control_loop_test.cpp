@@ -173,5 +173,62 @@ TEST(ControlLoop, ACommandNotYetTakenByATickReadsAsTaken) {
   EXPECT_FALSE(s.trial_open);
 }
 
+// A robot whose wheelbase is 150 mm turning in place and 153 mm on a straight line (the blend
+// b + w·(b_arc − b) between), told so with wheelbase_arc_mm.
+DriveConfig arc_config(float arc_mm) {
+  DriveConfig c;
+  c.wheelbase_arc_mm = arc_mm;
+  return c;
+}
+
+// Heading resolution of the odometry: one count of one wheel, 2π·(D/2)/counts/b.
+constexpr double kCountHeading_rad = 2.0 * M_PI * 0.03 / 1440.0 / 0.150;
+
+TEST(ControlLoop, AnArcWheelbaseTurnsAndIntegratesWithTheBlend) {
+  // v = 0.15 m/s, ω = 0.8 rad/s: an arc of R = 187.5 mm, w = R/(R + b_w/2) = 0.711 and
+  // b_w = 152.13 mm. Told one wheelbase (150 mm) the robot turns 1.4 % slower than commanded and
+  // its odometry overstates the heading by as much; told both, neither.
+  double told_one_rate = 0.0;
+  double told_one_error = 0.0;
+  for (const float arc_mm : {0.0f, 153.0f}) {
+    TestRig rig(arc_config(arc_mm));
+    rig.robot.wheelbase_arc_m = 0.153;
+    ASSERT_TRUE(rig.loop.drive(Twist{0.15f, 0.8f}, 2000u));
+    rig.run_for(0.6);  // past the wheels' start (τ = 50 ms)
+    const double theta0 = rig.robot.theta;
+    rig.run_for(1.0);
+    const double rate = rig.robot.theta - theta0;  // rad/s, over one steady second
+    rig.run_for(1.0);                              // ends the drive, brakes to rest
+    ASSERT_EQ(rig.loop.status().mode, Mode::idle);
+    const double error = rig.loop.pose().theta_rad - rig.robot.theta;  // |θ| < π here
+    if (arc_mm == 0.0f) {
+      told_one_rate = rate;
+      told_one_error = error;
+    } else {
+      // The wheel loops track their set-points (PI, exact M/T speeds at constant speed): the
+      // commanded turn rate to 0.25 %, against the 1.4 % of the one-wheelbase robot.
+      EXPECT_NEAR(rate, 0.8, 0.002);
+      // Odometry and truth agree to the encoder's resolution (a few counts over the run).
+      EXPECT_NEAR(error, 0.0, 3.0 * kCountHeading_rad);
+    }
+  }
+  const double b_w = 0.150 + 0.003 * 0.1875 / (0.1875 + 0.0761);
+  EXPECT_NEAR(told_one_rate, 0.8 * 0.150 / b_w, 0.002);
+  // About 2 rad turned, each overstated by (b_w − b)/b_w = 1.4 %.
+  EXPECT_GT(std::fabs(told_one_error), 10.0 * kCountHeading_rad);
+}
+
+TEST(ControlLoop, ATurnInPlaceWithAnArcWheelbaseUsesTheTurnWheelbase) {
+  TestRig rig(arc_config(153.0f));
+  rig.robot.wheelbase_arc_m = 0.153;
+  ASSERT_TRUE(rig.loop.drive(Twist{0.0f, 1.5f}, 1000u));
+  rig.run_for(0.5);
+  const double theta0 = rig.robot.theta;
+  rig.run_for(0.4);
+  EXPECT_NEAR((rig.robot.theta - theta0) / 0.4, 1.5, 0.004);
+  rig.run_for(1.0);
+  EXPECT_NEAR(rig.loop.pose().theta_rad - rig.robot.theta, 0.0, 3.0 * kCountHeading_rad);
+}
+
 }  // namespace
 }  // namespace odocal::drive

@@ -63,13 +63,22 @@ struct TestRobot {
   double left_diameter_m = 0.06;
   double right_diameter_m = 0.06;
   double wheelbase_m = 0.15;
+  /// Arc wheelbase (0: one wheelbase): the wheelbase in force is b + w·(b_arc − b), with w the
+  /// forward share of the wheels' rotation, |l + r| / (|l + r| + |r − l|), as odocal fit models it.
+  double wheelbase_arc_m = 0.0;
   double x = 0.0, y = 0.0, theta = 0.0;
 
   void move(double left_rad, double right_rad) {
     const double dl = left_rad * left_diameter_m / 2.0;
     const double dr = right_rad * right_diameter_m / 2.0;
     const double ds = 0.5 * (dl + dr);
-    const double dtheta = (dr - dl) / wheelbase_m;
+    double b = wheelbase_m;
+    if (wheelbase_arc_m != 0.0) {
+      const double forward = std::fabs(left_rad + right_rad);
+      const double sum = forward + std::fabs(right_rad - left_rad);
+      b += sum > 0.0 ? forward / sum * (wheelbase_arc_m - wheelbase_m) : 0.0;
+    }
+    const double dtheta = (dr - dl) / b;
     const double chord = std::fabs(dtheta) < 1e-12 ? ds : ds * std::sin(dtheta / 2) / (dtheta / 2);
     x += chord * std::cos(theta + dtheta / 2);
     y += chord * std::sin(theta + dtheta / 2);

@@ -244,6 +244,65 @@ TEST(ParamStore, MigratesVersion1Records) {
   EXPECT_TRUE(same(loaded, again));
 }
 
+// A version-2 record saved by firmware from before wheelbase_arc_mm (ids 0-20, written by hand
+// from the layout in docs/parameters.md) loads with the arc wheelbase at its default, 0 (one
+// wheelbase: the robot drives as it did), every stored value and the provenance kept.
+TEST(ParamStore, MigratesARecordFromBeforeTheArcWheelbase) {
+  SmallFlash flash;
+  constexpr std::uint16_t old_count = 21;
+  static_assert(static_cast<std::size_t>(ParamId::wheelbase_arc_mm) == old_count);
+  ParamSet old = default_params();
+  old.set(ParamId::wheelbase_mm, 201.5f);
+  old.set(ParamId::c_l, 0.998f);
+  std::vector<std::uint8_t> bytes(record_slot_size, 0xFF);
+  const std::uint16_t length = 16 + old_count * 8 + 24;
+  put32(&bytes[0], record_magic);
+  put16(&bytes[4], 2);
+  put16(&bytes[6], length);
+  put32(&bytes[8], 41);
+  put16(&bytes[12], old_count);
+  put16(&bytes[14], 0);
+  for (std::uint16_t i = 0; i < old_count; ++i) {
+    std::uint32_t bits;
+    const float value = old.values[i];
+    std::memcpy(&bits, &value, 4);
+    put32(&bytes[16 + 8 * i], i);
+    put32(&bytes[16 + 8 * i + 4], bits);
+  }
+  // Wheel provenance {fit, 0, 60 runs, date, quality 0}, lateral {defaults}.
+  std::uint8_t* provenance = &bytes[16 + old_count * 8];
+  provenance[0] = static_cast<std::uint8_t>(FactorMethod::fit);
+  provenance[1] = 0;
+  put16(provenance + 2, 60);
+  put32(provenance + 4, 1767000000u);
+  put32(provenance + 8, 0u);
+  std::memset(provenance + 12, 0, 12);
+  put32(&bytes[length], crc32(bytes.data(), length));
+  write_raw(flash, 0, bytes);
+
+  ParamStore store(flash);
+  ParamSet loaded;
+  StoreInfo info;
+  ASSERT_EQ(store.load(loaded, info), StoreResult::ok);
+  EXPECT_EQ(info.record.version, 2u);
+  EXPECT_TRUE(info.record.migrated);
+  EXPECT_EQ(loaded.get(ParamId::wheelbase_arc_mm), 0.0f);
+  EXPECT_EQ(default_value(ParamId::wheelbase_arc_mm), 0.0f);
+  EXPECT_EQ(loaded.get(ParamId::wheelbase_mm), 201.5f);
+  EXPECT_EQ(loaded.get(ParamId::c_l), 0.998f);
+  EXPECT_EQ(loaded.wheel.method, FactorMethod::fit);
+  EXPECT_EQ(loaded.wheel.runs, 60u);
+  EXPECT_EQ(loaded.wheel.date_unix_s, 1767000000u);
+  // The drive takes it, and the arc wheelbase then changes nothing (see the kinematics tests).
+  EXPECT_TRUE(drive::valid(to_drive_config(loaded)));
+  // Saved again, it is a whole current record.
+  ASSERT_EQ(store.save(loaded, info), StoreResult::ok);
+  ParamSet again;
+  ASSERT_EQ(store.load(again, info), StoreResult::ok);
+  EXPECT_FALSE(info.record.migrated);
+  EXPECT_TRUE(same(loaded, again));
+}
+
 TEST(ParamStore, RefusesANewerRecordFormatWithoutFallingBack) {
   SmallFlash flash;
   ParamStore store(flash);

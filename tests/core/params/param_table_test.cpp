@@ -33,7 +33,8 @@ TEST(ParamTable, HasEveryDesignParameterAndEveryDriveConfigField) {
                          "settle_ms",
                          "stall_ms",
                          "stall_duty",
-                         "max_illegal"};
+                         "max_illegal",
+                         "wheelbase_arc_mm"};
   for (const char* name : names) {
     ParamId id{};
     EXPECT_TRUE(find_param(name, std::strlen(name), id)) << name;
@@ -124,6 +125,23 @@ TEST(ParamTable, EveryRangeEndIsAcceptedByTheDrive) {
       EXPECT_TRUE(drive::valid(to_drive_config(set))) << param_info(id).name << "=" << value;
     }
   }
+}
+
+TEST(ParamTable, ArcWheelbaseIsZeroOrWithin20PercentOfTheWheelbase) {
+  ParamSet set = default_params();  // wheelbase_mm 150
+  EXPECT_EQ(set.get(ParamId::wheelbase_arc_mm), 0.0f);
+  for (const float arc : {0.0f, 120.0f, 151.2f, 180.0f}) {
+    set.set(ParamId::wheelbase_arc_mm, arc);
+    EXPECT_TRUE(drive::valid(to_drive_config(set))) << arc;
+  }
+  for (const float arc : {119.9f, 180.1f, 10.0f}) {
+    set.set(ParamId::wheelbase_arc_mm, arc);
+    const drive::ConfigCheck check = drive::check(to_drive_config(set));
+    EXPECT_EQ(check.error, drive::ConfigError::wheelbase_arc) << arc;
+    EXPECT_STREQ(drive::to_string(check),
+                 "wheelbase_arc_mm must be 0 or within 20% of wheelbase_mm");
+  }
+  EXPECT_FALSE(in_range(ParamId::wheelbase_arc_mm, -1.0f));
 }
 
 TEST(ParamTable, IntegerParameterRefusesFractions) {

@@ -109,6 +109,39 @@ TEST(Plant, TurnInPlaceUnderRotatesByTheWheelbaseRatio) {
   EXPECT_NEAR(plant.pose().theta_rad / believed, nominal_wheelbase_m / m.wheelbase_m, tolerance);
 }
 
+// The arc wheelbase (robot file `true_wheelbase_arc_mm`): the robot turns with b + w·(b_arc − b),
+// w = |φ_L + φ_R| / (|φ_L + φ_R| + |φ_R − φ_L|) of the wheel rotation: b in place, the blend on an
+// arc. Steady wheel speeds (20 motor time constants) make the turn rate exact.
+TEST(Plant, AnArcWheelbaseTurnsWithTheBlend) {
+  RobotModel m = quiet_robot();
+  m.left_diameter_m = 0.06;
+  m.right_diameter_m = 0.06;
+  m.wheelbase_m = 0.150;
+  m.wheelbase_arc_m = 0.153;
+  ASSERT_EQ(check(m), ModelError::none);
+  for (const float left_duty : {-0.3f, 0.15f}) {
+    Plant plant(m, 5u);
+    set_wheel(plant.left(), left_duty);
+    set_wheel(plant.right(), 0.3f);
+    plant.advance_to_ns(2'000'000'000u);
+    const double left = plant.left().speed_radps();
+    const double right = plant.right().speed_radps();
+    const double theta0 = plant.pose().theta_rad;
+    plant.advance_to_ns(3'000'000'000u);
+    const double forward = std::fabs(left + right);
+    const double w = forward / (forward + std::fabs(right - left));
+    const double expected = 0.03 * (right - left) / (0.150 + w * 0.003);  // rad in 1 s
+    EXPECT_NEAR(plant.pose().theta_rad - theta0, expected, 1e-6 * std::fabs(expected)) << w;
+    if (left_duty < 0.0f) {
+      EXPECT_NEAR(w, 0.0, 1e-9);  // turning in place: the turn wheelbase
+    } else {
+      EXPECT_GT(w, 0.5);
+    }
+  }
+  m.wheelbase_arc_m = 0.05;  // not above a wheel's diameter
+  EXPECT_EQ(check(m), ModelError::wheelbase_arc);
+}
+
 /// Records every edge seen on one wheel's lines.
 struct EdgeLog {
   Wheel* wheel = nullptr;

@@ -31,6 +31,15 @@ struct WheelRates {
 /// with D_L = D_a·c_L, D_R = D_a·c_R. The forward map (odometry) uses the same effective
 /// diameters, so forward and inverse are exact inverses for any factors: the robot's belief
 /// about where it went matches what it commanded.
+///
+/// Arc wheelbase (`wheelbase_arc_mm` ≠ 0, `odocal fit`'s arc-wheelbase model): the wheelbase in
+/// force is b_w = b + w·(b_arc − b) with the blend weight w = |θ̇_L + θ̇_R| / (|θ̇_L + θ̇_R| +
+/// |θ̇_R − θ̇_L|) of the wheel rotation (counts, as the fit counts them): 0 turning in place,
+/// R/(R + b/2) on an arc of radius R, 1 straight. Odometry takes w from the measured wheel rates
+/// (`wheelbase_for_rates_m`), the inverse map from the commanded twist, w = |v| / (|v| +
+/// |ω|·b_w/2), solved with b_w itself (`wheelbase_for_twist_m`): the wheel rates it commands then
+/// give that w back, so forward and inverse stay inverses. With wheelbase_arc_mm = 0 both are b
+/// (one branch, no arithmetic).
 class DiffDriveKinematics {
  public:
   explicit DiffDriveKinematics(const DriveConfig& config = DriveConfig{}) { configure(config); }
@@ -50,6 +59,18 @@ class DiffDriveKinematics {
   [[nodiscard]] float left_diameter_m() const { return left_diameter_m_; }
   [[nodiscard]] float right_diameter_m() const { return right_diameter_m_; }
   [[nodiscard]] float wheelbase_m() const { return wheelbase_m_; }
+  /// b_arc − b, m; 0 when the robot has one wheelbase (wheelbase_arc_mm = 0).
+  [[nodiscard]] float arc_gap_m() const { return arc_gap_m_; }
+
+  /// Wheelbase in force, m, while the wheels turn at `left` and `right` (any unit common to both:
+  /// rad/s, counts). Tick context.
+  [[nodiscard]] float wheelbase_for_rates_m(float left, float right) const {
+    return arc_gap_m_ == 0.0f ? wheelbase_m_ : blend_rates_m(left, right);
+  }
+  /// Wheelbase in force, m, for a commanded body twist.
+  [[nodiscard]] float wheelbase_for_twist_m(const Twist& twist) const {
+    return arc_gap_m_ == 0.0f ? wheelbase_m_ : blend_twist_m(twist);
+  }
 
   /// The 2x2 map [θ̇_L; θ̇_R] = J·[v; ω] (eq. 7 in body frame: cos θ ẋ + sin θ ẏ = v).
   [[nodiscard]] const Eigen::Matrix2f& inverse_jacobian() const { return inverse_; }
@@ -61,6 +82,10 @@ class DiffDriveKinematics {
   float left_diameter_m_ = 0.06f;
   float right_diameter_m_ = 0.06f;
   float wheelbase_m_ = 0.15f;
+  float arc_gap_m_ = 0.0f;
+
+  [[nodiscard]] float blend_rates_m(float left, float right) const;
+  [[nodiscard]] float blend_twist_m(const Twist& twist) const;
   float left_m_per_count_ = 0.0f;
   float right_m_per_count_ = 0.0f;
 };

@@ -40,6 +40,13 @@ struct DriveConfig {
   float stall_ms = 500.0f;          ///< duty above stall_duty with no encoder edge this long
   float stall_duty = 0.3f;          ///< |duty| above which a wheel is expected to turn
   std::uint32_t max_illegal = 16u;  ///< illegal encoder transitions before the fault trips
+  // Geometry, added later (the table is in stored-id order, so it comes last).
+  /// Arc wheelbase b_arc: the wheelbase in force is b + w·(b_arc − b) with the blend weight
+  /// w = |forward| / (|forward| + |differential|) wheel travel (0 turning in place, R/(R + b/2) on
+  /// an arc of radius R, 1 straight), as `odocal fit`'s arc-wheelbase model. 0 = the same as
+  /// wheelbase_mm (one wheelbase, the robot behaves as before the parameter existed); otherwise
+  /// within 20 % of wheelbase_mm (`check`).
+  float wheelbase_arc_mm = 0.0f;
 };
 
 /// One field of DriveConfig as the console and the store see it (also the console's
@@ -80,7 +87,7 @@ struct ConfigField {
 static_assert(sizeof(DriveConfig) < 256u, "field offsets fit ConfigField::offset");
 
 /// Number of fields (= number of console parameters).
-inline constexpr std::size_t config_field_count = 21u;
+inline constexpr std::size_t config_field_count = 22u;
 
 /// The table, in the order of the stored parameter ids (params::ParamId): never reorder, only
 /// append. Ranges are what a robot can run with; one cross-field rule comes on top (`check`).
@@ -106,6 +113,7 @@ inline constexpr std::array<ConfigField, config_field_count> config_fields{{
     {"stall_ms", "ms", 10.0f, 60000.0f, offsetof(DriveConfig, stall_ms), false},
     {"stall_duty", "1", 0.0f, 1.0f, offsetof(DriveConfig, stall_duty), false},
     {"max_illegal", "count", 0.0f, 1.0e6f, offsetof(DriveConfig, max_illegal), true},
+    {"wheelbase_arc_mm", "mm", 0.0f, 5000.0f, offsetof(DriveConfig, wheelbase_arc_mm), false},
 }};
 
 /// Why a configuration was refused.
@@ -113,7 +121,13 @@ enum class ConfigError : std::uint8_t {
   none,             ///< accepted
   out_of_range,     ///< field `field` is not finite or outside its range
   wheelbase_short,  ///< wheelbase_mm <= wheel_diameter_mm / 4
+  wheelbase_arc,    ///< wheelbase_arc_mm neither 0 nor within 20 % of wheelbase_mm
 };
+
+/// How far the arc wheelbase may be from wheelbase_mm, relative (a tyre's contact patch moving
+/// across its width: the OptiOdom robot's differ by 0.8 %). It also bounds the blend's inverse
+/// kinematics (DiffDriveKinematics).
+inline constexpr float wheelbase_arc_tolerance = 0.2f;
 
 /// The outcome of checking a configuration: a code and, for `out_of_range`, which field.
 struct [[nodiscard]] ConfigCheck {

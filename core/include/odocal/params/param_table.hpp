@@ -35,7 +35,8 @@ enum class ParamId : std::uint8_t {
   stall_ms = 18,
   stall_duty = 19,
   max_illegal = 20,
-  count = 21,
+  wheelbase_arc_mm = 21,
+  count = 22,
 };
 
 /// Number of parameters.
@@ -84,7 +85,8 @@ struct Provenance {
 };
 
 /// Everything the store persists: one value per parameter and the provenance of the computed
-/// factors. `wheel` covers c_l, c_r, wheelbase_mm (UMBmark); `lateral` covers f_lat, f_lon.
+/// factors. `wheel` covers c_l, c_r, wheelbase_mm,
+/// wheelbase_arc_mm (UMBmark, fit); `lateral` covers f_lat, f_lon.
 struct ParamSet {
   std::array<float, param_count> values{};
   Provenance wheel{};

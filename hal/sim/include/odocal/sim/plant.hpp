@@ -252,6 +252,7 @@ class Plant {
   double cos_ = 1.0;
   double sin_ = 0.0;
   double inverse_wheelbase_ = 0.0;  ///< 1/true wheelbase, 1/m
+  double arc_gap_m_ = 0.0;          ///< true arc wheelbase − wheelbase, m (0: one wheelbase)
   double distance_m_ = 0.0;
 };
 

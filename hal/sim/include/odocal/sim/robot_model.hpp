@@ -26,9 +26,13 @@ struct MotorModel {
 /// Everything that makes the simulated robot what it is. Lengths in metres, angles in radians.
 struct RobotModel {
   // The real robot (the firmware is told the nominal values separately).
-  double left_diameter_m = 0.05994;      ///< true left wheel diameter D_L
-  double right_diameter_m = 0.06006;     ///< true right wheel diameter D_R
-  double wheelbase_m = 0.1515;           ///< true wheelbase (contact point to contact point)
+  double left_diameter_m = 0.05994;   ///< true left wheel diameter D_L
+  double right_diameter_m = 0.06006;  ///< true right wheel diameter D_R
+  double wheelbase_m = 0.1515;        ///< true wheelbase (contact point to contact point)
+  /// True arc wheelbase, 0 = none (one wheelbase): the wheelbase in force is then
+  /// wheelbase_m + w·(wheelbase_arc_m − wheelbase_m), w = |φ_L + φ_R| / (|φ_L + φ_R| + |φ_R − φ_L|)
+  /// of the wheels' rotation φ over each physics step (odocal fit's arc-wheelbase model).
+  double wheelbase_arc_m = 0.0;
   std::uint32_t counts_per_rev = 1440u;  ///< encoder counts per wheel revolution after x4; %4 == 0
 
   MotorModel left_motor{};
@@ -58,6 +62,7 @@ enum class ModelError : std::uint8_t {
   left_diameter,  ///< not finite or not > 0
   right_diameter,
   wheelbase,       ///< not finite, or not larger than the larger wheel diameter
+  wheelbase_arc,   ///< neither 0 nor finite and larger than the larger wheel diameter
   counts_per_rev,  ///< zero or not a multiple of 4
   slip,            ///< slip sigma negative or >= 0.5, or slip length not > 0
   bump,            ///< negative height, height >= the smaller wheel radius, or spacing not > 0

@@ -126,16 +126,31 @@ Factors Context::factors() {
   f.wheelbase_mm = get("wheelbase_mm");
   f.f_lat = get("f_lat");
   f.f_lon = get("f_lon");
+  // Firmware from before the arc wheelbase has no such parameter: 0, one wheelbase.
+  const Reply arc = robot.command("get wheelbase_arc_mm");
+  f.wheelbase_arc_mm = arc.ok ? arc.number("wheelbase_arc_mm") : 0.0;
   last_factors = f;
   return f;
 }
 
+void Context::set_factors(const Factors& f) {
+  const bool has_arc = robot.command("get wheelbase_arc_mm").ok;
+  if (has_arc) {
+    set("wheelbase_arc_mm", 0.0);
+  }
+  set("c_l", f.c_l);
+  set("c_r", f.c_r);
+  set("wheelbase_mm", f.wheelbase_mm);
+  set("f_lat", f.f_lat);
+  set("f_lon", f.f_lon);
+  if (has_arc && f.wheelbase_arc_mm != 0.0) {
+    set("wheelbase_arc_mm", f.wheelbase_arc_mm);
+  }
+}
+
 nlohmann::json factors_json(const Factors& f) {
-  return {{"c_l", f.c_l},
-          {"c_r", f.c_r},
-          {"wheelbase_mm", f.wheelbase_mm},
-          {"f_lat", f.f_lat},
-          {"f_lon", f.f_lon}};
+  return {{"c_l", f.c_l},     {"c_r", f.c_r},     {"wheelbase_mm", f.wheelbase_mm},
+          {"f_lat", f.f_lat}, {"f_lon", f.f_lon}, {"wheelbase_arc_mm", f.wheelbase_arc_mm}};
 }
 
 double plain(double value, int decimals) {
@@ -481,7 +496,8 @@ void put_back(Context& c, std::ostream& log) {
     const auto unchanged = [&c](const Factors& f) {
       return same_value(f.c_l, c.initial.c_l) && same_value(f.c_r, c.initial.c_r) &&
              same_value(f.wheelbase_mm, c.initial.wheelbase_mm) &&
-             same_value(f.f_lat, c.initial.f_lat) && same_value(f.f_lon, c.initial.f_lon);
+             same_value(f.f_lat, c.initial.f_lat) && same_value(f.f_lon, c.initial.f_lon) &&
+             same_value(f.wheelbase_arc_mm, c.initial.wheelbase_arc_mm);
     };
     if (unchanged(now) && same_value(cruise, c.initial_cruise_mps)) {
       log << "The robot is stopped; its factors are as they were when the session started.\n";
@@ -492,11 +508,7 @@ void put_back(Context& c, std::ostream& log) {
       reloaded = c.robot.command("load", 5000).ok;
     }
     if (!reloaded) {
-      c.set("c_l", c.initial.c_l);
-      c.set("c_r", c.initial.c_r);
-      c.set("wheelbase_mm", c.initial.wheelbase_mm);
-      c.set("f_lat", c.initial.f_lat);
-      c.set("f_lon", c.initial.f_lon);
+      c.set_factors(c.initial);
       c.set("v_max_mps", c.initial_cruise_mps);
     }
     now = c.factors();

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <sstream>
 #include <stdexcept>
 
@@ -139,6 +140,9 @@ Outcome run_fit(Context& c) {
         "applied: check the wiring (docs/wiring.md) and the measurements.",
         c_l, c_r, wheelbase, c.initial.wheelbase_mm));
   }
+  if (result.geometry.model == FitModelKind::arc_wheelbase) {
+    any = true;  // the data chose a second wheelbase (held-out prediction): it goes in force
+  }
   if (!any) {
     text << "The runs show nothing wrong with the geometry in force: nothing changed.\n";
     c.log << text.str();
@@ -147,9 +151,14 @@ Outcome run_fit(Context& c) {
   }
   // `fit apply` puts the three in force at once with provenance `fit` (docs/console.md), the
   // session's date and its runs.
-  char line[160];
+  char line[192];
   std::snprintf(line, sizeof line, "fit apply %.6f %.6f %.4f %llu %zu", c_l, c_r, wheelbase,
                 static_cast<unsigned long long>(c.date()), c.runs.size());
+  if (result.geometry.model == FitModelKind::arc_wheelbase) {
+    // The arc-wheelbase model: its second wheelbase goes in force too (docs/parameters.md).
+    std::snprintf(line + std::strlen(line), sizeof line - std::strlen(line), " arc %.4f",
+                  result.geometry.second_wheelbase_mm);
+  }
   static_cast<void>(c.robot.expect_ok(line));
   // The diameters applied already hold what F_lat, F_lon did (the kept ones are the effective
   // diameters in force): with the fitted geometry eq. 7 needs no Maddahi correction.

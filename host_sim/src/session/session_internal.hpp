@@ -20,6 +20,8 @@ struct Factors {
   double wheelbase_mm = 0.0;
   double f_lat = 1.0;
   double f_lon = 1.0;
+  /// The arc wheelbase (0: the same as wheelbase_mm, or firmware without the parameter).
+  double wheelbase_arc_mm = 0.0;
 };
 
 /// What a procedure hands back to the engine.
@@ -61,6 +63,9 @@ class Context {
   /// `set NAME VALUE`; returns the value as stored.
   double set(const std::string& name, double value);
   [[nodiscard]] Factors factors();
+  /// Puts `f` in force: the arc wheelbase cleared first and set last, so that no step breaks
+  /// the firmware's rule that it stays within 20 % of wheelbase_mm.
+  void set_factors(const Factors& f);
 
   /// One measured run: `odom reset`, `command` (a `run ...` or timed `drive`), `# done` within a
   /// timeout from `expected_s` (the run's nominal duration), `trial`, then the measurement.

@@ -36,14 +36,6 @@ double parameter_default(Context& c, const std::string& name) {
   throw LinkError("'params' lists no default for " + name);
 }
 
-void set_factors(Context& c, const Factors& f) {
-  c.set("c_l", f.c_l);
-  c.set("c_r", f.c_r);
-  c.set("wheelbase_mm", f.wheelbase_mm);
-  c.set("f_lat", f.f_lat);
-  c.set("f_lon", f.f_lon);
-}
-
 }  // namespace
 
 Outcome run_verify(Context& c) {
@@ -86,11 +78,11 @@ Outcome run_verify(Context& c) {
       csv << line;
     }
   };
-  set_factors(c, nominal);
+  c.set_factors(nominal);
   try {
     drive_scenario("before");
   } catch (...) {
-    set_factors(c, in_force);
+    c.set_factors(in_force);
     throw;
   }
   // Put the factors back exactly: `load` restores the saved set and its provenance when nothing
@@ -101,7 +93,7 @@ Outcome run_verify(Context& c) {
     restored = load.ok;
   }
   if (!restored) {
-    set_factors(c, in_force);
+    c.set_factors(in_force);
     if (saved_state) {
       c.log << "(no saved set to reload: the factors were set back by hand)\n";
     } else {

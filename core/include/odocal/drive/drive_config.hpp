@@ -40,6 +40,21 @@ struct DriveConfig {
   float stall_ms = 500.0f;          ///< duty above stall_duty with no encoder edge this long
   float stall_duty = 0.3f;          ///< |duty| above which a wheel is expected to turn
   std::uint32_t max_illegal = 16u;  ///< illegal encoder transitions before the fault trips
+  // Wiring.
+  std::uint32_t wiring_fix = 0u;  ///< WiringFix bits: how the motors and encoders are connected
+};
+
+/// Bits of DriveConfig::wiring_fix: the firmware's fixes for a miswired robot (docs/wiring.md).
+/// Applied once when the configuration is taken, at the loop's edge to the hardware: the tick
+/// costs the same whatever they are.
+enum WiringFix : std::uint32_t {
+  invert_left_motor = 0x01,     ///< the left motor turns backwards for a forward duty
+  invert_right_motor = 0x02,    ///< the right motor turns backwards for a forward duty
+  invert_left_encoder = 0x04,   ///< the left encoder counts down going forward
+  invert_right_encoder = 0x08,  ///< the right encoder counts down going forward
+  swap_encoders = 0x10,         ///< the left encoder is on the right connector and vice versa
+  swap_motors = 0x20,           ///< the left motor is on the right connector and vice versa
+  wiring_fix_all = 0x3F,
 };
 
 /// One field of DriveConfig as the console and the store see it (also the console's
@@ -80,7 +95,7 @@ struct ConfigField {
 static_assert(sizeof(DriveConfig) < 256u, "field offsets fit ConfigField::offset");
 
 /// Number of fields (= number of console parameters).
-inline constexpr std::size_t config_field_count = 21u;
+inline constexpr std::size_t config_field_count = 22u;
 
 /// The table, in the order of the stored parameter ids (params::ParamId): never reorder, only
 /// append. Ranges are what a robot can run with; one cross-field rule comes on top (`check`).
@@ -106,6 +121,7 @@ inline constexpr std::array<ConfigField, config_field_count> config_fields{{
     {"stall_ms", "ms", 10.0f, 60000.0f, offsetof(DriveConfig, stall_ms), false},
     {"stall_duty", "1", 0.0f, 1.0f, offsetof(DriveConfig, stall_duty), false},
     {"max_illegal", "count", 0.0f, 1.0e6f, offsetof(DriveConfig, max_illegal), true},
+    {"wiring_fix", "bits", 0.0f, 63.0f, offsetof(DriveConfig, wiring_fix), true},
 }};
 
 /// Why a configuration was refused.

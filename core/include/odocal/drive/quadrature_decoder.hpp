@@ -22,6 +22,13 @@ inline constexpr std::int8_t transition[16] = {
     -1,      illegal, 0,       +1,       // from 10
     illegal, +1,      -1,      0,        // from 11
 };
+/// The same for an encoder whose A and B lines are exchanged (it counts down going forward).
+inline constexpr std::int8_t transition_reversed[16] = {
+    0,       +1,      -1,      illegal,  // from 00
+    -1,      0,       illegal, +1,       // from 01
+    +1,      illegal, 0,       -1,       // from 10
+    illegal, -1,      +1,      0,        // from 11
+};
 
 constexpr std::uint8_t state_of(bool a, bool b) {
   return static_cast<std::uint8_t>((a ? 2u : 0u) | (b ? 1u : 0u));
@@ -52,16 +59,26 @@ class QuadratureDecoder {
   /// vectors take it into their own body (the whole edge path is one function).
   void on_edge(bool a, bool b, std::uint32_t now_us) {
     const std::uint8_t next = quadrature::state_of(a, b);
-    const std::int8_t step = quadrature::transition[(state_ << 2) | next];
+    const std::int8_t step = table_[(state_ << 2) | next];
     state_ = next;
+    QuadratureDecoder& out = *counts_;
     if (step == quadrature::illegal) {
-      ++illegal_;
+      ++out.illegal_;
     } else if (step != 0) {
       // Modular arithmetic: the raw count wraps at 2^32 and readers take differences.
-      count_ += static_cast<std::uint32_t>(static_cast<std::int32_t>(step));
-      ++edges_;
-      last_edge_us_ = now_us;
+      out.count_ += static_cast<std::uint32_t>(static_cast<std::int32_t>(step));
+      ++out.edges_;
+      out.last_edge_us_ = now_us;
     }
+  }
+
+  /// From now on this decoder's edges advance the counters of `counts` (itself by default: the
+  /// other wheel's decoder when the encoder connectors are swapped), counting down going forward
+  /// when `reversed`. Not ISR-safe: call where edges cannot interrupt. The counts carry on from
+  /// where they are (no jump).
+  void route(QuadratureDecoder& counts, bool reversed) {
+    counts_ = &counts;
+    table_ = reversed ? quadrature::transition_reversed : quadrature::transition;
   }
 
   /// The current state. Not atomic: call it where edges cannot interrupt (under a
@@ -76,6 +93,8 @@ class QuadratureDecoder {
   std::uint32_t edges_ = 0u;
   std::uint32_t illegal_ = 0u;
   std::uint8_t state_ = 0u;  ///< previous (A << 1) | B
+  const std::int8_t* table_ = quadrature::transition;
+  QuadratureDecoder* counts_ = this;  ///< whose counters the edges advance (`route`)
 };
 
 /// `decoder` as the receiver of a HAL backend's encoder edges (hal::EdgeSink): the firmware or

@@ -35,7 +35,8 @@ enum class ParamId : std::uint8_t {
   stall_ms = 18,
   stall_duty = 19,
   max_illegal = 20,
-  count = 21,
+  wiring_fix = 21,
+  count = 22,
 };
 
 /// Number of parameters.

@@ -33,7 +33,8 @@ TEST(ParamTable, HasEveryDesignParameterAndEveryDriveConfigField) {
                          "settle_ms",
                          "stall_ms",
                          "stall_duty",
-                         "max_illegal"};
+                         "max_illegal",
+                         "wiring_fix"};
   for (const char* name : names) {
     ParamId id{};
     EXPECT_TRUE(find_param(name, std::strlen(name), id)) << name;

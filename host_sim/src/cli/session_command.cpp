@@ -71,6 +71,9 @@ Procedure procedure_of(const std::string& name) {
   if (name == "fit") {
     return Procedure::fit;
   }
+  if (name == "selftest") {
+    return Procedure::selftest;
+  }
   return Procedure::verify;
 }
 
@@ -94,6 +97,7 @@ void check_runs(Procedure procedure, std::uint64_t runs) {
       hi = 30;
       break;
     case Procedure::verify:
+    case Procedure::selftest:
       lo = 1;
       hi = 16;
       break;
@@ -227,7 +231,8 @@ int run(const SessionFlags& given, const CLI::App& cmd) {
     throw InputError("--port", 0, "", "give --port DEV (a robot) or --sim ROBOT.json (odocal-sim)");
   }
   if (f.procedure.empty()) {
-    throw InputError("--procedure", 0, "", "give --procedure umbmark, lateral, fit or verify");
+    throw InputError("--procedure", 0, "",
+                     "give --procedure umbmark, lateral, fit, verify or selftest");
   }
   SessionOptions options;
   options.procedure = procedure_of(f.procedure);
@@ -345,8 +350,8 @@ void register_session_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--seed", flags->seed, "seed of the simulated robot and the bootstrap")
       ->check(toolkit::whole_check(0u, UINT64_MAX));
   cmd->add_option("--store", flags->store, "odocal-sim's parameter store file (with --sim)");
-  cmd->add_option("--procedure", flags->procedure, "umbmark, lateral, fit or verify")
-      ->check(CLI::IsMember({"umbmark", "lateral", "fit", "verify"}));
+  cmd->add_option("--procedure", flags->procedure, "umbmark, lateral, fit, verify or selftest")
+      ->check(CLI::IsMember({"umbmark", "lateral", "fit", "verify", "selftest"}));
   cmd->add_option("--resume", flags->resume,
                   "continue the interrupted session in this directory: runs already measured "
                   "are not driven again; options come from its session.json");

@@ -36,6 +36,8 @@ const char* to_string(Procedure procedure) {
       return "fit";
     case Procedure::verify:
       return "verify";
+    case Procedure::selftest:
+      return "selftest";
   }
   return "?";
 }
@@ -66,6 +68,8 @@ std::size_t planned_runs(const SessionOptions& options) {
       return options.runs.value_or(6);
     case Procedure::verify:
       return 2 * options.runs.value_or(5);
+    case Procedure::selftest:
+      return 0;  // a measured run only for a fault the encoders cannot tell apart
   }
   return 0;
 }
@@ -621,6 +625,9 @@ SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
         break;
       case Procedure::fit:
         outcome = session::run_fit(context);
+        break;
+      case Procedure::selftest:
+        outcome = session::run_selftest(context);
         break;
     }
     if (outcome.applied) {

@@ -69,6 +69,9 @@ void Console::start_selftest_wheel(unsigned wheel) {
   selftest_illegal_[0] = status.illegal_left;
   selftest_illegal_[1] = status.illegal_right;
   selftest_duty_ = 0.0f;
+  // A quarter of the counts the wheel turns at the commanded speed tells motion from jitter.
+  selftest_enough_ = 0.25f * kSpeedShare * config.max_wheel_radps *
+                     (static_cast<float>(kDrive_ms) * 1e-3f) * config.counts_per_rev / 6.2831853f;
   selftest_due_us_ = last_now_us_ + kDrive_ms * 1000u;
   selftest_phase_ = static_cast<std::uint8_t>(2u * wheel + 1u);
 }
@@ -82,10 +85,7 @@ void Console::continue_selftest() {
                                  static_cast<std::int32_t>(counts.right) - selftest_start_[1]};
   const std::int32_t own = moved[wheel];
   const std::int32_t other = moved[1u - wheel];
-  // A quarter of the counts the wheel turns at the commanded speed tells motion from jitter.
-  const drive::DriveConfig config = params::to_drive_config(settings_.values());
-  const float enough = 0.25f * kSpeedShare * config.max_wheel_radps *
-                       (static_cast<float>(kDrive_ms) * 1e-3f) * config.counts_per_rev / 6.2831853f;
+  const float enough = selftest_enough_;
   const auto counted = [enough](std::int32_t n) {
     return n != 0 && static_cast<float>(n < 0 ? -n : n) >= enough;
   };
@@ -116,7 +116,7 @@ void Console::continue_selftest() {
     found |= kLeftStill;
   } else if (own < 0) {
     found |= kLeftReversed;
-  } else if (selftest_duty_ > config.stall_duty) {
+  } else if (selftest_duty_ > settings_.values().get(params::ParamId::stall_duty)) {
     found |= kLeftWeak;  // it turns, but only at a duty where it should already run
   }
   // The left wheel's bits shifted by one name the right wheel's (crossed stays one bit).

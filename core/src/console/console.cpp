@@ -56,8 +56,7 @@ ConsoleCounters Console::counters() const {
 }
 
 bool Console::idle() const {
-  return rx_.size() == 0u && listing_ == Listing::none && out_.size() == 0u &&
-         selftest_phase_ == 0u;
+  return rx_.size() == 0u && listing_ == Listing::none && out_.size() == 0u;
 }
 
 void Console::poll(std::uint32_t now_us) {

@@ -39,7 +39,7 @@ TEST(ConsoleSelftest, RefusedWhileTheRobotMoves) {
 TEST(ConsoleSelftest, OnlyStopIsTakenWhileItRunsAndStopEndsItSafely) {
   auto rig = started_rig();
   EXPECT_TRUE(type(*rig, "selftest").empty());  // the reply comes when it is done
-  EXPECT_FALSE(rig->console.idle());
+  EXPECT_TRUE(rig->console.selftest_running());
   const auto refused = type(*rig, "status");
   ASSERT_EQ(refused.size(), 1u);
   EXPECT_EQ(refused[0].rfind("err busy selftest running", 0), 0u) << refused[0];
@@ -57,7 +57,7 @@ TEST(ConsoleSelftest, WheelsThatNeverCountAreStillAndTheMotorsEndReleased) {
   auto rig = started_rig();
   const std::size_t mark = rig->stream.output_size;
   rig->stream.type("selftest\n");
-  for (int i = 0; i < 5000 && !(rig->stream.drained() && rig->console.idle()); ++i) {
+  for (int i = 0; i < 5000 && rig->console.selftest_running(); ++i) {
     rig->console.poll(rig->now_us);
     rig->tick(1);
   }

@@ -106,8 +106,12 @@ class Console {
   void poll(std::uint32_t now_us);
 
   /// True when no received byte waits, no multi-line reply is in progress and the output queue is
-  /// empty and no `selftest` awaits its reply: the console has answered everything it was given.
+  /// empty: the console has answered everything it was given (but a `selftest` still running,
+  /// see `selftest_running`).
   [[nodiscard]] bool idle() const;
+  /// True while a `selftest` drives the wheels (its reply is still to come): a host that runs
+  /// the robot's time keeps it running until then.
+  [[nodiscard]] bool selftest_running() const { return selftest_phase_ != 0u; }
 
   /// The parameter values in force.
   [[nodiscard]] const params::ParamSet& params() const { return settings_.values(); }
@@ -333,7 +337,9 @@ class Console {
   std::uint8_t selftest_phase_ = 0u;
   std::uint8_t selftest_last_ = 1u;  ///< the last wheel to test (0 left, 1 right)
   std::uint16_t selftest_faults_ = 0u;
-  float selftest_duty_ = 0.0f;          ///< largest |duty| of the driven wheel in this phase
+  float selftest_duty_ = 0.0f;
+  float selftest_enough_ = 0.0f;  ///< counts that tell a turning wheel from jitter          ///<
+                                  ///< largest |duty| of the driven wheel in this phase
   std::uint32_t selftest_due_us_ = 0u;  ///< end of this phase (last_now_us_ clock)
   std::int32_t selftest_start_[2] = {};
   std::uint32_t selftest_illegal_[2] = {};

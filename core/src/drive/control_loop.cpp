@@ -250,7 +250,6 @@ void ControlLoop::tick(std::uint32_t now_us) {
     if (inbox_.config_pending) {
       config_ = inbox_.config;  // applied below, outside the critical section
       inbox_.config_pending = false;
-      apply_wiring(config_.wiring_fix);  // the decoders' routes: where edges cannot interrupt
     }
     inbox.command = inbox_.command;
     inbox.twist = inbox_.twist;
@@ -371,6 +370,9 @@ ConfigCheck ControlLoop::configure(const DriveConfig& config) {
   hal::CriticalGuard guard(critical_);
   inbox_.config = config;
   inbox_.config_pending = true;
+  // The wiring at once, here (no edge or tick runs inside the section): the tick that takes the
+  // rest of the configuration does no more work for it.
+  apply_wiring(config.wiring_fix);
   return result;
 }
 

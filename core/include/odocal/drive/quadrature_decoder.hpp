@@ -3,6 +3,7 @@
 /// x4 quadrature decoder driven from encoder edge interrupts.
 
 #include <cstdint>
+#include <cstring>
 
 #include "odocal/hal/edge_sink.hpp"
 
@@ -78,7 +79,8 @@ class QuadratureDecoder {
   /// where they are (no jump).
   void route(QuadratureDecoder& counts, bool reversed) {
     counts_ = &counts;
-    table_ = reversed ? quadrature::transition_reversed : quadrature::transition;
+    std::memcpy(table_, reversed ? quadrature::transition_reversed : quadrature::transition,
+                sizeof table_);
   }
 
   /// The current state. Not atomic: call it where edges cannot interrupt (under a
@@ -88,12 +90,19 @@ class QuadratureDecoder {
   }
 
  private:
+  /// The transition table in force, held in the decoder and first in it: the edge reads
+  /// `table_[index]` as one load from the decoder's address plus the index (no load of a table's
+  /// address, no offset to add), which pays for the load of `counts_`: the edge costs what it did
+  /// before the wiring fixes.
+  // clang-format off
+  std::int8_t table_[16] = {0, -1, +1, quadrature::illegal,  +1, 0, quadrature::illegal, -1,
+                            -1, quadrature::illegal, 0, +1,  quadrature::illegal, +1, -1, 0};
+  // clang-format on
   std::uint32_t count_ = 0u;
   std::uint32_t last_edge_us_ = 0u;
   std::uint32_t edges_ = 0u;
   std::uint32_t illegal_ = 0u;
   std::uint8_t state_ = 0u;  ///< previous (A << 1) | B
-  const std::int8_t* table_ = quadrature::transition;
   QuadratureDecoder* counts_ = this;  ///< whose counters the edges advance (`route`)
 };
 

@@ -57,7 +57,8 @@ TEST(ConsoleSelftest, WheelsThatNeverCountAreStillAndTheMotorsEndReleased) {
   auto rig = started_rig();
   const std::size_t mark = rig->stream.output_size;
   rig->stream.type("selftest\n");
-  for (int i = 0; i < 5000 && rig->console.selftest_running(); ++i) {
+  for (int i = 0; i < 5000 && (!rig->stream.drained() || i < 5 || rig->console.selftest_running());
+       ++i) {
     rig->console.poll(rig->now_us);
     rig->tick(1);
   }

@@ -23,6 +23,7 @@ const Console::Form Console::form_table_[] = {
     {"odom reset", 2, 2, form_sub, Handler::odom},
     {"drive <v_mps> <w_radps> [ms]", 3, 4, 0, Handler::drive},
     {"stop", 1, 1, 0, Handler::stop},
+    {"selftest [left|right]", 1, 2, form_moving, Handler::selftest},
     {"run umbmark-cw <side_m>", 3, 3, form_sub, Handler::run},
     {"run umbmark-ccw <side_m>", 3, 3, form_sub, Handler::run},
     {"run line <m>", 3, 3, form_sub, Handler::run},
@@ -50,6 +51,15 @@ const Console::Form Console::form_table_[] = {
 const std::size_t Console::form_count_ = sizeof(Console::form_table_) / sizeof(Form);
 
 void Console::dispatch(Handler handler, const Token* words, std::size_t count) {
+  if (selftest_phase_ != 0u) {
+    // The self-test's reply is still to come: only `stop` is taken, and ends it.
+    if (handler != Handler::stop) {
+      send_error(ErrorCode::busy, "selftest running; stop ends it");
+      return;
+    }
+    selftest_phase_ = 0u;
+    send_error(ErrorCode::busy, "selftest ended by stop");
+  }
   switch (handler) {
     case Handler::help:
       start_listing(Listing::help);
@@ -86,6 +96,9 @@ void Console::dispatch(Handler handler, const Token* words, std::size_t count) {
       return;
     case Handler::stop:
       cmd_stop();
+      return;
+    case Handler::selftest:
+      cmd_selftest(words, count);
       return;
     case Handler::run:
       cmd_run(words);

@@ -86,6 +86,9 @@ void Console::poll(std::uint32_t now_us) {
 
   // A finished trial is announced before the reply to any later line.
   note_trials();
+  if (selftest_phase_ != 0u) {
+    continue_selftest();
+  }
   if (listing_ != Listing::none) {
     continue_listing();
   } else {

@@ -47,12 +47,40 @@ const char* mode_name(Mode mode) {
   return "idle";
 }
 
+void InvertedOutput::do_set(bool level) {
+  line_.set(!level);
+}
+
 ControlLoop::ControlLoop(MotorChannel left, MotorChannel right, hal::CriticalSection& critical,
                          const DriveConfig& config)
     : left_(left), right_(right), critical_(critical) {
   apply_config(valid(config) ? config : DriveConfig{});
+  apply_wiring(config_.wiring_fix);
   inbox_.config = config_;
   drive_motors(0.0f, 0.0f);
+}
+
+void ControlLoop::apply_wiring(std::uint32_t wiring_fix) {
+  const bool swap_out = (wiring_fix & swap_motors) != 0u;
+  MotorChannel& left_out = swap_out ? right_ : left_;
+  MotorChannel& right_out = swap_out ? left_ : right_;
+  left_pwm_ = &left_out.pwm;
+  right_pwm_ = &right_out.pwm;
+  InvertedOutput& left_inverted = swap_out ? right_inverted_ : left_inverted_;
+  InvertedOutput& right_inverted = swap_out ? left_inverted_ : right_inverted_;
+  left_forward_ = (wiring_fix & invert_left_motor) != 0u
+                      ? static_cast<hal::DigitalOutput*>(&left_inverted)
+                      : &left_out.forward;
+  right_forward_ = (wiring_fix & invert_right_motor) != 0u
+                       ? static_cast<hal::DigitalOutput*>(&right_inverted)
+                       : &right_out.forward;
+  // The decoders stay with their connectors (the edge contexts feed them); their edges advance
+  // the counters the tick reads as the left or right wheel.
+  const bool swap_in = (wiring_fix & swap_encoders) != 0u;
+  QuadratureDecoder& left_in = swap_in ? right_decoder_ : left_decoder_;
+  QuadratureDecoder& right_in = swap_in ? left_decoder_ : right_decoder_;
+  left_in.route(left_decoder_, (wiring_fix & invert_left_encoder) != 0u);
+  right_in.route(right_decoder_, (wiring_fix & invert_right_encoder) != 0u);
 }
 
 void ControlLoop::apply_config(const DriveConfig& config) {
@@ -203,10 +231,10 @@ float ControlLoop::brake_duty(int& sign, WheelController& controller,
 void ControlLoop::drive_motors(float left_duty, float right_duty) {
   left_duty_ = left_duty;
   right_duty_ = right_duty;
-  left_.forward.set(left_duty >= 0.0f);
-  left_.pwm.set_duty(std::fabs(left_duty));
-  right_.forward.set(right_duty >= 0.0f);
-  right_.pwm.set_duty(std::fabs(right_duty));
+  left_forward_->set(left_duty >= 0.0f);
+  left_pwm_->set_duty(std::fabs(left_duty));
+  right_forward_->set(right_duty >= 0.0f);
+  right_pwm_->set_duty(std::fabs(right_duty));
 }
 
 void ControlLoop::tick(std::uint32_t now_us) {
@@ -344,6 +372,9 @@ ConfigCheck ControlLoop::configure(const DriveConfig& config) {
   hal::CriticalGuard guard(critical_);
   inbox_.config = config;
   inbox_.config_pending = true;
+  // The wiring at once, here (no edge or tick runs inside the section): the tick that takes the
+  // rest of the configuration does no more work for it.
+  apply_wiring(config.wiring_fix);
   return result;
 }
 

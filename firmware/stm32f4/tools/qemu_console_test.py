@@ -152,6 +152,19 @@ def main():
     reply = guest.command("bogus")
     checks.check(reply is not None and reply.startswith("err"), "unknown command refused", reply)
 
+    # Wiring self-test (docs/wiring.md): the QEMU robot is wired right; a wrong wiring_fix (the
+    # left encoder inverted) is a miswiring the self-test names; 0 puts it back.
+    reply = guest.command("selftest", 30.0)
+    checks.check(reply is not None and fields(reply).get("faults") == "none",
+                 "selftest on a robot wired right: no fault", reply)
+    guest.command("set wiring_fix 4")
+    reply = guest.command("selftest", 30.0)
+    checks.check(reply is not None and fields(reply).get("faults") == "left_reversed",
+                 "selftest names an inverted left encoder", reply)
+    reply = guest.command("set wiring_fix 0")
+    checks.check(reply is not None and reply.startswith("ok"), "set wiring_fix 0", reply)
+    wait_idle(guest, 60.0)
+
     # Straight line: 0.2 m/s for 1 s moves about 0.2 m forward (plus the ramps), no turn.
     guest.command("odom reset")
     reply = guest.command("drive 0.2 0 1000")

@@ -74,6 +74,9 @@ Procedure procedure_of(const std::string& name) {
   if (name == "extended") {
     return Procedure::extended;
   }
+  if (name == "selftest") {
+    return Procedure::selftest;
+  }
   return Procedure::verify;
 }
 
@@ -97,6 +100,7 @@ void check_runs(Procedure procedure, std::uint64_t runs) {
       hi = 30;
       break;
     case Procedure::verify:
+    case Procedure::selftest:
       lo = 1;
       hi = 16;
       break;
@@ -235,8 +239,8 @@ int run(const SessionFlags& given, const CLI::App& cmd) {
   }
   if (f.procedure.empty()) {
     throw InputError("--procedure", 0, "",
-                     "--procedure is required (umbmark, lateral, fit, verify or extended), or "
-                     "--resume DIR");
+                     "--procedure is required (umbmark, lateral, fit, verify, extended or "
+                     "selftest), or --resume DIR");
   }
   SessionOptions options;
   options.procedure = procedure_of(f.procedure);
@@ -354,8 +358,9 @@ void register_session_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--seed", flags->seed, "seed of the simulated robot and the bootstrap")
       ->check(toolkit::whole_check(0u, UINT64_MAX));
   cmd->add_option("--store", flags->store, "odocal-sim's parameter store file (with --sim)");
-  cmd->add_option("--procedure", flags->procedure, "umbmark, lateral, fit, verify or extended")
-      ->check(CLI::IsMember({"umbmark", "lateral", "fit", "verify", "extended"}));
+  cmd->add_option("--procedure", flags->procedure,
+                  "umbmark, lateral, fit, verify, extended or selftest")
+      ->check(CLI::IsMember({"umbmark", "lateral", "fit", "verify", "extended", "selftest"}));
   cmd->add_option("--resume", flags->resume,
                   "continue the interrupted session in this directory: runs already measured "
                   "are not driven again; options come from its session.json");

@@ -297,9 +297,9 @@ class Pacer {
 };
 
 // Scripted input waits for the motion and for its trial to close (so `# done` comes first).
-bool busy(const odocal::drive::LoopStatus& status) {
+bool busy(const odocal::drive::LoopStatus& status, const odocal::console::Console& console) {
   return status.mode == odocal::drive::Mode::path || status.mode == odocal::drive::Mode::drive ||
-         status.trial_open;
+         status.trial_open || console.selftest_running();
 }
 
 }  // namespace
@@ -493,7 +493,7 @@ int main(int argc, char** argv) {
     }
     const bool in_quantum = robot.simulated_s() < quantum_end_s;
     counting->accept_input(!in_quantum);
-    if (busy(robot.loop().status()) || in_quantum) {
+    if (busy(robot.loop().status(), console) || in_quantum) {
       if (++since_rate_check >= 100u) {
         since_rate_check = 0u;
         robot.follow_control_rate();
@@ -509,7 +509,7 @@ int main(int argc, char** argv) {
   while (!lockstep && !stop_requested.load()) {
     if (script) {
       // Feed the next line only when the previous one is answered and its motion is over.
-      if (!input_done && console.idle() && !busy(robot.loop().status())) {
+      if (!input_done && console.idle() && !busy(robot.loop().status(), console)) {
         // A whole line goes in before the robot ticks again, however many pieces it comes in.
         bool line_end = false;
         bool fed = false;
@@ -526,7 +526,7 @@ int main(int argc, char** argv) {
         }
         input_done = !line_end;
       }
-      if (input_done && console.idle() && !busy(robot.loop().status())) {
+      if (input_done && console.idle() && !busy(robot.loop().status(), console)) {
         break;
       }
     } else if (stdio && (stdio->end_of_input() || stdio->output_broken()) && console.idle()) {
@@ -541,7 +541,7 @@ int main(int argc, char** argv) {
     robot.follow_odometry_frame();
     sim_command.follow_resets();
     pacer.wait_for(robot.simulated_s());
-    if (terminal && speed == 0.0 && console.idle() && !busy(robot.loop().status())) {
+    if (terminal && speed == 0.0 && console.idle() && !busy(robot.loop().status(), console)) {
       // Nothing to simulate: wait for input instead of spinning.
       pollfd wait{pty ? pty->input_fd() : stdio->input_fd(), POLLIN, 0};
       if (::poll(&wait, 1, 5) == 0) {

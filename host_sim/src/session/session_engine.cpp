@@ -38,6 +38,8 @@ const char* to_string(Procedure procedure) {
       return "verify";
     case Procedure::extended:
       return "extended";
+    case Procedure::selftest:
+      return "selftest";
   }
   return "?";
 }
@@ -70,6 +72,8 @@ std::size_t planned_runs(const SessionOptions& options) {
       return 2 * options.runs.value_or(5);
     case Procedure::extended:
       return 4 * options.runs.value_or(5);
+    case Procedure::selftest:
+      return 0;  // a measured run only for a fault the encoders cannot tell apart
   }
   return 0;
 }
@@ -640,6 +644,9 @@ SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
         break;
       case Procedure::extended:
         outcome = session::run_extended(context);
+        break;
+      case Procedure::selftest:
+        outcome = session::run_selftest(context);
         break;
     }
     if (outcome.applied) {

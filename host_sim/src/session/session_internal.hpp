@@ -112,6 +112,7 @@ Outcome run_verify(Context& context);
 Outcome run_fit(Context& context);
 /// The extended UMBmark (a measurement: applies nothing).
 Outcome run_extended(Context& context);
+Outcome run_selftest(Context& context);
 
 /// `trial,label,path,duration_ms,count_l,count_r,odom_x_mm,...,measured_theta_deg` of every run.
 std::string runs_csv(const std::vector<RunRecord>& runs);

@@ -16,6 +16,26 @@
 
 namespace odocal::host {
 
+const char* to_string(WiringFault fault) {
+  switch (fault) {
+    case WiringFault::left_motor_reversed:
+      return "left_motor_reversed";
+    case WiringFault::right_motor_reversed:
+      return "right_motor_reversed";
+    case WiringFault::left_encoder_reversed:
+      return "left_encoder_reversed";
+    case WiringFault::right_encoder_reversed:
+      return "right_encoder_reversed";
+    case WiringFault::encoders_swapped:
+      return "encoders_swapped";
+    case WiringFault::motors_swapped:
+      return "motors_swapped";
+    case WiringFault::ok:
+      break;
+  }
+  return "ok";
+}
+
 RobotSpec default_robot() {
   RobotSpec spec;
   spec.truth.left_diameter_m = 0.05991;
@@ -82,6 +102,16 @@ bool parse_encoder_fault(const std::string& text, RobotSpec& spec) {
   return false;
 }
 
+constexpr WiringFault kWiringFaults[] = {
+    WiringFault::ok,
+    WiringFault::left_motor_reversed,
+    WiringFault::right_motor_reversed,
+    WiringFault::left_encoder_reversed,
+    WiringFault::right_encoder_reversed,
+    WiringFault::encoders_swapped,
+    WiringFault::motors_swapped,
+};
+
 bool fail(std::string& error, const std::string& source, const std::string& key,
           const std::string& why) {
   error = source + ": " + key + ": " + why;
@@ -89,10 +119,13 @@ bool fail(std::string& error, const std::string& source, const std::string& key,
 }
 
 /// Every key a robot file may hold (the numeric ones set_key takes, and the named ones).
-constexpr const char* robot_file_keys[] = {
-    "wheel_diameter_mm",      "wheelbase_mm",      "counts_per_rev", "true_left_diameter_mm",
-    "true_right_diameter_mm", "true_wheelbase_mm", "slip_sigma",     "bump_height_mm",
-    "bump_spacing_mm",        "measure_sigma_mm",  "encoder_fault",  "encoder_fault_after_s"};
+constexpr const char* robot_file_keys[] = {"wheel_diameter_mm",      "wheelbase_mm",
+                                           "counts_per_rev",         "true_left_diameter_mm",
+                                           "true_right_diameter_mm", "true_wheelbase_mm",
+                                           "true_wheelbase_arc_mm",  "slip_sigma",
+                                           "bump_height_mm",         "bump_spacing_mm",
+                                           "measure_sigma_mm",       "encoder_fault",
+                                           "encoder_fault_after_s",  "wiring"};
 
 /// Edit distance (insertions, deletions, substitutions) between two short keys.
 std::size_t edit_distance(const std::string& a, const std::string& b) {
@@ -182,6 +215,23 @@ bool parse_robot(const std::string& text, const std::string& source, RobotSpec& 
         return fail(error, source, key,
                     "must be one of \"none\", \"left_dead\", \"right_dead\", \"left_noisy\", "
                     "\"right_noisy\"");
+      }
+      continue;
+    }
+    if (key == "wiring") {
+      bool known = false;
+      for (const WiringFault fault : kWiringFaults) {
+        if (it.value().is_string() && it.value().get<std::string>() == to_string(fault)) {
+          out.wiring = fault;
+          known = true;
+        }
+      }
+      if (!known) {
+        std::string allowed;
+        for (const WiringFault fault : kWiringFaults) {
+          allowed += std::string(allowed.empty() ? "\"" : ", \"") + to_string(fault) + "\"";
+        }
+        return fail(error, source, key, "must be one of " + allowed);
       }
       continue;
     }
@@ -334,12 +384,13 @@ TrueErrors true_errors(const RobotSpec& spec) {
 SimulatedRobot::SimulatedRobot(const RobotSpec& spec, std::uint64_t seed)
     : spec_(spec),
       plant_(spec.truth, seed),
-      loop_(drive::MotorChannel{plant_.left().pwm(), plant_.left().forward()},
-            drive::MotorChannel{plant_.right().pwm(), plant_.right().forward()},
-            plant_.critical_section(), spec.nominal),
-      left_wiring_(plant_.left().channel_a(), plant_.left().channel_b(), plant_.clock(),
+      reversed_direction_(spec.wiring == WiringFault::right_motor_reversed
+                              ? plant_.right().forward()
+                              : plant_.left().forward()),
+      loop_(motor_connector(0), motor_connector(1), plant_.critical_section(), spec.nominal),
+      left_wiring_(encoder_line(0, true), encoder_line(0, false), plant_.clock(),
                    loop_.left_decoder()),
-      right_wiring_(plant_.right().channel_a(), plant_.right().channel_b(), plant_.clock(),
+      right_wiring_(encoder_line(1, true), encoder_line(1, false), plant_.clock(),
                     loop_.right_decoder()) {
   left_wiring_.attach();
   right_wiring_.attach();
@@ -348,6 +399,27 @@ SimulatedRobot::SimulatedRobot(const RobotSpec& spec, std::uint64_t seed)
   const double hz = static_cast<double>(spec.nominal.control_hz);
   period_ns_ = static_cast<std::uint64_t>(std::llround(1e9 / hz));
   next_tick_ns_ = 0u;
+}
+
+drive::MotorChannel SimulatedRobot::motor_connector(int side) {
+  const WiringFault wiring = spec_.wiring;
+  const bool to_left = (side == 0) != (wiring == WiringFault::motors_swapped);
+  sim::Wheel& wheel = to_left ? plant_.left() : plant_.right();
+  const bool reversed =
+      wiring == (side == 0 ? WiringFault::left_motor_reversed : WiringFault::right_motor_reversed);
+  return drive::MotorChannel{
+      wheel.pwm(),
+      reversed ? static_cast<hal::DigitalOutput&>(reversed_direction_) : wheel.forward()};
+}
+
+sim::EncoderLine& SimulatedRobot::encoder_line(int side, bool a) {
+  const WiringFault wiring = spec_.wiring;
+  const bool from_left = (side == 0) != (wiring == WiringFault::encoders_swapped);
+  sim::Wheel& wheel = from_left ? plant_.left() : plant_.right();
+  // A reversed encoder has its A and B lines exchanged: it counts backwards.
+  const bool reversed = wiring == (side == 0 ? WiringFault::left_encoder_reversed
+                                             : WiringFault::right_encoder_reversed);
+  return a != reversed ? wheel.channel_a() : wheel.channel_b();
 }
 
 SimulatedRobot::~SimulatedRobot() {

@@ -230,5 +230,25 @@ TEST(ControlLoop, ATurnInPlaceWithAnArcWheelbaseUsesTheTurnWheelbase) {
   EXPECT_NEAR(rig.loop.pose().theta_rad - rig.robot.theta, 0.0, 3.0 * kCountHeading_rad);
 }
 
+// wiring_fix swaps and inverts what the loop drives, once, when the configuration is taken.
+TEST(ControlLoop, WiringFixSwapsAndInvertsTheOutputs) {
+  TestRig rig;
+  DriveConfig config;
+  config.wiring_fix = swap_motors | invert_left_motor;
+  ASSERT_TRUE(rig.loop.configure(config));
+  // A turn in place to the left: the left set-point is backwards, the right forward.
+  ASSERT_TRUE(rig.loop.drive(Twist{0.0f, 1.0f}, 0u));
+  rig.run_for(0.003);
+  const LoopStatus s = rig.loop.status();
+  ASSERT_LT(s.left_duty, 0.0f);
+  ASSERT_GT(s.right_duty, 0.0f);
+  // The left duty goes to the right connector, its direction line inverted (backwards reads
+  // high); the right duty to the left connector as it is.
+  EXPECT_NEAR(rig.right.pwm.duty, -s.left_duty, 1e-6f);
+  EXPECT_TRUE(rig.right.forward.level);
+  EXPECT_NEAR(rig.left.pwm.duty, s.right_duty, 1e-6f);
+  EXPECT_TRUE(rig.left.forward.level);
+}
+
 }  // namespace
 }  // namespace odocal::drive

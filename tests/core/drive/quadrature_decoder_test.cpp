@@ -126,5 +126,36 @@ TEST(VelocityEstimator, WideSnapshotDifferenceAcrossTheWrap) {
   EXPECT_NEAR(estimator.speed_radps(), expected, expected * 1e-5f);
 }
 
+// wiring_fix: a reversed decoder counts the same edges with the opposite sign and the same
+// illegal count; a routed decoder advances another decoder's counters and keeps its own state.
+TEST(QuadratureDecoder, ReversedCountsDownAndRoutedAdvancesTheOtherCounters) {
+  QuadratureDecoder plain;
+  QuadratureDecoder reversed;
+  QuadratureDecoder sink;
+  plain.reset(false, false);
+  reversed.reset(false, false);
+  reversed.route(sink, true);
+  std::uint32_t t = 0u;
+  for (int cycle = 0; cycle < 3; ++cycle) {
+    for (int i = 1; i <= 4; ++i) {
+      const Levels l = kForward[i % 4];
+      plain.on_edge(l.a, l.b, ++t);
+      reversed.on_edge(l.a, l.b, t);
+    }
+  }
+  plain.on_edge(true, true, ++t);  // both channels at once: illegal
+  reversed.on_edge(true, true, t);
+  EXPECT_EQ(static_cast<std::int32_t>(plain.snapshot().count), 12);
+  EXPECT_EQ(static_cast<std::int32_t>(sink.snapshot().count), -12);
+  EXPECT_EQ(sink.snapshot().edges, 12u);
+  EXPECT_EQ(sink.snapshot().illegal, 1u);
+  EXPECT_EQ(sink.snapshot().last_edge_us, plain.snapshot().last_edge_us);
+  EXPECT_EQ(reversed.snapshot().count, 0u);  // its own counters stay where they were
+  // Routed back, it counts up again from its own (untouched) count.
+  reversed.route(reversed, false);
+  reversed.on_edge(false, true, ++t);  // 11 -> 01: forward
+  EXPECT_EQ(static_cast<std::int32_t>(reversed.snapshot().count), 1);
+}
+
 }  // namespace
 }  // namespace odocal::drive

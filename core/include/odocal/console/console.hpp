@@ -106,8 +106,12 @@ class Console {
   void poll(std::uint32_t now_us);
 
   /// True when no received byte waits, no multi-line reply is in progress and the output queue is
-  /// empty: the console has answered everything it was given.
+  /// empty: the console has answered everything it was given (but a `selftest` still running,
+  /// see `selftest_running`).
   [[nodiscard]] bool idle() const;
+  /// True while a `selftest` drives the wheels (its reply is still to come): a host that runs
+  /// the robot's time keeps it running until then.
+  [[nodiscard]] bool selftest_running() const { return selftest_phase_ != 0u; }
 
   /// The parameter values in force.
   [[nodiscard]] const params::ParamSet& params() const { return settings_.values(); }
@@ -148,6 +152,7 @@ class Console {
     fit_apply,
     stream,
     echo,
+    selftest,
   };
   static constexpr std::uint8_t form_sub = 1u;     ///< the synopsis' second word selects the form
   static constexpr std::uint8_t form_moving = 2u;  ///< refused while the robot moves
@@ -284,6 +289,10 @@ class Console {
   void cmd_stream(const Token* words);
   void cmd_trial(const Token* words, std::size_t count);
   void cmd_trials(std::size_t count);
+  // commands_selftest.cpp: `selftest`, run from `poll` until its one reply.
+  void cmd_selftest(const Token* words, std::size_t count);
+  void start_selftest_wheel(unsigned wheel);
+  void continue_selftest();
   /// ` path=.. duration_ms=.. count_l=.. count_r=.. x_mm=.. y_mm=.. theta_deg=..`
   static void trial_pairs(Reply& reply, const KeptTrial& trial);
   /// ` x_mm=.. y_mm=.. theta_deg=..` (`odom`, the odom stream, trials)
@@ -323,6 +332,18 @@ class Console {
   std::uint32_t pending_ticks_ = 0u;
   std::uint32_t trial_seen_ = 0u;    ///< number of the last trial announced
   std::uint32_t lateral_used_ = 0u;  ///< number of the last trial `lateral add` took
+  // `selftest`: 0 off, 1 left wheel driven, 2 its stop pending, 3 right wheel driven; what it
+  // found so far.
+  std::uint8_t selftest_phase_ = 0u;
+  std::uint8_t selftest_last_ = 1u;  ///< the last wheel to test (0 left, 1 right)
+  std::uint16_t selftest_faults_ = 0u;
+  float selftest_duty_ = 0.0f;
+  float selftest_enough_ = 0.0f;  ///< counts that tell a turning wheel from jitter          ///<
+                                  ///< largest |duty| of the driven wheel in this phase
+  std::uint32_t selftest_due_us_ = 0u;  ///< end of this phase (last_now_us_ clock)
+  std::int32_t selftest_start_[2] = {};
+  std::uint32_t selftest_illegal_[2] = {};
+  std::int32_t selftest_counts_[4] = {};  ///< left drive: left, right counts; right drive: same
 
   /// The timing of one periodic stream (`stream odom|ticks <hz>`).
   struct StreamTimer {

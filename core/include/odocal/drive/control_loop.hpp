@@ -66,6 +66,17 @@ struct MotorChannel {
   hal::DigitalOutput& forward;
 };
 
+/// A direction line seen through an inverter: how the loop drives a motor whose leads are
+/// reversed (WiringFix), with no per-tick test.
+class InvertedOutput final : public hal::DigitalOutput {
+ public:
+  explicit InvertedOutput(hal::DigitalOutput& line) : line_(line) {}
+
+ private:
+  void do_set(bool level) override;  // out of line: its vtable lives in one object file
+  hal::DigitalOutput& line_;
+};
+
 /// Owns the drive pipeline. The edge contexts feed `left_decoder()` / `right_decoder()`; the
 /// tick context calls `tick()`; the main loop calls the command methods, which take the critical
 /// section so the tick never sees half a command. Those methods also read tick-owned state (the
@@ -148,9 +159,13 @@ class ControlLoop {
   [[nodiscard]] Twist twist_for_mode(float dt_s, std::uint32_t dt_us);
   void check_faults(const EncoderSnapshot& left, const EncoderSnapshot& right, std::uint32_t dt_us);
   void drive_motors(float left_duty, float right_duty);
+  /// Points the outputs and the decoders' counters where `wiring_fix` says. Call where neither
+  /// an edge nor the tick can interrupt (`configure`, under the critical section; the
+  /// constructor, before they are enabled).
+  void apply_wiring(std::uint32_t wiring_fix);
 
-  MotorChannel left_;
-  MotorChannel right_;
+  MotorChannel left_;   ///< the left motor connector
+  MotorChannel right_;  ///< the right motor connector
   hal::CriticalSection& critical_;
 
   /// Starts braking the wheels that are turning (a drive ended, or `stop`).
@@ -193,13 +208,22 @@ class ControlLoop {
   int right_brake_sign_ = 0;
   std::uint32_t brake_us_ = 0u;
 
-  // Edge-owned state (the edge contexts write, the tick snapshots under the critical section).
-  QuadratureDecoder left_decoder_;
-  QuadratureDecoder right_decoder_;
-
   // Shared with the main loop under the critical section.
   Inbox inbox_{};
   Published published_{};
+
+  // Last, so that adding them moved no field the tick addresses beyond the short offsets of
+  // its loads and stores (the tick's instruction count did not change, docs/performance.md).
+  // Edge-owned state (the edge contexts write, the tick snapshots under the critical section).
+  QuadratureDecoder left_decoder_;
+  QuadratureDecoder right_decoder_;
+  InvertedOutput left_inverted_{left_.forward};
+  InvertedOutput right_inverted_{right_.forward};
+  // What the tick drives as the left and right motors (WiringFix: swapped, inverted).
+  hal::PwmOutput* left_pwm_ = &left_.pwm;
+  hal::DigitalOutput* left_forward_ = &left_.forward;
+  hal::PwmOutput* right_pwm_ = &right_.pwm;
+  hal::DigitalOutput* right_forward_ = &right_.forward;
 };
 
 }  // namespace odocal::drive

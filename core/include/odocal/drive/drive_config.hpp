@@ -47,6 +47,21 @@ struct DriveConfig {
   /// wheelbase_mm (one wheelbase, the robot behaves as before the parameter existed); otherwise
   /// within 20 % of wheelbase_mm (`check`).
   float wheelbase_arc_mm = 0.0f;
+  // Wiring.
+  std::uint32_t wiring_fix = 0u;  ///< WiringFix bits: how the motors and encoders are connected
+};
+
+/// Bits of DriveConfig::wiring_fix: the firmware's fixes for a miswired robot (docs/wiring.md).
+/// Applied once when the configuration is taken, at the loop's edge to the hardware: the tick
+/// costs the same whatever they are.
+enum WiringFix : std::uint32_t {
+  invert_left_motor = 0x01,     ///< the left motor turns backwards for a forward duty
+  invert_right_motor = 0x02,    ///< the right motor turns backwards for a forward duty
+  invert_left_encoder = 0x04,   ///< the left encoder counts down going forward
+  invert_right_encoder = 0x08,  ///< the right encoder counts down going forward
+  swap_encoders = 0x10,         ///< the left encoder is on the right connector and vice versa
+  swap_motors = 0x20,           ///< the left motor is on the right connector and vice versa
+  wiring_fix_all = 0x3F,
 };
 
 /// One field of DriveConfig as the console and the store see it (also the console's
@@ -114,6 +129,7 @@ inline constexpr std::array<ConfigField, config_field_count> config_fields{{
     {"stall_duty", "1", 0.0f, 1.0f, offsetof(DriveConfig, stall_duty), false},
     {"max_illegal", "count", 0.0f, 1.0e6f, offsetof(DriveConfig, max_illegal), true},
     {"wheelbase_arc_mm", "mm", 0.0f, 5000.0f, offsetof(DriveConfig, wheelbase_arc_mm), false},
+    {"wiring_fix", "bits", 0.0f, 63.0f, offsetof(DriveConfig, wiring_fix), true},
 }};
 
 /// Why a configuration was refused.

@@ -3,6 +3,7 @@
 /// x4 quadrature decoder driven from encoder edge interrupts.
 
 #include <cstdint>
+#include <cstring>
 
 #include "odocal/hal/edge_sink.hpp"
 
@@ -21,6 +22,13 @@ inline constexpr std::int8_t transition[16] = {
     +1,      0,       illegal, -1,       // from 01
     -1,      illegal, 0,       +1,       // from 10
     illegal, +1,      -1,      0,        // from 11
+};
+/// The same for an encoder whose A and B lines are exchanged (it counts down going forward).
+inline constexpr std::int8_t transition_reversed[16] = {
+    0,       +1,      -1,      illegal,  // from 00
+    -1,      0,       illegal, +1,       // from 01
+    +1,      illegal, 0,       -1,       // from 10
+    illegal, -1,      +1,      0,        // from 11
 };
 
 constexpr std::uint8_t state_of(bool a, bool b) {
@@ -52,16 +60,27 @@ class QuadratureDecoder {
   /// vectors take it into their own body (the whole edge path is one function).
   void on_edge(bool a, bool b, std::uint32_t now_us) {
     const std::uint8_t next = quadrature::state_of(a, b);
-    const std::int8_t step = quadrature::transition[(state_ << 2) | next];
+    const std::int8_t step = table_[(state_ << 2) | next];
     state_ = next;
+    QuadratureDecoder& out = *counts_;
     if (step == quadrature::illegal) {
-      ++illegal_;
+      ++out.illegal_;
     } else if (step != 0) {
       // Modular arithmetic: the raw count wraps at 2^32 and readers take differences.
-      count_ += static_cast<std::uint32_t>(static_cast<std::int32_t>(step));
-      ++edges_;
-      last_edge_us_ = now_us;
+      out.count_ += static_cast<std::uint32_t>(static_cast<std::int32_t>(step));
+      ++out.edges_;
+      out.last_edge_us_ = now_us;
     }
+  }
+
+  /// From now on this decoder's edges advance the counters of `counts` (itself by default: the
+  /// other wheel's decoder when the encoder connectors are swapped), counting down going forward
+  /// when `reversed`. Not ISR-safe: call where edges cannot interrupt. The counts carry on from
+  /// where they are (no jump).
+  void route(QuadratureDecoder& counts, bool reversed) {
+    counts_ = &counts;
+    std::memcpy(table_, reversed ? quadrature::transition_reversed : quadrature::transition,
+                sizeof table_);
   }
 
   /// The current state. Not atomic: call it where edges cannot interrupt (under a
@@ -71,11 +90,20 @@ class QuadratureDecoder {
   }
 
  private:
+  /// The transition table in force, held in the decoder and first in it: the edge reads
+  /// `table_[index]` as one load from the decoder's address plus the index (no load of a table's
+  /// address, no offset to add), which pays for the load of `counts_`: the edge costs what it did
+  /// before the wiring fixes.
+  // clang-format off
+  std::int8_t table_[16] = {0, -1, +1, quadrature::illegal,  +1, 0, quadrature::illegal, -1,
+                            -1, quadrature::illegal, 0, +1,  quadrature::illegal, +1, -1, 0};
+  // clang-format on
   std::uint32_t count_ = 0u;
   std::uint32_t last_edge_us_ = 0u;
   std::uint32_t edges_ = 0u;
   std::uint32_t illegal_ = 0u;
   std::uint8_t state_ = 0u;  ///< previous (A << 1) | B
+  QuadratureDecoder* counts_ = this;  ///< whose counters the edges advance (`route`)
 };
 
 /// `decoder` as the receiver of a HAL backend's encoder edges (hal::EdgeSink): the firmware or

@@ -36,6 +36,7 @@ enum class ParamId : std::uint8_t {
   stall_duty = 19,
   max_illegal = 20,
   wheelbase_arc_mm = 21,
+  wiring_fix = 22,
   count = 22,
 };
 

@@ -90,7 +90,7 @@ class MeasurementSource {
 [[nodiscard]] bool parse_measurement_line(const std::string& text, SessionPose& pose,
                                           std::string& why);
 
-enum class Procedure { umbmark, lateral, fit, verify, extended };
+enum class Procedure { umbmark, lateral, fit, verify, extended, selftest };
 
 struct SessionOptions {
   Procedure procedure = Procedure::umbmark;

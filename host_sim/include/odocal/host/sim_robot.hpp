@@ -25,11 +25,28 @@ struct EncoderFaultSpec {
   double after_s = 0.0;  ///< simulated time at which it starts
 };
 
+/// One wiring mistake of the robot (robot file `wiring`, DESIGN "Wiring self-test"): a motor's
+/// leads reversed, an encoder's A and B lines exchanged, the two encoders' or the two motors'
+/// connectors exchanged between the sides.
+enum class WiringFault : std::uint8_t {
+  ok,
+  left_motor_reversed,
+  right_motor_reversed,
+  left_encoder_reversed,
+  right_encoder_reversed,
+  encoders_swapped,
+  motors_swapped,
+};
+
+/// Robot-file spelling of a wiring fault ("left_motor_reversed", "ok").
+[[nodiscard]] const char* to_string(WiringFault fault);
+
 /// A robot as `--robot FILE` describes it: what the firmware is told, and what the robot is.
 struct RobotSpec {
   drive::DriveConfig nominal{};  ///< wheel_diameter_mm, wheelbase_mm, counts_per_rev (told)
   sim::RobotModel truth{};       ///< the real robot and its floor
   EncoderFaultSpec encoder_fault{};
+  WiringFault wiring = WiringFault::ok;
 };
 
 /// The default simulated robot: nominal D 60 mm, b 150 mm, 1440 counts/rev; true D_L 59.91 mm,
@@ -41,7 +58,8 @@ struct RobotSpec {
 /// counts_per_rev, true_left_diameter_mm, true_right_diameter_mm, true_wheelbase_mm, slip_sigma,
 /// bump_height_mm, bump_spacing_mm, measure_sigma_mm, and `encoder_fault` (a string: "none",
 /// "left_dead", "right_dead", "left_noisy", "right_noisy": channel A of that wheel's encoder stuck,
-/// or glitching at every 5th B edge) with `encoder_fault_after_s` (when it starts, s).
+/// or glitching at every 5th B edge) with `encoder_fault_after_s` (when it starts, s), and
+/// `wiring` (a string: "ok" or a WiringFault's name).
 /// @param text the file's content; @param source its name, for messages.
 /// @param error on failure: "<source>: <key>: <why>" (or the parse position).
 /// @return false (and `spec` untouched) for malformed JSON, an unknown or repeated key, a
@@ -128,8 +146,14 @@ class SimulatedRobot {
                       std::uint32_t trace_period_ms = 100u);
 
  private:
+  /// The firmware's motor connector on `side` (0 left, 1 right) as the robot's wiring has it.
+  drive::MotorChannel motor_connector(int side);
+  /// Line A (`a`) or B of the encoder the firmware's connector on `side` reads.
+  sim::EncoderLine& encoder_line(int side, bool a);
+
   RobotSpec spec_;
   sim::Plant plant_;
+  drive::InvertedOutput reversed_direction_;  ///< the reversed motor's direction line (if any)
   drive::ControlLoop loop_;
   DecoderWiring left_wiring_;
   DecoderWiring right_wiring_;

@@ -1,0 +1,115 @@
+// `odocal session --procedure selftest` end to end on odocal-sim (DESIGN "Wiring self-test"):
+// every wiring fault the simulator builds is named, its fix applied with --yes and saved, and the
+// next self-test finds nothing; a robot wired right gets no fault; without --yes or a terminal
+// the fix is only proposed.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace {
+
+using nlohmann::json;
+
+std::string bin(const std::string& name) {
+  return std::string(ODOCAL_SESSION_BIN_DIR) + "/" + name;
+}
+
+std::string temp(const std::string& name) {
+  return ::testing::TempDir() + "odocal_selftest_" + name;
+}
+
+struct Result {
+  int status = -1;
+  std::string out;
+  std::string err;
+};
+
+Result shell(const std::string& command) {
+  const std::string err_file = temp("stderr.txt");
+  Result r;
+  FILE* pipe = popen((command + " 2>" + err_file).c_str(), "r");
+  if (pipe == nullptr) {
+    return r;
+  }
+  char buffer[4096];
+  std::size_t n = 0;
+  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) {
+    r.out.append(buffer, n);
+  }
+  const int raw = pclose(pipe);
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  std::stringstream text;
+  text << std::ifstream(err_file).rdbuf();
+  r.err = text.str();
+  return r;
+}
+
+/// A session on a fresh simulated robot with `wiring`; its JSON.
+json selftest_session(const std::string& wiring, const std::string& flags, Result& r) {
+  const std::string robot = temp(wiring + ".json");
+  std::ofstream(robot) << R"({"slip_sigma": 0, "bump_height_mm": 0, "wiring": ")" << wiring
+                       << "\"}";
+  const std::string store = temp(wiring + ".store");
+  const std::string out = temp(wiring + "_out");
+  std::remove(store.c_str());
+  std::system(("rm -rf " + out).c_str());
+  r = shell(bin("odocal") + " session --sim " + robot + " --store " + store +
+            " --procedure selftest --json --out " + out + " " + flags + " </dev/null");
+  EXPECT_EQ(r.status, 0) << r.err;
+  json doc = json::parse(r.out, nullptr, false);
+  EXPECT_TRUE(doc.is_object()) << r.out << r.err;
+  return doc;
+}
+
+TEST(SessionSelftest, ARightWiredRobotHasNoFaultAndNothingIsChanged) {
+  Result r;
+  const json doc = selftest_session("ok", "--yes", r);
+  ASSERT_TRUE(doc.is_object());
+  EXPECT_EQ(doc["procedure"], "selftest");
+  EXPECT_EQ(doc["result"]["faults"], json::array());
+  EXPECT_EQ(doc["result"]["fixed"], json::object());
+  EXPECT_FALSE(doc["applied"].get<bool>());
+  EXPECT_EQ(doc["runs"].size(), 0u);  // nothing to tell apart: no measured run
+}
+
+TEST(SessionSelftest, EveryWiringFaultIsNamedFixedSavedAndGoneOnTheNextTest) {
+  const struct {
+    const char* wiring;
+    int fix;
+  } cases[] = {{"left_motor_reversed", 1},   {"right_motor_reversed", 2},
+               {"left_encoder_reversed", 4}, {"right_encoder_reversed", 8},
+               {"encoders_swapped", 16},     {"motors_swapped", 32}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.wiring);
+    Result r;
+    const json doc = selftest_session(c.wiring, "--yes", r);
+    ASSERT_TRUE(doc.is_object());
+    EXPECT_EQ(doc["result"]["faults"], json::array({c.wiring})) << doc["result"].dump();
+    EXPECT_EQ(doc["result"]["fixed"], json({{"wiring_fix", c.fix}}));
+    EXPECT_EQ(doc["result"]["after"], json::array());
+    EXPECT_TRUE(doc["applied"].get<bool>());
+    EXPECT_TRUE(doc["saved"].get<bool>());
+    EXPECT_EQ(doc["runs"].size(), 1u);  // one wheel alone, measured, told the look-alikes apart
+    EXPECT_NE(r.err.find("Fault: " + std::string(c.wiring)), std::string::npos) << r.err;
+  }
+}
+
+TEST(SessionSelftest, WithoutYesOrATerminalTheFixIsOnlyProposed) {
+  Result r;
+  const json doc = selftest_session("left_encoder_reversed", "", r);
+  ASSERT_TRUE(doc.is_object());
+  EXPECT_EQ(doc["result"]["faults"], json::array({"left_encoder_reversed"}));
+  EXPECT_EQ(doc["result"]["fixed"], json::object());
+  EXPECT_FALSE(doc["applied"].get<bool>());
+  EXPECT_NE(r.err.find("set wiring_fix 4"), std::string::npos) << r.err;
+}
+
+}  // namespace

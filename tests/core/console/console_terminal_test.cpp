@@ -185,7 +185,7 @@ TEST(ConsoleHostFactors, FitApplyAndLateralSetKeepTheirProvenance) {
   }
   // Saved and reloaded, the methods stay (they are stored with the values).
   EXPECT_EQ(rig->reply("save").rfind("ok ", 0), 0u);
-  EXPECT_EQ(rig->reply("defaults"), "ok params=22 unsaved=1");
+  EXPECT_EQ(rig->reply("defaults"), "ok params=23 unsaved=1");
   EXPECT_EQ(rig->reply("load").rfind("ok ", 0), 0u);
   EXPECT_EQ(test::value_of(rig->reply("provenance"), "wheel_method"), "fit");
 }

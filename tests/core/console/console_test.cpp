@@ -174,7 +174,7 @@ TEST(Console, ParamsListsValueUnitRangeOfEveryParameter) {
     EXPECT_NEAR(number(value_of(line, "min")), static_cast<double>(info.min), kPrinted);
     EXPECT_NEAR(number(value_of(line, "max")), static_cast<double>(info.max), kPrinted);
   }
-  EXPECT_EQ(lines.back(), "ok params=22 unsaved=0");
+  EXPECT_EQ(lines.back(), "ok params=23 unsaved=0");
 }
 
 TEST(Console, GetShowsTheDefaults) {
@@ -404,7 +404,7 @@ TEST(Console, DefaultsRestoreEveryValueButAreNotSavedUntilSave) {
     rig->reply("set kp 0.2");
     rig->reply("set c_r 1.1");
     rig->reply("save");
-    EXPECT_EQ(rig->reply("defaults"), "ok params=22 unsaved=1");
+    EXPECT_EQ(rig->reply("defaults"), "ok params=23 unsaved=1");
     EXPECT_EQ(rig->reply("get kp"), "ok kp=0.050000");
     EXPECT_EQ(rig->reply("get c_r"), "ok c_r=1.000000");
     EXPECT_TRUE(params::same(rig->console.params(), params::default_params()));

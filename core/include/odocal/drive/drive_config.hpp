@@ -102,7 +102,7 @@ struct ConfigField {
 static_assert(sizeof(DriveConfig) < 256u, "field offsets fit ConfigField::offset");
 
 /// Number of fields (= number of console parameters).
-inline constexpr std::size_t config_field_count = 22u;
+inline constexpr std::size_t config_field_count = 23u;
 
 /// The table, in the order of the stored parameter ids (params::ParamId): never reorder, only
 /// append. Ranges are what a robot can run with; one cross-field rule comes on top (`check`).

@@ -37,7 +37,7 @@ enum class ParamId : std::uint8_t {
   max_illegal = 20,
   wheelbase_arc_mm = 21,
   wiring_fix = 22,
-  count = 22,
+  count = 23,
 };
 
 /// Number of parameters.

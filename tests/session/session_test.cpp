@@ -110,9 +110,9 @@ TEST(Session, SimUmbmarkRecoversTheHiddenRobotAndTheFactorsSurviveARestart) {
   // The CSVs are what `odocal umbmark` reads, and give the same first-pass answer.
   // (With the solver the session used for that pass.)
   const bool exact = doc["result"]["passes"][0]["solver"] == "exact";
-  const Result again = shell(bin("odocal") + " umbmark --side-mm 2000 --wheelbase-mm 150 --cw " +
-                             out + "/umbmark_cw.csv --ccw " + out + "/umbmark_ccw.csv --json" +
-                             (exact ? " --exact" : ""));
+  const Result again =
+      shell(bin("odocal") + " umbmark --side-mm 2000 --wheelbase-mm 150 --cw " + out +
+            "/umbmark_cw.csv --ccw " + out + "/umbmark_ccw.csv --json" + (exact ? " --exact" : ""));
   ASSERT_EQ(again.status, 0) << again.err;
   EXPECT_NEAR(json::parse(again.out)["e_d"].get<double>(), doc["result"]["e_d"].get<double>(),
               1e-9);

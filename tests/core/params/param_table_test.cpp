@@ -34,7 +34,8 @@ TEST(ParamTable, HasEveryDesignParameterAndEveryDriveConfigField) {
                          "stall_ms",
                          "stall_duty",
                          "max_illegal",
-                         "wheelbase_arc_mm", "wiring_fix"};
+                         "wheelbase_arc_mm",
+                         "wiring_fix"};
   for (const char* name : names) {
     ParamId id{};
     EXPECT_TRUE(find_param(name, std::strlen(name), id)) << name;

@@ -102,7 +102,7 @@ class QuadratureDecoder {
   std::uint32_t last_edge_us_ = 0u;
   std::uint32_t edges_ = 0u;
   std::uint32_t illegal_ = 0u;
-  std::uint8_t state_ = 0u;  ///< previous (A << 1) | B
+  std::uint8_t state_ = 0u;           ///< previous (A << 1) | B
   QuadratureDecoder* counts_ = this;  ///< whose counters the edges advance (`route`)
 };
 

@@ -567,4 +567,28 @@ TEST(SessionOnARealRobot, AMistypedRobotFileKeySaysWhichWasMeant) {
   EXPECT_NE(r.err.find("did you mean \"true_left_diameter_mm\""), std::string::npos) << r.err;
 }
 
+TEST(SessionOnARealRobot, ABadStoreFileIsNamedOnce) {
+  const std::string store = write("bad.store", "not a store");
+  const Result r = shell(bin("odocal-sim") + " --store " + store + " </dev/null");
+  EXPECT_EQ(r.status, 2);
+  const auto first = r.err.find(store);
+  ASSERT_NE(first, std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find(store, first + 1), std::string::npos) << r.err;
+}
+
+TEST(SessionOnARealRobot, NoMinusZeroAndNoOneRuns) {
+  // A robot whose wheels and wheelbase are what it is told: its return errors are about zero.
+  const std::string robot = write(
+      "exact_robot.json",
+      R"({"slip_sigma": 0, "measure_sigma_mm": 0, "wheel_diameter_mm": 60, "wheelbase_mm": 150,
+      "true_left_diameter_mm": 60, "true_right_diameter_mm": 60, "true_wheelbase_mm": 150})");
+  const std::string out = temp("zero_out");
+  std::system(("rm -rf " + out).c_str());
+  const Result r =
+      session("--sim " + robot + " --procedure umbmark --side-m 1 --runs 2 --out " + out);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err.find(" -0.0 "), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("1 runs"), std::string::npos) << r.err;
+}
+
 }  // namespace

@@ -248,6 +248,8 @@ TEST(Session, BadFlagsAndPortsAreRefusedBeforeAnythingMoves) {
       {sim + "--procedure umbmark --runs -3", "--runs"},
       {sim + "--procedure umbmark --side-m nan", "--side-m"},
       {sim + "--procedure umbmark --side-m 0", "--side-m"},
+      {sim + "--procedure verify --side-m 2", "--side-m does not apply"},
+      {sim + "--procedure lateral --passes 2", "only for --procedure umbmark"},
       {sim + "--procedure umbmark --seed -1", "--seed"},
       {"--port /dev/null --sim " + robot + " --procedure umbmark", "excludes"},
       {"--port /dev/ttyNOPE0 --procedure umbmark", "does not exist"},

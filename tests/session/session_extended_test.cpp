@@ -17,9 +17,15 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "session_harness.hpp"
+
 namespace {
 
 using nlohmann::json;
+// The programs under test and running them: the session tests' shared harness.
+using odocal_session_test::bin;
+using odocal_session_test::Result;
+using odocal_session_test::shell;
 
 constexpr double pi = 3.14159265358979323846;
 
@@ -31,10 +37,6 @@ const char* const robot_10mm = R"({"slip_sigma": 0.0005, "measure_sigma_mm": 2})
 const char* const robot_5mm =
     R"({"slip_sigma": 0.0005, "measure_sigma_mm": 2, "bump_height_mm": 5})";
 
-std::string bin(const std::string& name) {
-  return std::string(ODOCAL_SESSION_BIN_DIR) + "/" + name;
-}
-
 std::string temp(const std::string& name) {
   return ::testing::TempDir() + "odocal_extended_" + name;
 }
@@ -43,33 +45,6 @@ std::string write(const std::string& name, const std::string& content) {
   const std::string path = temp(name);
   std::ofstream(path, std::ios::binary) << content;
   return path;
-}
-
-struct Result {
-  int status = -1;
-  std::string out;
-  std::string err;
-};
-
-Result shell(const std::string& command) {
-  const std::string err_file = temp("stderr.txt");
-  Result r;
-  FILE* pipe = popen((command + " 2>" + err_file).c_str(), "r");
-  if (pipe == nullptr) {
-    return r;
-  }
-  char buffer[4096];
-  std::size_t n = 0;
-  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) {
-    r.out.append(buffer, n);
-  }
-  const int raw = pclose(pipe);
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  std::ifstream err(err_file);
-  std::stringstream text;
-  text << err.rdbuf();
-  r.err = text.str();
-  return r;
 }
 
 json read_json(const std::string& path) {

@@ -14,42 +14,18 @@
 
 #include <nlohmann/json.hpp>
 
+#include "session_harness.hpp"
+
 namespace {
 
 using nlohmann::json;
-
-std::string bin(const std::string& name) {
-  return std::string(ODOCAL_SESSION_BIN_DIR) + "/" + name;
-}
+// The programs under test and running them: the session tests' shared harness.
+using odocal_session_test::bin;
+using odocal_session_test::Result;
+using odocal_session_test::shell;
 
 std::string temp(const std::string& name) {
   return ::testing::TempDir() + "odocal_selftest_" + name;
-}
-
-struct Result {
-  int status = -1;
-  std::string out;
-  std::string err;
-};
-
-Result shell(const std::string& command) {
-  const std::string err_file = temp("stderr.txt");
-  Result r;
-  FILE* pipe = popen((command + " 2>" + err_file).c_str(), "r");
-  if (pipe == nullptr) {
-    return r;
-  }
-  char buffer[4096];
-  std::size_t n = 0;
-  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) {
-    r.out.append(buffer, n);
-  }
-  const int raw = pclose(pipe);
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  std::stringstream text;
-  text << std::ifstream(err_file).rdbuf();
-  r.err = text.str();
-  return r;
 }
 
 /// A session on a fresh simulated robot with `wiring`; its JSON.

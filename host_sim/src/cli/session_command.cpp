@@ -54,6 +54,7 @@ struct SessionFlags {
   std::string store;
   std::string procedure;
   std::optional<double> side_m;
+  std::optional<double> target_mm;
   std::optional<std::uint64_t> runs;
   std::string measurements;
   bool yes = false;
@@ -76,6 +77,9 @@ Procedure procedure_of(const std::string& name) {
   }
   if (name == "selftest") {
     return Procedure::selftest;
+  }
+  if (name == "auto") {
+    return Procedure::automatic;
   }
   return Procedure::verify;
 }
@@ -101,6 +105,7 @@ void check_runs(Procedure procedure, std::uint64_t runs) {
       break;
     case Procedure::verify:
     case Procedure::selftest:
+    case Procedure::automatic:
       lo = 1;
       hi = 16;
       break;
@@ -134,6 +139,7 @@ std::string absolute(const std::string& path) {
 nlohmann::json recorded_options(const SessionFlags& f) {
   return {{"procedure", f.procedure},
           {"side_m", f.side_m ? nlohmann::json(*f.side_m) : nlohmann::json(nullptr)},
+          {"target_mm", f.target_mm ? nlohmann::json(*f.target_mm) : nlohmann::json(nullptr)},
           {"runs", f.runs ? nlohmann::json(*f.runs) : nlohmann::json(nullptr)},
           {"passes", f.passes ? nlohmann::json(*f.passes) : nlohmann::json(nullptr)},
           {"exact", f.exact},
@@ -187,14 +193,17 @@ SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
       f.baud = o.at("baud").get<std::uint64_t>();
     }
     const auto real = [&](const char* flag, const char* key, std::optional<double>& value) {
-      const std::optional<double> recorded =
-          o.at(key).is_null() ? std::nullopt : std::optional<double>(o.at(key).get<double>());
+      // Sessions from before --target have no target_mm: none was given.
+      const std::optional<double> recorded = !o.contains(key) || o.at(key).is_null()
+                                                 ? std::nullopt
+                                                 : std::optional<double>(o.at(key).get<double>());
       if (cmd.count(flag) != 0u && value != recorded) {
         conflict(flag, recorded ? std::to_string(*recorded) : "", std::to_string(*value));
       }
       value = recorded;
     };
     real("--side-m", "side_m", f.side_m);
+    real("--target", "target_mm", f.target_mm);
     const auto whole = [&](const char* flag, const char* key, std::optional<std::uint64_t>& value) {
       const std::optional<std::uint64_t> recorded =
           o.at(key).is_null() ? std::nullopt
@@ -239,7 +248,7 @@ int run(const SessionFlags& given, const CLI::App& cmd) {
   }
   if (f.procedure.empty()) {
     throw InputError("--procedure", 0, "",
-                     "--procedure is required (umbmark, lateral, fit, verify, extended or "
+                     "--procedure is required (auto, umbmark, lateral, fit, verify, extended or "
                      "selftest), or --resume DIR");
   }
   SessionOptions options;
@@ -259,6 +268,19 @@ int run(const SessionFlags& given, const CLI::App& cmd) {
       throw InputError("--passes", 0, "", "only for --procedure umbmark");
     }
     options.passes = static_cast<std::size_t>(*f.passes);
+  }
+  if (f.target_mm) {
+    if (options.procedure != Procedure::automatic) {
+      throw InputError("--target", 0, "", "only for --procedure auto");
+    }
+    options.target_mm = f.target_mm;
+  }
+  if (f.runs && options.procedure == Procedure::automatic) {
+    throw InputError("--runs", 0, "",
+                     "--procedure auto chooses its runs (at most " +
+                         std::to_string(session::auto_max_runs) + " and " +
+                         std::to_string(session::auto_verify_runs) +
+                         " to verify); use --target to ask for more or less precision");
   }
   if (f.exact) {
     if (options.procedure != Procedure::umbmark) {
@@ -359,8 +381,15 @@ void register_session_command(CLI::App& app, int& exit_code) {
       ->check(toolkit::whole_check(0u, UINT64_MAX));
   cmd->add_option("--store", flags->store, "odocal-sim's parameter store file (with --sim)");
   cmd->add_option("--procedure", flags->procedure,
-                  "umbmark, lateral, fit, verify, extended or selftest")
-      ->check(CLI::IsMember({"umbmark", "lateral", "fit", "verify", "extended", "selftest"}));
+                  "auto (the one command: self-test, the runs it needs, verify, save), umbmark, "
+                  "lateral, fit, verify, extended or selftest")
+      ->check(
+          CLI::IsMember({"auto", "umbmark", "lateral", "fit", "verify", "extended", "selftest"}));
+  cmd->add_option("--target", flags->target_mm,
+                  "auto: measure until the factors leave at most this end error on the unseen "
+                  "path, mm (1 sigma; default: half the robot's own random error there, at "
+                  "least 1 mm)")
+      ->check(toolkit::range_check(0.1, 1000.0, "mm"));
   cmd->add_option("--resume", flags->resume,
                   "continue the interrupted session in this directory: runs already measured "
                   "are not driven again; options come from its session.json");

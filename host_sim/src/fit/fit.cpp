@@ -95,6 +95,7 @@ struct Determination {
   bool ok = true;
   FitError error;
   double relative_sd[4] = {0, 0, 0, 0};
+  double relative_cov[4][4] = {};
 };
 
 /// @param use_residuals take the residual scatter as the noise when it exceeds the floor (at the
@@ -171,6 +172,9 @@ Determination determination(const Solved& s, const FitOptions& o, FitModelKind k
     const Square cov = lu.inverse() * sigma * sigma;
     for (int i = 0; i < np; ++i) {
       d.relative_sd[i] = std::sqrt(std::max(cov(i, i), 0.0));
+      for (int j = 0; j < np; ++j) {
+        d.relative_cov[i][j] = cov(i, j);
+      }
     }
   } else {
     for (double& sd : d.relative_sd) {
@@ -721,6 +725,9 @@ FitOutcome fit_geometry(const std::vector<TickLog>& runs, const FitNominal& nomi
   r.iterations = main.iterations;
   for (int i = 0; i < np; ++i) {
     r.relative_sd[i] = d.relative_sd[i];
+    for (int j = 0; j < np; ++j) {
+      r.relative_cov[i][j] = d.relative_cov[i][j];
+    }
   }
   r.fit = score_runs(runs, nominal, r.geometry, o.heading_length_mm);
   if (!holdout.empty()) {

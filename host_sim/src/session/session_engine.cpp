@@ -40,6 +40,8 @@ const char* to_string(Procedure procedure) {
       return "extended";
     case Procedure::selftest:
       return "selftest";
+    case Procedure::automatic:
+      return "auto";
   }
   return "?";
 }
@@ -74,6 +76,8 @@ std::size_t planned_runs(const SessionOptions& options) {
       return 4 * options.runs.value_or(5);
     case Procedure::selftest:
       return 0;  // a measured run only for a fault the encoders cannot tell apart
+    case Procedure::automatic:
+      return session::auto_first_round;  // more only when the precision asks for them
   }
   return 0;
 }
@@ -360,6 +364,7 @@ void Context::write_session_json(bool complete, const nlohmann::json& result, bo
                         {"date", options.started_unix_s},
                         {"options", options.recorded},
                         {"runs", runs_json(runs)},
+                        {"measurements", runs.size()},
                         {"result", result},
                         {"applied", applied},
                         {"saved", saved}};
@@ -647,6 +652,9 @@ SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
         break;
       case Procedure::selftest:
         outcome = session::run_selftest(context);
+        break;
+      case Procedure::automatic:
+        outcome = session::run_auto(context);
         break;
     }
     if (outcome.applied) {

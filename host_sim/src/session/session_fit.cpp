@@ -17,7 +17,6 @@
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
-namespace {
 
 std::string tick_log_csv(const RunRecord& r) {
   std::ostringstream out;
@@ -45,8 +44,6 @@ std::string tick_log_csv(const RunRecord& r) {
   }
   return out.str();
 }
-
-}  // namespace
 
 Outcome run_fit(Context& c) {
   const std::size_t n = c.options.runs.value_or(6);

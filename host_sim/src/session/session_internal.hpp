@@ -113,7 +113,12 @@ Outcome run_fit(Context& context);
 /// The extended UMBmark (a measurement: applies nothing).
 Outcome run_extended(Context& context);
 Outcome run_selftest(Context& context);
+/// Self-test, the runs the factors need (chosen by what each adds), verification, save.
+Outcome run_auto(Context& context);
 
+/// A logged run as a tick log (`t_s,count_l,count_r,x_mm,y_mm,theta_deg`; the measured stop point
+/// on its last row): what `odocal fit` reads.
+std::string tick_log_csv(const RunRecord& r);
 /// `trial,label,path,duration_ms,count_l,count_r,odom_x_mm,...,measured_theta_deg` of every run.
 std::string runs_csv(const std::vector<RunRecord>& runs);
 /// The runs' end points (odometry and measured) and, for logged runs, their odometry traces.

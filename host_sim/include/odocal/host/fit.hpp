@@ -210,8 +210,11 @@ struct FitResult {
   double heading_length_mm = 0.0;
   std::size_t iterations = 0;            ///< Levenberg-Marquardt iterations of the main fit
   double relative_sd[4] = {0, 0, 0, 0};  ///< D_L, D_R, b (, second) relative sd (linearised)
-  FitFigures fit;                        ///< on the logs fitted
-  std::optional<FitFigures> holdout;     ///< on the held-out logs, when given
+  /// Their covariance (of ln D_L, ln D_R, ln b, ln second; linearised, the same noise): what a
+  /// prediction from the fitted geometry is unsure of (session --procedure auto).
+  double relative_cov[4][4] = {};
+  FitFigures fit;                     ///< on the logs fitted
+  std::optional<FitFigures> holdout;  ///< on the held-out logs, when given
 };
 
 /// Why the data cannot give a result.

@@ -90,11 +90,14 @@ class MeasurementSource {
 [[nodiscard]] bool parse_measurement_line(const std::string& text, SessionPose& pose,
                                           std::string& why);
 
-enum class Procedure { umbmark, lateral, fit, verify, extended, selftest };
+enum class Procedure { umbmark, lateral, fit, verify, extended, selftest, automatic };
 
 struct SessionOptions {
   Procedure procedure = Procedure::umbmark;
   std::optional<double> side_m;  ///< umbmark square side (default 4) / lateral line length (1)
+  /// auto: stop measuring when the factors leave at most this much (mm, 1 sigma) of end error on
+  /// the unseen path; unset: the documented default (docs/calibration.md).
+  std::optional<double> target_mm;
   std::optional<std::size_t> runs;
   std::size_t passes = 3;     ///< UMBmark passes at most (--passes)
   std::optional<bool> exact;  ///< --exact: always the exact square solve; unset: when it matters
@@ -115,6 +118,14 @@ struct SessionOptions {
   /// Runs of the interrupted session being resumed, in order: taken, not driven again.
   std::vector<RunRecord> replay;
 };
+
+namespace session {
+/// `--procedure auto`: the measured runs of its first round (its plan may add more, up to
+/// auto_max_runs), the calibration runs it takes at most, and the verification runs after them.
+inline constexpr std::size_t auto_first_round = 6;
+inline constexpr std::size_t auto_max_runs = 10;
+inline constexpr std::size_t auto_verify_runs = 2;
+}  // namespace session
 
 /// What a session did: the JSON of DESIGN, plus a human summary.
 struct SessionReport {

@@ -1,0 +1,120 @@
+#!/usr/bin/env python3
+"""How close `odocal session --procedure auto` brings the unseen path to what the robot's true
+geometry reaches, beside UMBmark and the fit session, with the tape measurements each took.
+
+For each robot and seed: a calibration session on a fresh store, then the unseen path driven
+--eval-runs times (odocal session --procedure verify, other seeds) with the factors it saved, and
+with the true geometry in force (the oracle). Prints a Markdown table (docs/results.md) and, with
+--json, the figures. Usage: auto_study.py BIN_DIR [--seeds N] [--procedures auto,umbmark,fit]
+"""
+import argparse
+import json
+import math
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+
+ROBOTS = {
+    "micromouse": {"wheel_diameter_mm": 48, "wheelbase_mm": 92, "true_left_diameter_mm": 47.85,
+                   "true_right_diameter_mm": 48.15, "true_wheelbase_mm": 94.2},
+    "lab": {"wheel_diameter_mm": 100, "wheelbase_mm": 300, "counts_per_rev": 2048,
+            "true_left_diameter_mm": 100.3, "true_right_diameter_mm": 99.8,
+            "true_wheelbase_mm": 306, "slip_sigma": 0.002},
+    "cart": {"wheel_diameter_mm": 150, "wheelbase_mm": 480, "counts_per_rev": 4096,
+             "true_left_diameter_mm": 150.6, "true_right_diameter_mm": 149.7,
+             "true_wheelbase_mm": 489, "true_wheelbase_arc_mm": 495, "slip_sigma": 0.003},
+}
+
+
+def run(cmd):
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        raise RuntimeError(" ".join(cmd) + "\n" + p.stderr[-2000:])
+    return p.stdout
+
+
+def unseen_rms(bindir, robot, store, seeds, work):
+    """RMS end error (mm) of the unseen path over len(seeds) x 16 runs with `store`'s factors."""
+    errors = []
+    for s in seeds:
+        out = tempfile.mkdtemp(prefix="verify-%d-" % s, dir=work)
+        doc = json.loads(run([bindir + "/odocal", "session", "--sim", robot, "--store", store,
+                              "--seed", str(s), "--procedure", "verify", "--runs", "16",
+                              "--json", "--out", out + "/v"]))
+        with open(os.path.join(out, "v", "accuracy.csv")) as f:
+            for line in f.read().splitlines()[1:]:
+                name, _, x, y = line.split(",")
+                if name == "after":
+                    errors.append(float(x) ** 2 + float(y) ** 2)
+    return math.sqrt(sum(errors) / len(errors))
+
+
+def oracle_store(bindir, robot_doc, robot, work):
+    store = os.path.join(work, os.path.basename(robot) + ".oracle.store")
+    d = robot_doc["wheel_diameter_mm"]
+    script = "set c_l %.6f\nset c_r %.6f\nset wheelbase_mm %.4f\n" % (
+        robot_doc["true_left_diameter_mm"] / d, robot_doc["true_right_diameter_mm"] / d,
+        robot_doc["true_wheelbase_mm"])
+    if "true_wheelbase_arc_mm" in robot_doc:
+        script += "set wheelbase_arc_mm %.4f\n" % robot_doc["true_wheelbase_arc_mm"]
+    script += "save\n"
+    subprocess.run([bindir + "/odocal-sim", "--robot", robot, "--store", store],
+                   input=script, capture_output=True, text=True, check=True)
+    return store
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("bindir")
+    ap.add_argument("--seeds", type=int, default=5)
+    ap.add_argument("--procedures", default="auto,umbmark,fit")
+    ap.add_argument("--robots", default=",".join(ROBOTS))
+    ap.add_argument("--eval-sessions", type=int, default=2)
+    ap.add_argument("--json", action="store_true")
+    a = ap.parse_args()
+    rows = []
+    with tempfile.TemporaryDirectory() as work:
+        for name in a.robots.split(","):
+            doc = ROBOTS[name]
+            robot = os.path.join(work, name + ".json")
+            with open(robot, "w") as f:
+                json.dump(doc, f)
+            eval_seeds = [1000 + i for i in range(a.eval_sessions)]
+            oracle = unseen_rms(a.bindir, robot, oracle_store(a.bindir, doc, robot, work),
+                                eval_seeds, work)
+            for procedure in a.procedures.split(","):
+                ratios, counts = [], []
+                for seed in range(1, a.seeds + 1):
+                    store = os.path.join(work, "%s-%s-%d.store" % (name, procedure, seed))
+                    out = os.path.join(work, "%s-%s-%d" % (name, procedure, seed))
+                    session = json.loads(run([a.bindir + "/odocal", "session", "--sim", robot,
+                                              "--store", store, "--seed", str(seed),
+                                              "--procedure", procedure, "--yes", "--json",
+                                              "--out", out]))
+                    counts.append(session["measurements"])
+                    rms = unseen_rms(a.bindir, robot, store, eval_seeds, work)
+                    ratios.append(rms / oracle)
+                    print("%s %s seed %d: %d measurements, unseen %.2f mm (oracle %.2f): %.2fx"
+                          % (name, procedure, seed, counts[-1], rms, oracle, ratios[-1]),
+                          file=sys.stderr)
+                rows.append({"robot": name, "procedure": procedure, "oracle_mm": oracle,
+                             "ratios": ratios, "measurements": counts,
+                             "median": statistics.median(ratios), "worst": max(ratios)})
+    if a.json:
+        print(json.dumps(rows, indent=2))
+        return
+    print("| robot | procedure | tape measurements | unseen path / oracle, median | worst |"
+          " oracle RMS mm |")
+    print("|---|---|---|---|---|---|")
+    for r in rows:
+        print("| %s | %s | %s | %.2f | %.2f | %.1f |" % (
+            r["robot"], r["procedure"],
+            "%d-%d" % (min(r["measurements"]), max(r["measurements"]))
+            if min(r["measurements"]) != max(r["measurements"]) else str(r["measurements"][0]),
+            r["median"], r["worst"], r["oracle_mm"]))
+
+
+if __name__ == "__main__":
+    main()

@@ -19,6 +19,7 @@ other_packages=(
   gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib libnewlib-arm-none-eabi binutils-arm-none-eabi
   qemu-system-arm qemu-system-x86 busybox-static xz-utils
   libgpiod-dev gpiod
+  chromium fonts-liberation
   gcc-aarch64-linux-gnu g++-aarch64-linux-gnu libgpiod-dev:arm64
 )
 

@@ -333,8 +333,10 @@ Precision precision_of(const FitResult& r, const FitNominal& nominal,
         arc = &k;
       }
     }
-    arc_unresolved = one != nullptr && arc != nullptr && arc->tried && !arc->supported &&
-                     arc->heldout_path_rms_mm < 0.8 * one->heldout_path_rms_mm;
+    // At most two arcs more than the first round's: beyond that the arcs' own scatter is what
+    // the held-out comparison sees.
+    arc_unresolved = arc_count < 4 && one != nullptr && arc != nullptr && arc->tried &&
+                     !arc->supported && arc->heldout_path_rms_mm < 0.8 * one->heldout_path_rms_mm;
   }
   out.arc_unresolved = arc_unresolved;
   const Geometry g = geometry_of(r.geometry);

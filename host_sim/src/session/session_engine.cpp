@@ -541,6 +541,34 @@ void put_back(Context& c, std::ostream& log) {
 
 }  // namespace
 
+void write_report(Context& c, const nlohmann::json& result, const std::string& summary,
+                  bool complete, bool saved, const std::string& interruption) {
+  ReportInput in;
+  in.title = std::string("odocal session ") + to_string(c.options.procedure);
+  in.date_unix_s = c.date();
+  in.complete = complete;
+  in.interruption = interruption;
+  in.saved = saved;
+  in.runs = c.runs;
+  in.result = result;
+  in.summary = summary;
+  in.side_m = c.options.side_m.value_or(4.0);
+  try {
+    // From the robot when it still answers (after an interruption it may not).
+    in.factors = c.last_factors.value_or(c.initial);
+    in.wheel_diameter_mm = c.get("wheel_diameter_mm");
+    in.wheelbase_mm = c.get("wheelbase_mm");
+    in.counts_per_rev = c.get("counts_per_rev");
+    const Reply provenance = c.robot.command("provenance", 2000);
+    if (provenance.ok) {
+      in.provenance = provenance.pairs;
+    }
+  } catch (const std::exception&) {
+    in.wheelbase_mm = in.factors.wheelbase_mm > 0.0 ? in.factors.wheelbase_mm : in.wheelbase_mm;
+  }
+  c.write_file("report.html", report_html(in));
+}
+
 }  // namespace session
 
 std::vector<RunRecord> recorded_runs(const nlohmann::json& session, const std::string& dir) {
@@ -669,6 +697,7 @@ SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
     session::put_back(context, log);
     try {
       context.write_session_json(false, context.partial, false, false, e.what());
+      session::write_report(context, context.partial, "", false, false, e.what());
       log << "What was measured is in " << options.out_dir
           << "/measurements.csv and session.json; continue with: odocal session --resume "
           << options.out_dir << "\n";
@@ -679,6 +708,7 @@ SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
   }
   const session::Factors f = context.factors();
   context.write_file("runs.csv", session::runs_csv(context.runs));
+  session::write_report(context, outcome.result, outcome.text, true, saved, "");
   context.write_file("runs.svg", session::runs_svg(context.runs, std::string("odocal session ") +
                                                                      to_string(options.procedure)));
   context.write_session_json(true, outcome.result, outcome.applied, saved);

@@ -2,6 +2,7 @@
 // Shared by the session's procedures (not installed): the run loop, parameters, output files.
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -119,10 +120,37 @@ Outcome run_auto(Context& context);
 /// A logged run as a tick log (`t_s,count_l,count_r,x_mm,y_mm,theta_deg`; the measured stop point
 /// on its last row): what `odocal fit` reads.
 std::string tick_log_csv(const RunRecord& r);
+/// What report.html shows.
+struct ReportInput {
+  std::string title;
+  std::uint64_t date_unix_s = 0;
+  bool complete = true;
+  std::string interruption;
+  bool saved = false;
+  std::vector<RunRecord> runs;
+  nlohmann::json result = nlohmann::json::object();
+  Factors factors;
+  std::map<std::string, std::string> provenance;  ///< the console's `provenance` pairs
+  std::string summary;                             ///< the procedure's result for people
+  double wheel_diameter_mm = 60.0;                 ///< nominal geometry (odometry traces)
+  double wheelbase_mm = 150.0;
+  double counts_per_rev = 1440.0;
+  double side_m = 4.0;  ///< UMBmark square side (paths of runs without a tick log)
+};
+/// Writes out_dir/report.html for the session so far (never throws for a robot that does not
+/// answer: the page then shows what the host knows).
+void write_report(Context& c, const nlohmann::json& result, const std::string& summary,
+                  bool complete, bool saved, const std::string& interruption);
+/// report.html: one self-contained page (inline SVG, no script, nothing from the network).
+std::string report_html(const ReportInput& input);
+
 /// `trial,label,path,duration_ms,count_l,count_r,odom_x_mm,...,measured_theta_deg` of every run.
 std::string runs_csv(const std::vector<RunRecord>& runs);
 /// The runs' end points (odometry and measured) and, for logged runs, their odometry traces.
 std::string runs_svg(const std::vector<RunRecord>& runs, const std::string& title);
+/// The same panels, `columns` to an SVG document (one per row).
+std::vector<std::string> runs_svg_rows(const std::vector<RunRecord>& runs,
+                                       const std::string& title, std::size_t columns);
 /// The `runs` array of the session JSON.
 nlohmann::json runs_json(const std::vector<RunRecord>& runs);
 

@@ -1,6 +1,7 @@
 // runs.svg: where each run stopped, by odometry and as measured, in the start frame.
 
 #include <algorithm>
+#include <deque>
 #include <map>
 
 #include "odocal/host/sim_svg.hpp"
@@ -23,10 +24,19 @@ std::string group_of(const std::string& label) {
 
 }  // namespace
 
-std::string runs_svg(const std::vector<RunRecord>& runs, const std::string& title) {
+std::vector<std::string> runs_svg_rows(const std::vector<RunRecord>& runs,
+                                       const std::string& title, std::size_t columns) {
   static const char* const palette[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd",
                                         "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
-  SvgFigure figure;
+  std::deque<SvgFigure> rows;
+  const auto panel_at = [&rows, columns](std::size_t index, const std::string& name,
+                                         const std::string& x_label,
+                                         const std::string& y_label) -> SvgPanel& {
+    while (rows.size() <= index / columns) {
+      rows.emplace_back();
+    }
+    return rows[index / columns].panel(index % columns, name, x_label, y_label);
+  };
   // One panel per group (a UMBmark pass, lateral's lines, verify's before and after): each run's
   // error, measured minus odometry, at the scale of that group's errors, with each label's
   // centre (UMBmark's centres of gravity for cw and ccw). Then, last, where the runs stopped.
@@ -43,11 +53,16 @@ std::string runs_svg(const std::vector<RunRecord>& runs, const std::string& titl
   const auto panel_of = [&](const std::string& group) -> SvgPanel& {
     const auto at =
         static_cast<std::size_t>(std::find(groups.begin(), groups.end(), group) - groups.begin());
-    return figure.panel(at, group + ": measured - odometry (x run, o centre)",
-                        "x error, ahead (mm)", "y error, left (mm)");
+    return panel_at(at, group + ": measured - odometry (x run, o centre)", "x error, ahead (mm)",
+                    "y error, left (mm)");
   };
-  SvgPanel& stops = figure.panel(groups.size(), title + ": stops (+ odometry, x measured)",
-                                 "x, ahead (mm)", "y, left (mm)");
+  // Every panel made before any is filled: the deque keeps references valid, but the stops
+  // panel's index must follow the groups'.
+  for (const std::string& group : groups) {
+    static_cast<void>(panel_of(group));
+  }
+  SvgPanel& stops = panel_at(groups.size(), title + ": stops (+ odometry, x measured)",
+                             "x, ahead (mm)", "y, left (mm)");
   for (const RunRecord& r : runs) {
     if (colours.count(r.label) == 0u) {
       const std::string colour = palette[colours.size() % (sizeof palette / sizeof *palette)];
@@ -82,7 +97,15 @@ std::string runs_svg(const std::vector<RunRecord>& runs, const std::string& titl
   stops.add_marker(0.0, 0.0, "#000000", 's');
   all.emplace_back("#000000", "start");
   stops.legend(all);
-  return figure.finish();
+  std::vector<std::string> out;
+  for (const SvgFigure& row : rows) {
+    out.push_back(row.finish());
+  }
+  return out;
+}
+
+std::string runs_svg(const std::vector<RunRecord>& runs, const std::string& title) {
+  return runs_svg_rows(runs, title, static_cast<std::size_t>(-1)).front();
 }
 
 }  // namespace odocal::host::session

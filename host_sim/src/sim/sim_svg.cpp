@@ -113,6 +113,7 @@ std::string SvgPanel::render(double left, double top, double size) const {
   s << "<text x=\"" << num(left + 16) << "\" y=\"" << num(y0 + plot / 2)
     << "\" text-anchor=\"middle\" font-size=\"12\" transform=\"rotate(-90 " << num(left + 16) << " "
     << num(y0 + plot / 2) << ")\">" << y_label_ << "</text>\n";
+  s << "<g class=\"data\">\n";
   for (const Line& line : lines_) {
     s << "<polyline fill=\"none\" stroke=\"" << line.colour
       << "\" stroke-width=\"1\" stroke-opacity=\"0.7\" points=\"";
@@ -147,6 +148,7 @@ std::string SvgPanel::render(double left, double top, double size) const {
         break;
     }
   }
+  s << "</g>\n<g class=\"legend\">\n";
   double ly = y0 + 16;
   for (const auto& entry : legend_) {
     s << "<rect x=\"" << num(x0 + 8) << "\" y=\"" << num(ly - 9)
@@ -155,6 +157,7 @@ std::string SvgPanel::render(double left, double top, double size) const {
       << entry.second << "</text>\n";
     ly += 15;
   }
+  s << "</g>\n";
   return s.str();
 }
 

@@ -1,0 +1,405 @@
+// OUT/report.html: one self-contained page (inline SVG, no script, nothing from the network) that
+// shows what a session did and found (DESIGN "One command, fewest measurements").
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <deque>
+#include <map>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "odocal/drive/motion_executor.hpp"
+#include "odocal/host/sim_procedures.hpp"
+#include "odocal/host/sim_svg.hpp"
+#include "session_internal.hpp"
+
+namespace odocal::host::session {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+const char* const kPalette[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd",
+                                "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
+
+std::string escape(const std::string& text) {
+  std::string out;
+  for (char ch : text) {
+    switch (ch) {
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '&':
+        out += "&amp;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += ch;
+    }
+  }
+  return out;
+}
+
+/// An SvgFigure as an inline element that scales to the page (viewBox) and needs no namespace.
+/// `min_width`: the viewBox is at least this wide (a row of fewer panels keeps the scale of a
+/// full row, left-aligned).
+std::string inline_svg(std::string svg, const std::string& label, double min_width = 1560.0) {
+  const std::string head = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"";
+  if (svg.rfind(head, 0) == 0) {
+    const std::size_t w_end = svg.find('"', head.size());
+    const std::string width = fmt::format(
+        "{:.0f}", std::max(min_width, std::stod(svg.substr(head.size(), w_end - head.size()))));
+    const std::string h_key = "height=\"";
+    const std::size_t h_at = svg.find(h_key, w_end) + h_key.size();
+    const std::string height = svg.substr(h_at, svg.find('"', h_at) - h_at);
+    svg = fmt::format(
+              "<svg role=\"img\" aria-label=\"{}\" viewBox=\"0 0 {} {}\" width=\"{}\" "
+              "height=\"{}\"",
+              escape(label), width, height, width, height) +
+          svg.substr(svg.find('"', h_at) + 1);
+  }
+  return svg;
+}
+
+/// Poses along a run from its tick log, integrated with `g` (exact arcs per row).
+std::vector<PathPoint> trace_of(const RunRecord& r, double d_l, double d_r, double b, double cpr) {
+  std::vector<PathPoint> out;
+  double x = 0.0, y = 0.0, th = 0.0;
+  out.push_back(PathPoint{0.0, 0.0});
+  for (std::size_t i = 1; i < r.ticks.size(); ++i) {
+    const double s_l =
+        static_cast<double>(r.ticks[i].count_l - r.ticks[i - 1].count_l) * kPi * d_l / cpr;
+    const double s_r =
+        static_cast<double>(r.ticks[i].count_r - r.ticks[i - 1].count_r) * kPi * d_r / cpr;
+    const double ds = 0.5 * (s_l + s_r);
+    const double dth = (s_r - s_l) / b;
+    if (std::fabs(dth) < 1e-12) {
+      x += ds * std::cos(th);
+      y += ds * std::sin(th);
+    } else {
+      x += ds / dth * (std::sin(th + dth) - std::sin(th));
+      y -= ds / dth * (std::cos(th + dth) - std::cos(th));
+    }
+    th += dth;
+    out.push_back(PathPoint{x, y});
+  }
+  return out;
+}
+
+/// The path a run was told to drive, from its command (runs without a tick log), in mm.
+std::vector<PathPoint> commanded_path(const RunRecord& r, double side_m) {
+  drive::Path path;
+  std::istringstream words(r.command);
+  std::string verb, what;
+  words >> verb >> what;
+  if (verb == "run" && what == "unseen") {
+    path = drive::make_unseen_path();
+  } else if (verb == "run" && what == "line") {
+    float length = 1.0f;
+    words >> length;
+    path = drive::make_line(length);
+  } else if (verb == "run" && (what == "umbmark-cw" || what == "umbmark-ccw")) {
+    float side = static_cast<float>(side_m);
+    words >> side;
+    path = drive::make_umbmark_square(what == "umbmark-cw", side);
+  } else if (verb == "drive") {
+    double v = 0.0, w = 0.0, ms = 0.0;
+    std::istringstream rest(r.command.substr(6));
+    rest >> v >> w >> ms;
+    const double t = ms / 1000.0;
+    static_cast<void>(path.push(drive::Segment{static_cast<float>(v * t), static_cast<float>(w * t)}));
+  }
+  std::vector<PathPoint> out{PathPoint{0.0, 0.0}};
+  double x = 0.0, y = 0.0, th = 0.0;
+  for (std::uint8_t i = 0; i < path.count; ++i) {
+    const double d = static_cast<double>(path.segments[i].distance_m) * 1e3;
+    const double a = static_cast<double>(path.segments[i].angle_rad);
+    const int steps = a == 0.0 || d == 0.0 ? 1 : 24;
+    for (int k = 0; k < steps; ++k) {
+      const double dd = d / steps, da = a / steps;
+      if (da == 0.0 || dd == 0.0) {
+        x += dd * std::cos(th);
+        y += dd * std::sin(th);
+      } else {
+        x += dd / da * (std::sin(th + da) - std::sin(th));
+        y -= dd / da * (std::cos(th + da) - std::cos(th));
+      }
+      th += da;
+      out.push_back(PathPoint{x, y});
+    }
+  }
+  return out;
+}
+
+/// Panels laid out three to a row: one SvgFigure per row.
+class Rows {
+ public:
+  SvgPanel& panel(const std::string& title, const std::string& x_label,
+                  const std::string& y_label) {
+    if (count_ % 3 == 0) {
+      rows_.emplace_back();
+    }
+    return rows_.back().panel(count_++ % 3, title, x_label, y_label);
+  }
+  [[nodiscard]] std::string html(const std::string& label) const {
+    std::string out;
+    for (const SvgFigure& f : rows_) {
+      out += inline_svg(f.finish(), label);
+    }
+    return out;
+  }
+  [[nodiscard]] bool empty() const { return count_ == 0; }
+
+ private:
+  std::deque<SvgFigure> rows_;
+  std::size_t count_ = 0;
+};
+
+std::string figure(const std::string& title, const std::string& svg, const std::string& caption) {
+  return "<figure>\n<h2>" + escape(title) + "</h2>\n" + svg + "<figcaption>" + escape(caption) +
+         "</figcaption>\n</figure>\n";
+}
+
+/// [lo, hi] of `name` in a fit result's `ci`, if there.
+std::string interval(const nlohmann::json& fit, const std::string& name) {
+  if (!fit.is_object() || !fit.contains("ci") || !fit["ci"].contains(name) ||
+      !fit["ci"][name].is_array()) {
+    return "";
+  }
+  const auto& ci = fit["ci"][name];
+  return fmt::format("[{:.6g}, {:.6g}]", ci[0].get<double>(), ci[1].get<double>());
+}
+
+std::string date_text(std::uint64_t unix_s) {
+  if (unix_s == 0) {
+    return "unknown";
+  }
+  const auto t = static_cast<std::time_t>(unix_s);
+  std::tm utc{};
+  gmtime_r(&t, &utc);
+  char text[40];
+  std::strftime(text, sizeof text, "%Y-%m-%d %H:%M UTC", &utc);
+  return text;
+}
+
+}  // namespace
+
+std::string report_html(const ReportInput& in) {
+  const std::vector<RunRecord>& runs = in.runs;
+  std::map<std::string, std::string> colours;
+  for (const RunRecord& r : runs) {
+    if (colours.count(r.label) == 0u) {
+      colours[r.label] = kPalette[colours.size() % (sizeof kPalette / sizeof *kPalette)];
+    }
+  }
+  std::vector<std::string> labels;
+  for (const RunRecord& r : runs) {
+    if (std::find(labels.begin(), labels.end(), r.label) == labels.end()) {
+      labels.push_back(r.label);
+    }
+  }
+  // The fitted geometry, where the session fitted one (fit, auto).
+  const nlohmann::json* fit = nullptr;
+  if (in.result.contains("wheel_diameter_left_mm")) {
+    fit = &in.result;
+  } else if (in.result.contains("fit") && in.result["fit"].is_object()) {
+    fit = &in.result["fit"];
+  }
+
+  std::ostringstream body;
+  // 1. Each run's path: the odometry (from the tick log, or the path the run was told to drive)
+  //    and where it stopped by odometry (+) and as measured (x).
+  Rows paths;
+  for (const std::string& label : labels) {
+    SvgPanel& panel = paths.panel(label + ": path (+ odometry end, x measured)", "x, ahead (mm)",
+                                  "y, left (mm)");
+    const std::string& colour = colours[label];
+    std::size_t n = 0;
+    for (const RunRecord& r : runs) {
+      if (r.label != label) {
+        continue;
+      }
+      ++n;
+      const std::vector<PathPoint> trace =
+          r.ticks.size() >= 2 ? trace_of(r, in.wheel_diameter_mm, in.wheel_diameter_mm,
+                                         in.wheelbase_mm, in.counts_per_rev)
+                              : commanded_path(r, in.side_m);
+      panel.add_line(trace, "#999999");
+      panel.add_marker(r.odom.x_mm, r.odom.y_mm, colour, '+');
+      panel.add_marker(r.measured.x_mm, r.measured.y_mm, colour, 'x');
+    }
+    panel.add_marker(0.0, 0.0, "#000000", 's');
+    panel.legend({{"#999999", "odometry path"},
+                  {colour, fmt::format("{} ({}): + odometry end, x measured", label, n)},
+                  {"#000000", "start"}});
+  }
+  if (!paths.empty()) {
+    body << figure("Each run's path and stop point", paths.html("paths"),
+                   "Grey: the path by odometry (tick log, or the path the run was told to drive); "
+                   "+ where odometry says it stopped; x where it was measured; square: the start "
+                   "mark. Axes in millimetres from the start mark, x ahead, y to the left.");
+  }
+
+  // 2. Errors per group at their own scale: UMBmark's clusters with their centres of gravity
+  //    before and after each pass, lateral drift, verification (runs.svg).
+  std::string errors;
+  for (const std::string& svg : runs_svg_rows(runs, in.title, 3)) {
+    errors += inline_svg(svg, "errors");
+  }
+  body << figure("Stop errors, measured minus odometry, per pass and group", errors,
+                 "Each panel at the scale of its own errors, so that millimetres show: x a run's "
+                 "error, o the centre of gravity of its kind (UMBmark: cw and ccw clusters of a "
+                 "pass; the next pass shows them after the correction), square: no error.");
+
+  // 3. Fit: the logged runs' paths with the nominal geometry (before) and the fitted one (after).
+  if (fit != nullptr) {
+    const double d_l = (*fit)["wheel_diameter_left_mm"].get<double>();
+    const double d_r = (*fit)["wheel_diameter_right_mm"].get<double>();
+    const double b = (*fit)["wheelbase_mm"].get<double>();
+    Rows fitted;
+    for (const std::string& label : labels) {
+      bool any = false;
+      for (const RunRecord& r : runs) {
+        any = any || (r.label == label && r.ticks.size() >= 2);
+      }
+      if (!any) {
+        continue;
+      }
+      SvgPanel& panel =
+          fitted.panel(label + ": before and after the fit", "x, ahead (mm)", "y, left (mm)");
+      for (const RunRecord& r : runs) {
+        if (r.label != label || r.ticks.size() < 2) {
+          continue;
+        }
+        panel.add_line(trace_of(r, in.wheel_diameter_mm, in.wheel_diameter_mm, in.wheelbase_mm,
+                                in.counts_per_rev),
+                       "#bbbbbb");
+        const std::vector<PathPoint> after = trace_of(r, d_l, d_r, b, in.counts_per_rev);
+        panel.add_line(after, colours[label]);
+        panel.add_marker(r.measured.x_mm, r.measured.y_mm, "#000000", 'x');
+      }
+      panel.legend({{"#bbbbbb", "nominal geometry (before)"},
+                    {colours[label], "fitted geometry (after)"},
+                    {"#000000", "x measured stop"}});
+    }
+    if (!fitted.empty()) {
+      body << figure("Fit: paths before and after",
+                     fitted.html("fit"),
+                     fmt::format("The runs' encoder counts integrated with the nominal geometry "
+                                 "(grey) and with the fitted one (D_L {:.3f} mm, D_R {:.3f} mm, "
+                                 "b {:.3f} mm): after the fit each path should end at its "
+                                 "measured stop (x). Millimetres.",
+                                 d_l, d_r, b));
+    }
+  }
+
+  // 4. Verification: the unseen path's target and where the runs stopped.
+  const sim::WorldPose goal = path_end(drive::make_unseen_path());
+  Rows verify;
+  SvgPanel* target = nullptr;
+  std::vector<std::pair<std::string, std::string>> verify_legend;
+  for (const std::string& label : labels) {
+    for (const RunRecord& r : runs) {
+      if (r.label != label || r.command != "run unseen") {
+        continue;
+      }
+      if (target == nullptr) {
+        target = &verify.panel("unseen path: stops around the target", "x error, ahead (mm)",
+                               "y error, left (mm)");
+      }
+      target->add_marker(r.measured.x_mm - goal.x_m * 1e3, r.measured.y_mm - goal.y_m * 1e3,
+                         colours[label], 'x');
+      if (std::find_if(verify_legend.begin(), verify_legend.end(), [&](const auto& e) {
+            return e.second == label;
+          }) == verify_legend.end()) {
+        verify_legend.emplace_back(colours[label], label + ": x measured stop");
+      }
+    }
+  }
+  if (target != nullptr) {
+    target->add_marker(0.0, 0.0, "#000000", 's');
+    verify_legend.emplace_back("#000000", "target (where the path should end)");
+    target->legend(verify_legend);
+    body << figure("Verification on the unseen path", verify.html("verification"),
+                   fmt::format("The unseen path (100 cm square, 100 cm triangle, 80 cm "
+                               "semicircle) should end {:.0f} mm ahead and {:.0f} mm to the left "
+                               "of the start: each x is a measured stop minus that target, in "
+                               "millimetres.",
+                               plain(goal.x_m * 1e3, 0), plain(goal.y_m * 1e3, 0)));
+  }
+
+  // 5. The factors in force, with intervals and provenance.
+  std::ostringstream table;
+  table << "<table>\n<tr><th>factor</th><th>in force</th><th>95 % interval</th>"
+           "<th>provenance</th></tr>\n";
+  const auto provenance = [&](const char* group) {
+    const auto get = [&](const std::string& key) {
+      const auto at = in.provenance.find(std::string(group) + "_" + key);
+      return at == in.provenance.end() ? std::string("?") : at->second;
+    };
+    if (in.provenance.empty()) {
+      return std::string("not reported");
+    }
+    const std::string date = get("date");
+    const bool digits = !date.empty() && date.size() < 20 &&
+                        std::all_of(date.begin(), date.end(), [](char ch) {
+                          return ch >= '0' && ch <= '9';
+                        });
+    return fmt::format("{}, {} runs, {}", get("method"), get("runs"),
+                       digits ? date_text(std::stoull(date)) : std::string("unknown"));
+  };
+  const auto row = [&](const char* name, double value, const std::string& ci, const char* group) {
+    table << fmt::format("<tr><td>{}</td><td>{:.6f}</td><td>{}</td><td>{}</td></tr>\n", name,
+                         value, ci.empty() ? "&ndash;" : ci, escape(provenance(group)));
+  };
+  const nlohmann::json none;
+  const nlohmann::json& f = fit != nullptr ? *fit : none;
+  row("c_l", in.factors.c_l, interval(f, "c_l"), "wheel");
+  row("c_r", in.factors.c_r, interval(f, "c_r"), "wheel");
+  row("wheelbase_mm", in.factors.wheelbase_mm, interval(f, "wheelbase_mm"), "wheel");
+  if (in.factors.wheelbase_arc_mm != 0.0) {
+    row("wheelbase_arc_mm", in.factors.wheelbase_arc_mm, interval(f, "wheelbase_arc_mm"),
+        "wheel");
+  }
+  row("f_lat", in.factors.f_lat, "", "lateral");
+  row("f_lon", in.factors.f_lon, "", "lateral");
+  table << "</table>\n";
+  if (f.is_object() && f.contains("noise") && f["noise"].is_object() &&
+      f["noise"].contains("k_l")) {
+    table << fmt::format(
+        "<p>Random error growth (odometry covariance, Chong &amp; Kleeman): k_l = {:.3g} "
+        "mm&sup2;/mm, k_r = {:.3g} mm&sup2;/mm.</p>\n",
+        f["noise"]["k_l"].get<double>(), f["noise"]["k_r"].get<double>());
+  }
+
+  std::ostringstream page;
+  page << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+          "<title>"
+       << escape(in.title)
+       << "</title>\n<style>\n"
+          "body{font-family:sans-serif;max-width:1600px;margin:1em auto;padding:0 1em;"
+          "color:#222}\n"
+          "svg{max-width:100%;height:auto;display:block;margin:0.5em 0}\n"
+          "figure{margin:1.5em 0}figcaption{color:#555;font-size:0.9em;max-width:60em}\n"
+          "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:0.3em 0.6em;"
+          "text-align:left}\n.warn{color:#a00}\n</style>\n</head>\n<body>\n<h1>"
+       << escape(in.title) << "</h1>\n<p>" << escape(date_text(in.date_unix_s)) << " &middot; "
+       << in.runs.size() << (in.runs.size() == 1 ? " measurement" : " measurements")
+       << " &middot; "
+       << (in.complete ? "complete" : "<span class=\"warn\">interrupted: " +
+                                          escape(in.interruption) + "</span>")
+       << (in.saved ? " &middot; saved on the robot" : "") << "</p>\n";
+  if (!in.summary.empty()) {
+    page << "<pre>" << escape(in.summary) << "</pre>\n";
+  }
+  page << "<h2>Factors in force</h2>\n" << table.str() << body.str() << "</body>\n</html>\n";
+  return page.str();
+}
+
+}  // namespace odocal::host::session

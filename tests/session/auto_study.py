@@ -73,6 +73,9 @@ def main():
     ap.add_argument("--robots", default=",".join(ROBOTS))
     ap.add_argument("--eval-sessions", type=int, default=2)
     ap.add_argument("--json", action="store_true")
+    ap.add_argument("--check", action="store_true",
+                    help="a test: auto takes at most 12 measurements, the median over all its "
+                         "sessions is within 1.3x of the oracle and no robot's median past 1.6x")
     a = ap.parse_args()
     rows = []
     with tempfile.TemporaryDirectory() as work:
@@ -102,9 +105,26 @@ def main():
                 rows.append({"robot": name, "procedure": procedure, "oracle_mm": oracle,
                              "ratios": ratios, "measurements": counts,
                              "median": statistics.median(ratios), "worst": max(ratios)})
+    if a.check:
+        failures = []
+        autos = [r for r in rows if r["procedure"] == "auto"]
+        every = [x for r in autos for x in r["ratios"]]
+        if any(m > 12 for r in autos for m in r["measurements"]):
+            failures.append("more than 12 measurements: %s" % [r["measurements"] for r in autos])
+        if every and statistics.median(every) > 1.3:
+            failures.append("median over all auto sessions %.2fx > 1.3x"
+                            % statistics.median(every))
+        for r in autos:
+            if r["median"] > 1.6:
+                failures.append("%s: median %.2fx > 1.6x" % (r["robot"], r["median"]))
+        for f in failures:
+            print("FAIL " + f)
+        print("auto_study: %d checks passed, %d failed" % (3 - min(3, len(failures)),
+                                                          len(failures)))
+        return 1 if failures else 0
     if a.json:
         print(json.dumps(rows, indent=2))
-        return
+        return 0
     print("| robot | procedure | tape measurements | unseen path / oracle, median | worst |"
           " oracle RMS mm |")
     print("|---|---|---|---|---|---|")
@@ -114,7 +134,8 @@ def main():
             "%d-%d" % (min(r["measurements"]), max(r["measurements"]))
             if min(r["measurements"]) != max(r["measurements"]) else str(r["measurements"][0]),
             r["median"], r["worst"], r["oracle_mm"]))
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

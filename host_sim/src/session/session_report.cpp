@@ -113,7 +113,8 @@ std::vector<PathPoint> commanded_path(const RunRecord& r, double side_m) {
     std::istringstream rest(r.command.substr(6));
     rest >> v >> w >> ms;
     const double t = ms / 1000.0;
-    static_cast<void>(path.push(drive::Segment{static_cast<float>(v * t), static_cast<float>(w * t)}));
+    static_cast<void>(
+        path.push(drive::Segment{static_cast<float>(v * t), static_cast<float>(w * t)}));
   }
   std::vector<PathPoint> out{PathPoint{0.0, 0.0}};
   double x = 0.0, y = 0.0, th = 0.0;
@@ -217,8 +218,8 @@ std::string report_html(const ReportInput& in) {
   //    and where it stopped by odometry (+) and as measured (x).
   Rows paths;
   for (const std::string& label : labels) {
-    SvgPanel& panel = paths.panel(label + ": path (+ odometry end, x measured)", "x, ahead (mm)",
-                                  "y, left (mm)");
+    SvgPanel& panel =
+        paths.panel(label + ": path (+ odometry end, x measured)", "x, ahead (mm)", "y, left (mm)");
     const std::string& colour = colours[label];
     std::size_t n = 0;
     for (const RunRecord& r : runs) {
@@ -289,8 +290,7 @@ std::string report_html(const ReportInput& in) {
                     {"#000000", "x measured stop"}});
     }
     if (!fitted.empty()) {
-      body << figure("Fit: paths before and after",
-                     fitted.html("fit"),
+      body << figure("Fit: paths before and after", fitted.html("fit"),
                      fmt::format("The runs' encoder counts integrated with the nominal geometry "
                                  "(grey) and with the fitted one (D_L {:.3f} mm, D_R {:.3f} mm, "
                                  "b {:.3f} mm): after the fit each path should end at its "
@@ -315,9 +315,8 @@ std::string report_html(const ReportInput& in) {
       }
       target->add_marker(r.measured.x_mm - goal.x_m * 1e3, r.measured.y_mm - goal.y_m * 1e3,
                          colours[label], 'x');
-      if (std::find_if(verify_legend.begin(), verify_legend.end(), [&](const auto& e) {
-            return e.second == label;
-          }) == verify_legend.end()) {
+      if (std::find_if(verify_legend.begin(), verify_legend.end(),
+                       [&](const auto& e) { return e.second == label; }) == verify_legend.end()) {
         verify_legend.emplace_back(colours[label], label + ": x measured stop");
       }
     }
@@ -347,16 +346,15 @@ std::string report_html(const ReportInput& in) {
       return std::string("not reported");
     }
     const std::string date = get("date");
-    const bool digits = !date.empty() && date.size() < 20 &&
-                        std::all_of(date.begin(), date.end(), [](char ch) {
-                          return ch >= '0' && ch <= '9';
-                        });
+    const bool digits =
+        !date.empty() && date.size() < 20 &&
+        std::all_of(date.begin(), date.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
     return fmt::format("{}, {} runs, {}", get("method"), get("runs"),
                        digits ? date_text(std::stoull(date)) : std::string("unknown"));
   };
   const auto row = [&](const char* name, double value, const std::string& ci, const char* group) {
-    table << fmt::format("<tr><td>{}</td><td>{:.6f}</td><td>{}</td><td>{}</td></tr>\n", name,
-                         value, ci.empty() ? "&ndash;" : ci, escape(provenance(group)));
+    table << fmt::format("<tr><td>{}</td><td>{:.6f}</td><td>{}</td><td>{}</td></tr>\n", name, value,
+                         ci.empty() ? "&ndash;" : ci, escape(provenance(group)));
   };
   const nlohmann::json none;
   const nlohmann::json& f = fit != nullptr ? *fit : none;
@@ -364,8 +362,7 @@ std::string report_html(const ReportInput& in) {
   row("c_r", in.factors.c_r, interval(f, "c_r"), "wheel");
   row("wheelbase_mm", in.factors.wheelbase_mm, interval(f, "wheelbase_mm"), "wheel");
   if (in.factors.wheelbase_arc_mm != 0.0) {
-    row("wheelbase_arc_mm", in.factors.wheelbase_arc_mm, interval(f, "wheelbase_arc_mm"),
-        "wheel");
+    row("wheelbase_arc_mm", in.factors.wheelbase_arc_mm, interval(f, "wheelbase_arc_mm"), "wheel");
   }
   row("f_lat", in.factors.f_lat, "", "lateral");
   row("f_lon", in.factors.f_lon, "", "lateral");
@@ -390,10 +387,9 @@ std::string report_html(const ReportInput& in) {
           "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:0.3em 0.6em;"
           "text-align:left}\n.warn{color:#a00}\n</style>\n</head>\n<body>\n<h1>"
        << escape(in.title) << "</h1>\n<p>" << escape(date_text(in.date_unix_s)) << " &middot; "
-       << in.runs.size() << (in.runs.size() == 1 ? " measurement" : " measurements")
-       << " &middot; "
-       << (in.complete ? "complete" : "<span class=\"warn\">interrupted: " +
-                                          escape(in.interruption) + "</span>")
+       << in.runs.size() << (in.runs.size() == 1 ? " measurement" : " measurements") << " &middot; "
+       << (in.complete ? "complete"
+                       : "<span class=\"warn\">interrupted: " + escape(in.interruption) + "</span>")
        << (in.saved ? " &middot; saved on the robot" : "") << "</p>\n";
   if (!in.summary.empty()) {
     page << "<pre>" << escape(in.summary) << "</pre>\n";

@@ -24,8 +24,8 @@ std::string group_of(const std::string& label) {
 
 }  // namespace
 
-std::vector<std::string> runs_svg_rows(const std::vector<RunRecord>& runs,
-                                       const std::string& title, std::size_t columns) {
+std::vector<std::string> runs_svg_rows(const std::vector<RunRecord>& runs, const std::string& title,
+                                       std::size_t columns) {
   static const char* const palette[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd",
                                         "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
   std::deque<SvgFigure> rows;

@@ -209,8 +209,9 @@ std::string fit_result_text(const FitResult& r) {
       << ", set wheelbase_mm " << line("%.4f", r.geometry.wheelbase_mm) << '\n';
   if (r.geometry.model == FitModelKind::arc_wheelbase) {
     out << "  (wheelbase_mm is the turn-in-place wheelbase; on an arc of radius R the robot turns "
-           "with b + w·(b_arc − b), w = R/(R + b/2): no firmware parameter holds b_arc yet, so "
-           "for a robot that mostly drives arcs of one radius set that value instead)\n";
+           "with b + w·(b_arc − b), w = R/(R + b/2): set wheelbase_arc_mm "
+        << line("%.4f", r.geometry.second_wheelbase_mm)
+        << " too, or 'fit apply c_l c_r b 0 0 arc b_arc' (docs/console.md))\n";
   }
   return out.str();
 }

@@ -316,6 +316,7 @@ struct Precision {
   std::size_t more = 0;  ///< runs expected before the target is met (capped)
   /// The arcs look like another wheelbase the runs cannot pin yet: not done before more arcs.
   bool arc_unresolved = false;
+  nlohmann::json noise;  ///< `odocal fit`'s `noise` object, null when not estimated
 };
 
 Precision precision_of(const FitResult& r, const FitNominal& nominal,
@@ -351,6 +352,7 @@ Precision precision_of(const FitResult& r, const FitNominal& nominal,
   no.replicates = 0;
   const NoiseEstimate noise = estimate_wheel_noise(logs, nominal, r.geometry, no);
   if (noise.ok) {
+    out.noise = noise_json(noise);
     const TickLog path = unseen_tick_log(g, nominal);
     const EndSensitivity full = end_sensitivity(path, 0, path.rows.size() - 1, nominal, r.geometry);
     const Eigen::Matrix3d cov = end_covariance(full, noise.noise);
@@ -500,7 +502,17 @@ Outcome run_auto(Context& c) {
         arc->heldout_path_rms_mm <= (1.0 - fo.min_gain) * one->heldout_path_rms_mm) {
       forced.model = FitModelKind::arc_wheelbase;
     }
-    return fit_with(forced);
+    const std::vector<FitCandidate> compared = r.model.candidates;
+    FitResult chosen = fit_with(forced);
+    chosen.model.candidates = compared;
+    chosen.model.reason = fmt::format(
+        "the left-out runs preferred the turn-rate model, which has no firmware parameter; "
+        "auto uses the {} model, {}",
+        model_name(*forced.model),
+        *forced.model == FitModelKind::arc_wheelbase
+            ? "which predicts them as well or nearly"
+            : "the arc model not predicting them 2 % better than one wheelbase");
+    return chosen;
   };
   FitResult fitted = fit_now();
   Precision p = precision_of(fitted, nominal, logs, plan, c.options.target_mm, budget - logs.size(),
@@ -548,6 +560,7 @@ Outcome run_auto(Context& c) {
   fo.progress = [&c](const std::string& message) { c.log << "  " << message << "\n"; };
   fitted = fit_now();
   out.result["fit"] = fit_result_json(fitted);
+  out.result["fit"]["noise"] = p.noise;
   c.log << fit_result_text(fitted);
   const double d = nominal.wheel_diameter_mm;
   const double c_l = fitted.geometry.wheel_diameter_left_mm / d;

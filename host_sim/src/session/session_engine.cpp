@@ -723,7 +723,7 @@ SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
        << (outcome.applied ? (saved ? " (applied, saved)" : " (applied, NOT saved)")
                            : " (unchanged)")
        << "\nFiles: " << options.out_dir
-       << "/ (session.json, measurements.csv, runs.csv, runs.svg, ...)\n";
+       << "/ (report.html, session.json, measurements.csv, runs.csv, runs.svg, ...)\n";
   report.text = text.str();
   return report;
 }

@@ -170,7 +170,7 @@ std::string figure(const std::string& title, const std::string& svg, const std::
 /// [lo, hi] of `name` in a fit result's `ci`, if there.
 std::string interval(const nlohmann::json& fit, const std::string& name) {
   if (!fit.is_object() || !fit.contains("ci") || !fit["ci"].contains(name) ||
-      !fit["ci"][name].is_array()) {
+      !fit["ci"][name].is_array() || fit["ci"][name].size() != 2) {
     return "";
   }
   const auto& ci = fit["ci"][name];
@@ -358,15 +358,41 @@ std::string report_html(const ReportInput& in) {
   };
   const nlohmann::json none;
   const nlohmann::json& f = fit != nullptr ? *fit : none;
-  row("c_l", in.factors.c_l, interval(f, "c_l"), "wheel");
-  row("c_r", in.factors.c_r, interval(f, "c_r"), "wheel");
-  row("wheelbase_mm", in.factors.wheelbase_mm, interval(f, "wheelbase_mm"), "wheel");
-  if (in.factors.wheelbase_arc_mm != 0.0) {
-    row("wheelbase_arc_mm", in.factors.wheelbase_arc_mm, interval(f, "wheelbase_arc_mm"), "wheel");
+  // Intervals: the fit's for the geometry; UMBmark's last pass's correction (the factor in force
+  // when the robot started from the nominal factors, composed with them otherwise); the
+  // lateral bootstrap's for F_lat, F_lon.
+  nlohmann::json wheel_ci = nlohmann::json::object();
+  std::string note;
+  if (fit != nullptr && f.contains("ci")) {
+    wheel_ci = f["ci"];
+  } else if (in.result.contains("passes") && in.result["passes"].is_array() &&
+             !in.result["passes"].empty() && in.result["passes"].back().contains("intervals")) {
+    const nlohmann::json& last = in.result["passes"].back()["intervals"];
+    wheel_ci["c_l"] = last.value("c_l", nlohmann::json());
+    wheel_ci["c_r"] = last.value("c_r", nlohmann::json());
+    wheel_ci["wheelbase_mm"] = last.value("wheelbase_new_mm", nlohmann::json());
+    note = "UMBmark's intervals are those of its last pass's correction.";
   }
-  row("f_lat", in.factors.f_lat, "", "lateral");
-  row("f_lon", in.factors.f_lon, "", "lateral");
+  nlohmann::json lateral_ci = nlohmann::json::object();
+  if (in.result.contains("bootstrap") && in.result["bootstrap"].is_object()) {
+    lateral_ci["f_lat"] = in.result["bootstrap"].value("ci_f_lat", nlohmann::json());
+    lateral_ci["f_lon"] = in.result["bootstrap"].value("ci_f_lon", nlohmann::json());
+  }
+  const nlohmann::json wheel{{"ci", wheel_ci}};
+  const nlohmann::json lateral{{"ci", lateral_ci}};
+  row("c_l", in.factors.c_l, interval(wheel, "c_l"), "wheel");
+  row("c_r", in.factors.c_r, interval(wheel, "c_r"), "wheel");
+  row("wheelbase_mm", in.factors.wheelbase_mm, interval(wheel, "wheelbase_mm"), "wheel");
+  if (in.factors.wheelbase_arc_mm != 0.0) {
+    row("wheelbase_arc_mm", in.factors.wheelbase_arc_mm, interval(wheel, "wheelbase_arc_mm"),
+        "wheel");
+  }
+  row("f_lat", in.factors.f_lat, interval(lateral, "f_lat"), "lateral");
+  row("f_lon", in.factors.f_lon, interval(lateral, "f_lon"), "lateral");
   table << "</table>\n";
+  if (!note.empty()) {
+    table << "<p>" << escape(note) << "</p>\n";
+  }
   if (f.is_object() && f.contains("noise") && f["noise"].is_object() &&
       f["noise"].contains("k_l")) {
     table << fmt::format(

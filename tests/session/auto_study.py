@@ -69,6 +69,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("bindir")
     ap.add_argument("--seeds", type=int, default=5)
+    ap.add_argument("--seed-list", default="", help="these seeds instead of 1..--seeds")
     ap.add_argument("--procedures", default="auto,umbmark,fit")
     ap.add_argument("--robots", default=",".join(ROBOTS))
     ap.add_argument("--eval-sessions", type=int, default=2)
@@ -89,7 +90,9 @@ def main():
                                 eval_seeds, work)
             for procedure in a.procedures.split(","):
                 ratios, counts = [], []
-                for seed in range(1, a.seeds + 1):
+                seeds = ([int(v) for v in a.seed_list.split(",")] if a.seed_list
+                         else range(1, a.seeds + 1))
+                for seed in seeds:
                     store = os.path.join(work, "%s-%s-%d.store" % (name, procedure, seed))
                     out = os.path.join(work, "%s-%s-%d" % (name, procedure, seed))
                     session = json.loads(run([a.bindir + "/odocal", "session", "--sim", robot,

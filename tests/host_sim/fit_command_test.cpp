@@ -63,7 +63,7 @@ std::string join(const std::vector<std::string>& files, std::size_t from, std::s
 TEST(OdocalFitCommand, FitsSimulatedTapeMeasureRunsAndScoresTheHoldout) {
   const std::string odocal = odocal_binary();
   if (odocal.empty()) {
-    GTEST_SKIP() << "odocal not built";
+    FAIL() << "odocal not built (cmake --build --preset host builds it)";
   }
   const std::vector<std::string> files = simulated_logs(5, 5, "fit_cmd_run");
   // Fit on 4 lines and 4 squares; hold out one line and one square.
@@ -120,7 +120,7 @@ TEST(OdocalFitCommand, FitsSimulatedTapeMeasureRunsAndScoresTheHoldout) {
 TEST(OdocalFitCommand, RefusalsAndBadInputExitTwoNamingWhatIsWrong) {
   const std::string odocal = odocal_binary();
   if (odocal.empty()) {
-    GTEST_SKIP() << "odocal not built";
+    FAIL() << "odocal not built (cmake --build --preset host builds it)";
   }
   const std::vector<std::string> files = simulated_logs(3, 4, "fit_cmd_bad");
   const std::string geometry = " --wheel-diameter-mm 60 --wheelbase-mm 150 --counts-per-rev 1440";
@@ -158,7 +158,7 @@ TEST(OdocalFitCommand, RefusalsAndBadInputExitTwoNamingWhatIsWrong) {
 TEST(SimValidate, OracleAndRecommendedCalibrationBesideThePapersScenarios) {
   const std::string odocal = odocal_binary();
   if (odocal.empty()) {
-    GTEST_SKIP() << "odocal not built";
+    FAIL() << "odocal not built (cmake --build --preset host builds it)";
   }
   std::string out, err;
   ASSERT_EQ(run_command(odocal + " sim validate --json --replicates 200 --seed 2", out, err), 0)

@@ -57,7 +57,7 @@ std::vector<double> yaml_list(const std::string& text, const std::string& key) {
 TEST(OdocalFitNoise, FitJsonCarriesNoiseAndRos2WritesItsCovariances) {
   const std::string odocal = odocal_binary();
   if (odocal.empty()) {
-    GTEST_SKIP() << "odocal not built";
+    FAIL() << "odocal not built (cmake --build --preset host builds it)";
   }
   RobotSpec spec = default_robot();
   spec.truth.slip_sigma = 0.003;

@@ -50,7 +50,7 @@ const char* const kGetGeometry = "get wheel_diameter_mm\nget wheelbase_mm\nget c
 
 TEST(OdocalSimRobotFile, NominalKeysAreTheFirmwareParametersWhenNothingIsSaved) {
   if (sim_program().empty()) {
-    GTEST_SKIP() << "odocal-sim not built";
+    FAIL() << "odocal-sim not built (cmake --build --preset host builds it)";
   }
   // Values exactly representable in a float, printed by `get` with 6 decimals.
   const std::string robot = temp_file("odocal_sim_robot_a.json",
@@ -81,7 +81,7 @@ TEST(OdocalSimRobotFile, NominalKeysAreTheFirmwareParametersWhenNothingIsSaved) 
 
 TEST(OdocalSimRobotFile, ASavedParameterSetWinsOverTheRobotFile) {
   if (sim_program().empty()) {
-    GTEST_SKIP() << "odocal-sim not built";
+    FAIL() << "odocal-sim not built (cmake --build --preset host builds it)";
   }
   const std::string store = ::testing::TempDir() + "odocal_sim_robot_file.store";
   std::remove(store.c_str());
@@ -131,7 +131,7 @@ int run_sim_status(const std::string& args, std::string& err) {
 
 TEST(OdocalSimRobotFile, ANumberTooLargeForADoubleExitsTwoNamingFileAndKey) {
   if (sim_program().empty()) {
-    GTEST_SKIP() << "odocal-sim not built";
+    FAIL() << "odocal-sim not built (cmake --build --preset host builds it)";
   }
   const std::string robot =
       temp_file("odocal_sim_robot_big.json", R"({"wheel_diameter_mm":1e400})");
@@ -142,7 +142,7 @@ TEST(OdocalSimRobotFile, ANumberTooLargeForADoubleExitsTwoNamingFileAndKey) {
 
 TEST(OdocalSimSpeed, OnlyZeroOrAFiniteDecimalInRangeIsAccepted) {
   if (sim_program().empty()) {
-    GTEST_SKIP() << "odocal-sim not built";
+    FAIL() << "odocal-sim not built (cmake --build --preset host builds it)";
   }
   std::string err;
   for (const char* bad : {"nan", "0x1", "1e-300", "-1", "inf", "2x", "1e400", "0.001", "2e6"}) {

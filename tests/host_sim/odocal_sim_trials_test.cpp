@@ -74,7 +74,7 @@ std::vector<std::string> replies(const std::vector<std::string>& lines) {
 
 #define REQUIRE_SIM()                       \
   if (sim_program().empty()) {              \
-    GTEST_SKIP() << "odocal-sim not built"; \
+    FAIL() << "odocal-sim not built (cmake --build --preset host builds it)"; \
   }
 
 TEST(OdocalSimTrials, LineTrialAnnouncesDoneBeforeTheNextReplyAndCountsMatchOdometry) {

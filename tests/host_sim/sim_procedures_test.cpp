@@ -260,7 +260,7 @@ TEST(OdocalSimCommand, BadRobotFileExitsTwoNamingFileAndKey) {
   const char* bin = std::getenv("ODOCAL_BIN_DIR");
   const std::string odocal = bin != nullptr ? std::string(bin) + "/odocal" : "";
   if (odocal.empty() || !std::ifstream(odocal)) {
-    GTEST_SKIP() << "odocal not built";
+    FAIL() << "odocal not built (cmake --build --preset host builds it)";
   }
   const std::string file = ::testing::TempDir() + "bad_robot.json";
   std::ofstream(file) << R"({"true_wheelbase_mm": 30})";
@@ -293,7 +293,7 @@ int run_both(const std::string& command, std::string& out, std::string& err) {
 TEST(OdocalSimCommand, NumericFlagsAreReadStrictlyAndRefusedNamingFlagAndRange) {
   const std::string odocal = odocal_program();
   if (odocal.empty()) {
-    GTEST_SKIP() << "odocal not built";
+    FAIL() << "odocal not built (cmake --build --preset host builds it)";
   }
   struct Bad {
     const char* args;
@@ -337,7 +337,7 @@ TEST(OdocalSimCommand, NumericFlagsAreReadStrictlyAndRefusedNamingFlagAndRange) 
 TEST(OdocalSimCommand, AnUnwritablePictureIsAnErrorBeforeAnyResult) {
   const std::string odocal = odocal_program();
   if (odocal.empty()) {
-    GTEST_SKIP() << "odocal not built";
+    FAIL() << "odocal not built (cmake --build --preset host builds it)";
   }
   std::string out;
   std::string err;
@@ -362,7 +362,7 @@ TEST(OdocalSimCommand, AnUnwritablePictureIsAnErrorBeforeAnyResult) {
 TEST(OdocalSimCommand, ProcedureFailureExitsTwoWithTheTimeSimulated) {
   const std::string odocal = odocal_program();
   if (odocal.empty()) {
-    GTEST_SKIP() << "odocal not built";
+    FAIL() << "odocal not built (cmake --build --preset host builds it)";
   }
   // A tiny robot the file accepts (5 mm wheels, 12 mm wheelbase, each true value at the edge of
   // its tolerance) whose straight trials leave the regression degenerate.
@@ -412,7 +412,7 @@ TEST(OdocalSimProgram, ScriptedSessionDrivesTheRobotAndKeepsWhatWasSaved) {
   const char* bin = std::getenv("ODOCAL_BIN_DIR");
   const std::string sim = bin != nullptr ? std::string(bin) + "/odocal-sim" : "";
   if (sim.empty() || !std::ifstream(sim)) {
-    GTEST_SKIP() << "odocal-sim not built";
+    FAIL() << "odocal-sim not built (cmake --build --preset host builds it)";
   }
   const std::string store = ::testing::TempDir() + "odocal_sim_test.store";
   std::remove(store.c_str());

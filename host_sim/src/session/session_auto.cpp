@@ -336,8 +336,11 @@ Precision precision_of(const FitResult& r, const FitNominal& nominal,
     }
     // At most two arcs more than the first round's: beyond that the arcs' own scatter is what
     // the held-out comparison sees.
+    // Better by a fifth, and by more than a quarter of the tape's noise (perfect measurements
+    // make any model's held-out error a fraction of a millimetre).
     arc_unresolved = arc_count < 4 && one != nullptr && arc != nullptr && arc->tried &&
-                     !arc->supported && arc->heldout_path_rms_mm < 0.8 * one->heldout_path_rms_mm;
+                     !arc->supported && arc->heldout_path_rms_mm < 0.8 * one->heldout_path_rms_mm &&
+                     one->heldout_path_rms_mm - arc->heldout_path_rms_mm > 0.25 * kMeasureSigmaMm;
   }
   out.arc_unresolved = arc_unresolved;
   const Geometry g = geometry_of(r.geometry);
@@ -499,7 +502,8 @@ Outcome run_auto(Context& c) {
     FitOptions forced = fo;
     forced.model = FitModelKind::one_wheelbase;
     if (one != nullptr && arc != nullptr && arc->tried && arc->supported &&
-        arc->heldout_path_rms_mm <= (1.0 - fo.min_gain) * one->heldout_path_rms_mm) {
+        arc->heldout_path_rms_mm <= (1.0 - fo.min_gain) * one->heldout_path_rms_mm &&
+        one->heldout_path_rms_mm - arc->heldout_path_rms_mm > 0.25 * kMeasureSigmaMm) {
       forced.model = FitModelKind::arc_wheelbase;
     }
     const std::vector<FitCandidate> compared = r.model.candidates;
@@ -511,7 +515,8 @@ Outcome run_auto(Context& c) {
         model_name(*forced.model),
         *forced.model == FitModelKind::arc_wheelbase
             ? "which predicts them as well or nearly"
-            : "the arc model not predicting them 2 % better than one wheelbase");
+            : "the arc model not predicting them 2 % (and a quarter of the tape's noise) better "
+              "than one wheelbase");
     return chosen;
   };
   FitResult fitted = fit_now();
@@ -530,7 +535,12 @@ Outcome run_auto(Context& c) {
         "Precision after {} runs: the factors leave about {:.1f} mm (1 sigma) on the unseen "
         "path, target {:.1f} mm (the robot's own noise gives about {:.1f} mm there). {}\n",
         logs.size(), p.sigma_sys_mm, p.target_mm, p.sigma_random_mm,
-        done ? fmt::format("Enough: {} more measurements (the verification).", auto_verify_runs)
+        done ? fmt::format(
+                   "{}: {} more measurements (the verification).",
+                   p.sigma_sys_mm <= p.target_mm
+                       ? "Enough"
+                       : fmt::format("That is the {} calibration runs there is room for", budget),
+                   auto_verify_runs)
              : fmt::format("About {} more measurements expected ({} to calibrate, {} to verify).",
                            p.more + auto_verify_runs, p.more, auto_verify_runs));
     return done;

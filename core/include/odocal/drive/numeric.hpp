@@ -1,9 +1,8 @@
 #pragma once
 /// @file
-/// Small integer and float helpers that keep libgcc's and libm's larger routines out of the robot
-/// image: the Cortex-M4 divides 32-bit integers in hardware but not 64-bit ones (libgcc's
-/// `__udivmoddi4` is ~0.7 KB), and int64 → float conversion pulls libgcc's soft-float adder
-/// (~1 KB). Pure, ISR-safe.
+/// Small integer and float helpers that keep libgcc's larger routines out of the robot image: the
+/// Cortex-M4 divides 32-bit integers in hardware but not 64-bit ones (libgcc's `__udivmoddi4` is
+/// ~0.7 KB). Pure, ISR-safe. Tests: tests/core/drive/numeric_test.cpp.
 
 #include <cstdint>
 
@@ -21,13 +20,6 @@ constexpr std::uint64_t divide_u64(std::uint64_t x, std::uint16_t d) {
     remainder = part % d;
   }
   return quotient;
-}
-
-/// The nearest float or one rounding away (two roundings: the high and low words).
-inline float to_float(std::int64_t v) {
-  const auto high = static_cast<std::int32_t>(v >> 32);  // arithmetic shift: floor(v / 2^32)
-  const auto low = static_cast<std::uint32_t>(static_cast<std::uint64_t>(v) & 0xFFFFFFFFu);
-  return static_cast<float>(high) * 4294967296.0f + static_cast<float>(low);
 }
 
 /// True when `value` is a whole number (floats of 2^24 and more are all whole; NaN and inf not).

@@ -259,6 +259,13 @@ int run(const SessionFlags& given, const CLI::App& cmd) {
                      "verify drives the fixed unseen path (100 cm square, triangle, 80 cm "
                      "semicircle); --side-m does not apply");
   }
+  if (f.runs && options.procedure == Procedure::automatic) {
+    throw InputError("--runs", 0, "",
+                     "--procedure auto chooses its runs (at most " +
+                         std::to_string(session::auto_max_runs) + " and " +
+                         std::to_string(session::auto_verify_runs) +
+                         " to verify); use --target to ask for more or less precision");
+  }
   if (f.runs) {
     check_runs(options.procedure, *f.runs);
     options.runs = static_cast<std::size_t>(*f.runs);
@@ -274,13 +281,6 @@ int run(const SessionFlags& given, const CLI::App& cmd) {
       throw InputError("--target", 0, "", "only for --procedure auto");
     }
     options.target_mm = f.target_mm;
-  }
-  if (f.runs && options.procedure == Procedure::automatic) {
-    throw InputError("--runs", 0, "",
-                     "--procedure auto chooses its runs (at most " +
-                         std::to_string(session::auto_max_runs) + " and " +
-                         std::to_string(session::auto_verify_runs) +
-                         " to verify); use --target to ask for more or less precision");
   }
   if (f.exact) {
     if (options.procedure != Procedure::umbmark) {
@@ -387,8 +387,7 @@ void register_session_command(CLI::App& app, int& exit_code) {
           CLI::IsMember({"auto", "umbmark", "lateral", "fit", "verify", "extended", "selftest"}));
   cmd->add_option("--target", flags->target_mm,
                   "auto: measure until the factors leave at most this end error on the unseen "
-                  "path, mm (1 sigma; default: half the robot's own random error there, at "
-                  "least 1 mm)")
+                  "path, mm (1 sigma; default 2: one tape measurement's error)")
       ->check(toolkit::range_check(0.1, 1000.0, "mm"));
   cmd->add_option("--resume", flags->resume,
                   "continue the interrupted session in this directory: runs already measured "

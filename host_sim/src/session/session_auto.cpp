@@ -9,9 +9,9 @@
 // end error the factors leave there, sigma_sys = sqrt(trace(G C G^T)). Each kind of run (a long
 // line, turns in place, arcs) adds J^T J / sigma_m^2 to C's inverse (J: the run's measured end
 // pose's derivatives, sigma_m: the tape's noise); the next run is the kind that lowers sigma_sys
-// the most. Measuring stops when sigma_sys is at most the target: by default half the end error
-// the robot's own random wheel noise gives on that path (estimated from the runs' residuals),
-// so that the systematic part adds at most about 12 % to the total.
+// the most. Measuring stops when sigma_sys is at most the target, by default 2 mm: no more than
+// one tape measurement's error (the robot's own random drift, estimated from the runs' residuals,
+// is too unsure after a few runs to set it).
 
 #include <algorithm>
 #include <cmath>
@@ -397,12 +397,28 @@ Precision precision_of(const FitResult& r, const FitNominal& nominal,
   return out;
 }
 
+/// `odocal fit`'s text without what is advice for its own command line (held-out logs, the
+/// console lines to type): auto applies the result itself.
+std::string fit_text_for_auto(const FitResult& r) {
+  std::istringstream in(fit_result_text(r));
+  std::string out;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("  holdout", 0) == 0 || line.rfind("Firmware:", 0) == 0 ||
+        line.rfind("  (wheelbase_mm is the turn-in-place", 0) == 0) {
+      continue;
+    }
+    out += line + "\n";
+  }
+  return out;
+}
+
 }  // namespace
 
 Outcome run_auto(Context& c) {
   Outcome out;
   // 1. The wiring: a miswired robot passes for a bad calibration.
   c.log << "Auto calibration: the wiring self-test first.\n";
+  c.planned = auto_first_round + auto_verify_runs;
   const Outcome wiring = run_selftest(c);
   out.result["selftest"] = wiring.result;
   out.text += wiring.text;
@@ -433,7 +449,7 @@ Outcome run_auto(Context& c) {
   c.log << fmt::format(
       "Auto: {} measured runs first (a {:.2f} m line, {:.0f} turns in place each way, arcs of "
       "{:.2f} m radius each way, a second line), more only where they buy precision (at most {} "
-      "in all), then {} runs of the unseen path to verify.\n"
+      "calibration runs), then {} runs of the unseen path to verify.\n"
       "How to measure: mark the start on the floor and two points on the robot, one over the "
       "middle of the axle and one ahead of it (as far as the robot allows). After each run, "
       "measure the axle mark's position from the start mark along the start line (x, ahead) "
@@ -533,8 +549,13 @@ Outcome run_auto(Context& c) {
     const bool done = (p.sigma_sys_mm <= p.target_mm && !p.arc_unresolved) || logs.size() >= budget;
     c.log << fmt::format(
         "Precision after {} runs: the factors leave about {:.1f} mm (1 sigma) on the unseen "
-        "path, target {:.1f} mm (the robot's own noise gives about {:.1f} mm there). {}\n",
-        logs.size(), p.sigma_sys_mm, p.target_mm, p.sigma_random_mm,
+        "path, target {:.1f} mm ({}). {}\n",
+        logs.size(), p.sigma_sys_mm, p.target_mm,
+        p.sigma_random_mm > 0.05
+            ? fmt::format(
+                  "the robot's own random drift, as far as the runs show it, about {:.1f} mm",
+                  p.sigma_random_mm)
+            : std::string("the robot's own random drift not estimated yet"),
         done ? fmt::format(
                    "{}: {} more measurements (the verification).",
                    p.sigma_sys_mm <= p.target_mm
@@ -571,19 +592,24 @@ Outcome run_auto(Context& c) {
   fitted = fit_now();
   out.result["fit"] = fit_result_json(fitted);
   out.result["fit"]["noise"] = p.noise;
-  c.log << fit_result_text(fitted);
+  c.log << fit_text_for_auto(fitted);
   const double d = nominal.wheel_diameter_mm;
   const double c_l = fitted.geometry.wheel_diameter_left_mm / d;
   const double c_r = fitted.geometry.wheel_diameter_right_mm / d;
   const double wheelbase = fitted.geometry.wheelbase_mm;
   const auto outside = [](double v, double lo, double hi) { return !(v >= lo && v <= hi); };
+  const double arc = fitted.geometry.model == FitModelKind::arc_wheelbase
+                         ? fitted.geometry.second_wheelbase_mm
+                         : wheelbase;
   if (outside(c_l, 0.95, 1.05) || outside(c_r, 0.95, 1.05) ||
-      outside(wheelbase, 0.9 * nominal.wheelbase_mm, 1.1 * nominal.wheelbase_mm)) {
+      outside(wheelbase, 0.9 * nominal.wheelbase_mm, 1.1 * nominal.wheelbase_mm) ||
+      outside(arc, 0.9 * nominal.wheelbase_mm, 1.1 * nominal.wheelbase_mm)) {
     throw std::runtime_error(fmt::format(
-        "auto: c_l {:.6f}, c_r {:.6f}, wheelbase {:.3f} mm: outside the plausible range (c within "
-        "0.95 .. 1.05, wheelbase within 10 % of {:.3f} mm; docs/calibration.md). Nothing "
-        "applied: check the wiring (docs/wiring.md) and the measurements.",
-        c_l, c_r, wheelbase, nominal.wheelbase_mm));
+        "auto: c_l {:.6f}, c_r {:.6f}, wheelbase {:.3f} mm, arc wheelbase {:.3f} mm: outside the "
+        "plausible range (c within 0.95 .. 1.05, each wheelbase within 10 % of {:.3f} mm; "
+        "docs/calibration.md). Nothing applied: check the wiring (docs/wiring.md) and the "
+        "measurements (a heading typed with the wrong sign?).",
+        c_l, c_r, wheelbase, arc, nominal.wheelbase_mm));
   }
   std::string line = fmt::format("fit apply {:.6f} {:.6f} {:.4f} {} {}", c_l, c_r, wheelbase,
                                  c.date(), c.runs.size());
@@ -638,8 +664,9 @@ Outcome run_auto(Context& c) {
   std::ostringstream text;
   text << fmt::format(
       "Auto: {} calibration runs, {} to verify ({} measurements in all). Model {}. "
-      "Unseen path end error {:.1f} mm RMS (expected about {:.1f} mm: {:.1f} from the robot's "
-      "noise, {:.1f} from what the factors are unsure of).\n",
+      "Unseen path end error {:.1f} mm RMS (the runs account for about {:.1f} mm of it: {:.1f} "
+      "of random drift, {:.1f} from what the factors are unsure of; the path's own tracking "
+      "error comes on top).\n",
       logs.size(), auto_verify_runs, c.runs.size(), model_name(fitted.geometry.model), rms,
       expected, p.sigma_random_mm, p.sigma_sys_mm);
   if (expected > 0.0 && rms > 3.0 * std::max(expected, 2.0 * kMeasureSigmaMm)) {
@@ -647,7 +674,7 @@ Outcome run_auto(Context& c) {
             "measurements (a heading typed with the wrong sign?) and the floor.\n";
   }
   c.log << text.str();
-  out.text += fit_result_text(fitted) + text.str();
+  out.text += fit_text_for_auto(fitted) + text.str();
   return out;
 }
 

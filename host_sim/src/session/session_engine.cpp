@@ -77,7 +77,8 @@ std::size_t planned_runs(const SessionOptions& options) {
     case Procedure::selftest:
       return 0;  // a measured run only for a fault the encoders cannot tell apart
     case Procedure::automatic:
-      return session::auto_first_round;  // more only when the precision asks for them
+      // The first round and the verification; more only when the precision asks for them.
+      return session::auto_first_round + session::auto_verify_runs;
   }
   return 0;
 }
@@ -557,7 +558,9 @@ void write_report(Context& c, const nlohmann::json& result, const std::string& s
     // From the robot when it still answers (after an interruption it may not).
     in.factors = c.last_factors.value_or(c.initial);
     in.wheel_diameter_mm = c.get("wheel_diameter_mm");
-    in.wheelbase_mm = c.get("wheelbase_mm");
+    // The wheelbase in force when the session started: the geometry the runs were driven and
+    // their odometry computed with (the fit's "before").
+    in.wheelbase_mm = c.initial.wheelbase_mm;
     in.counts_per_rev = c.get("counts_per_rev");
     const Reply provenance = c.robot.command("provenance", 2000);
     if (provenance.ok) {
@@ -720,6 +723,8 @@ SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
               "Factors in force: c_l={:.6f} c_r={:.6f} wheelbase_mm={:.3f} f_lat={:.6f} "
               "f_lon={:.6f}",
               f.c_l, f.c_r, f.wheelbase_mm, f.f_lat, f.f_lon)
+       << (f.wheelbase_arc_mm != 0.0 ? fmt::format(" wheelbase_arc_mm={:.3f}", f.wheelbase_arc_mm)
+                                     : std::string())
        << (outcome.applied ? (saved ? " (applied, saved)" : " (applied, NOT saved)")
                            : " (unchanged)")
        << "\nFiles: " << options.out_dir

@@ -68,7 +68,8 @@ std::string inline_svg(std::string svg, const std::string& label, double min_wid
 }
 
 /// Poses along a run from its tick log, integrated with `g` (exact arcs per row).
-std::vector<PathPoint> trace_of(const RunRecord& r, double d_l, double d_r, double b, double cpr) {
+std::vector<PathPoint> trace_of(const RunRecord& r, double d_l, double d_r, double b, double cpr,
+                                double b_arc = 0.0) {
   std::vector<PathPoint> out;
   double x = 0.0, y = 0.0, th = 0.0;
   out.push_back(PathPoint{0.0, 0.0});
@@ -78,7 +79,11 @@ std::vector<PathPoint> trace_of(const RunRecord& r, double d_l, double d_r, doub
     const double s_r =
         static_cast<double>(r.ticks[i].count_r - r.ticks[i - 1].count_r) * kPi * d_r / cpr;
     const double ds = 0.5 * (s_l + s_r);
-    const double dth = (s_r - s_l) / b;
+    // The arc-wheelbase model: b + w·(b_arc − b), w the forward share of the wheels' travel.
+    const double sum = std::fabs(s_l + s_r);
+    const double diff = std::fabs(s_r - s_l);
+    const double w = b_arc > 0.0 && sum + diff > 0.0 ? sum / (sum + diff) : 0.0;
+    const double dth = (s_r - s_l) / (b + w * (b_arc - b));
     if (std::fabs(dth) < 1e-12) {
       x += ds * std::cos(th);
       y += ds * std::sin(th);
@@ -263,6 +268,9 @@ std::string report_html(const ReportInput& in) {
     const double d_l = (*fit)["wheel_diameter_left_mm"].get<double>();
     const double d_r = (*fit)["wheel_diameter_right_mm"].get<double>();
     const double b = (*fit)["wheelbase_mm"].get<double>();
+    const double b_arc = fit->contains("wheelbase_arc_mm") && (*fit)["wheelbase_arc_mm"].is_number()
+                             ? (*fit)["wheelbase_arc_mm"].get<double>()
+                             : 0.0;
     Rows fitted;
     for (const std::string& label : labels) {
       bool any = false;
@@ -281,7 +289,7 @@ std::string report_html(const ReportInput& in) {
         panel.add_line(trace_of(r, in.wheel_diameter_mm, in.wheel_diameter_mm, in.wheelbase_mm,
                                 in.counts_per_rev),
                        "#bbbbbb");
-        const std::vector<PathPoint> after = trace_of(r, d_l, d_r, b, in.counts_per_rev);
+        const std::vector<PathPoint> after = trace_of(r, d_l, d_r, b, in.counts_per_rev, b_arc);
         panel.add_line(after, colours[label]);
         panel.add_marker(r.measured.x_mm, r.measured.y_mm, "#000000", 'x');
       }
@@ -315,9 +323,10 @@ std::string report_html(const ReportInput& in) {
       }
       target->add_marker(r.measured.x_mm - goal.x_m * 1e3, r.measured.y_mm - goal.y_m * 1e3,
                          colours[label], 'x');
+      const std::string entry = label + ": x measured stop";
       if (std::find_if(verify_legend.begin(), verify_legend.end(),
-                       [&](const auto& e) { return e.second == label; }) == verify_legend.end()) {
-        verify_legend.emplace_back(colours[label], label + ": x measured stop");
+                       [&](const auto& e) { return e.second == entry; }) == verify_legend.end()) {
+        verify_legend.emplace_back(colours[label], entry);
       }
     }
   }

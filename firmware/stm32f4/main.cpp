@@ -139,11 +139,12 @@ BuiltOnce<console::Console> console_storage;
         static_cast<void>(timer.start(rate_hz, &on_tick, &tick));
       }
     }
-    if (session.end_requested() && console.idle()) {
+    const bool idle = console.idle();
+    if (session.end_requested() && idle) {
       loop.stop();
       board_exit(0);
     }
-    if (console.idle()) {
+    if (idle) {
       f4::wait_for_interrupt();  // every interrupt wakes the loop: the tick at least each period
     }
   }

@@ -61,7 +61,6 @@ void Console::start_selftest_wheel(unsigned wheel) {
     send_error(ErrorCode::fault, "drive faulted; stop acknowledges");
     return;
   }
-  note_pending(Pending::drive);
   const drive::WheelCounts counts = loop_.wheel_counts();
   const drive::LoopStatus status = loop_.status();
   selftest_start_[0] = static_cast<std::int32_t>(counts.left);
@@ -99,9 +98,7 @@ void Console::continue_selftest() {
       return;
     }
     // Zero set-points after a drive that has not ended: the motors are let go (no braking).
-    if (loop_.drive(drive::Twist{}, kCoast_ms)) {
-      note_pending(Pending::drive);
-    }
+    static_cast<void>(loop_.drive(drive::Twist{}, kCoast_ms));
     selftest_due_us_ = last_now_us_ + (kCoast_ms + 100u) * 1000u;
     ++selftest_phase_;
     return;
@@ -137,7 +134,6 @@ void Console::continue_selftest() {
   selftest_phase_ = 0u;
   if (status.faults != drive::fault_none) {
     loop_.stop();  // acknowledges a stall fault the test caused (the motors are parked)
-    note_pending(Pending::stop);
   }
   ReplyLine reply(out_);
   reply.text("ok faults=");

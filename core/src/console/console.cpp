@@ -500,23 +500,11 @@ bool Console::config_accepted(const drive::ConfigCheck& check) {
   return false;
 }
 
-bool Console::path_running(const drive::LoopStatus& status) const {
-  if (pending_ != Pending::none && status.ticks == pending_ticks_) {
-    return pending_ == Pending::run;
-  }
-  return status.mode == drive::Mode::path;
-}
-
-bool Console::moving(const drive::LoopStatus& status) const {
-  if (pending_ != Pending::none && status.ticks == pending_ticks_) {
-    return pending_ == Pending::run || pending_ == Pending::drive;
-  }
-  return status.mode == drive::Mode::path || status.mode == drive::Mode::drive;
-}
-
 bool Console::refuse_busy(bool path_only) {
-  const drive::LoopStatus status = loop_.status();
-  if (path_only ? path_running(status) : moving(status)) {
+  // The loop's status shows a command not taken yet as taken: `run` then `save` on the next
+  // line is refused even when no tick came between the two.
+  const drive::Mode mode = loop_.status().mode;
+  if (mode == drive::Mode::path || (!path_only && mode == drive::Mode::drive)) {
     send_error(ErrorCode::busy,
                path_only ? "a path is running; stop first" : "the robot is moving; stop first");
     return true;
@@ -541,11 +529,6 @@ bool Console::date_arg(const Token* words, std::size_t count, std::size_t index,
     runs = static_cast<std::uint16_t>(given);
   }
   return true;
-}
-
-void Console::note_pending(Pending pending) {
-  pending_ = pending;
-  pending_ticks_ = loop_.status().ticks;
 }
 
 }  // namespace odocal::console

@@ -168,7 +168,6 @@ class Console {
   static const std::size_t form_count_;
 
   enum class Listing : std::uint8_t { none, help, params, trials };
-  enum class Pending : std::uint8_t { none, run, drive, stop };
 
   // console.cpp: I/O, dispatch, listings, streams.
   void take_input();
@@ -260,11 +259,8 @@ class Console {
                 std::uint16_t& runs);
   /// Sends the reason a configuration was refused; @return check.ok().
   bool config_accepted(const drive::ConfigCheck& check);
-  [[nodiscard]] bool path_running(const drive::LoopStatus& status) const;
-  [[nodiscard]] bool moving(const drive::LoopStatus& status) const;
   /// Refuses (err busy) and returns true while a path runs (`path_only`) or the robot moves.
   bool refuse_busy(bool path_only);
-  void note_pending(Pending pending);
   void start_listing(Listing listing);
 
   // commands_system.cpp
@@ -326,10 +322,8 @@ class Console {
   bool echo_ = false;
   bool clock_started_ = false;
   Listing listing_ = Listing::none;
-  Pending pending_ = Pending::none;
   const Form* form_ = form_table_;  ///< the form being handled
   std::size_t listing_index_ = 0u;
-  std::uint32_t pending_ticks_ = 0u;
   std::uint32_t trial_seen_ = 0u;    ///< number of the last trial announced
   std::uint32_t lateral_used_ = 0u;  ///< number of the last trial `lateral add` took
   // `selftest`: 0 off, 1 left wheel driven, 2 its stop pending, 3 right wheel driven; what it

@@ -177,8 +177,9 @@ Twist MotionExecutor::update(const Odometry& odometry, const DriveConfig& limits
   if (speed > cruise) {
     speed = cruise;
   }
-  if (speed < creep_speed(limits, by_distance, cruise)) {
-    speed = creep_speed(limits, by_distance, cruise);
+  const float creep = creep_speed(limits, by_distance, cruise);
+  if (speed < creep) {
+    speed = creep;
   }
   speed_ = speed;
 

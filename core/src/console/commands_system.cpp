@@ -16,18 +16,8 @@ void Console::cmd_status() {
   ReplyLine reply(out_);
   append(reply, "ok mode=%s path=%s segment=%u faults=", drive::mode_name(status.mode),
          drive::path_name(status.path), status.segment);
-  if (status.faults == drive::fault_none) {
-    reply.text("none");
-  } else {
-    const char* names[] = {"encoder_left", "encoder_right", "stall_left", "stall_right"};
-    bool first = true;
-    for (unsigned bit = 0; bit < 4u; ++bit) {
-      if ((status.faults & (1u << bit)) != 0u) {
-        reply.text(first ? "" : ",").text(names[bit]);
-        first = false;
-      }
-    }
-  }
+  // drive::FaultBits in bit order.
+  flag_names(reply, status.faults, "encoder_left\0encoder_right\0stall_left\0stall_right\0");
   const ConsoleCounters c = counters();
   append(reply,
          " ticks=%u tick_us_avg=%3 tick_us_max=%3 illegal_l=%u illegal_r=%u left_radps=%3"

@@ -182,6 +182,21 @@ void Console::pose_pairs(Reply& reply, const drive::Pose& pose) {
          pose.theta_rad * kRadToDeg);
 }
 
+void Console::flag_names(Reply& reply, unsigned bits, const char* names) {
+  const char* separator = "";
+  for (unsigned bit = 1u; *names != '\0'; bit <<= 1u) {
+    if ((bits & bit) != 0u) {
+      reply.text(separator).text(names);
+      separator = ",";
+    }
+    while (*names++ != '\0') {
+    }
+  }
+  if (bits == 0u) {
+    reply.text("none");
+  }
+}
+
 void Console::append_args(Reply& reply, const char* spec, const Arg* args) {
   for (;;) {
     const char* text = spec;

@@ -293,6 +293,9 @@ class Console {
   static void trial_pairs(Reply& reply, const KeptTrial& trial);
   /// ` x_mm=.. y_mm=.. theta_deg=..` (`odom`, the odom stream, trials)
   static void pose_pairs(Reply& reply, const drive::Pose& pose);
+  /// The names of the bits set in `bits`, comma-separated, or `none`. `names`: one name per bit
+  /// from bit 0 on, each ended by a NUL, the list by an empty name (`status` faults, `selftest`).
+  static void flag_names(Reply& reply, unsigned bits, const char* names);
   // commands_calib.cpp
   void cmd_umbmark_clear();
   void cmd_umbmark_add(const Token* words);

@@ -8,7 +8,8 @@ namespace {
 constexpr float kPi = 3.14159265358979323846f;
 constexpr float kMaxPathLength_m = 20.0f;
 
-bool valid_length(float length_m) {
+// Out of line: two paths check it.
+[[gnu::noinline]] bool valid_length(float length_m) {
   return std::isfinite(length_m) && length_m > 0.0f && length_m <= kMaxPathLength_m;
 }
 

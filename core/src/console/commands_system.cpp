@@ -36,11 +36,12 @@ void Console::cmd_status() {
 }
 
 void Console::cmd_echo(const Token* words) {
-  if (!words[1].is("on") && !words[1].is("off")) {
+  const bool on = words[1].is("on");
+  if (!on && !words[1].is("off")) {
     send_usage(ErrorCode::bad_argument);
     return;
   }
-  echo_ = words[1].is("on");
+  echo_ = on;
   options_.echo = echo_ ? EchoMode::on : EchoMode::off;
   send_line(echo_ ? "ok echo=on" : "ok echo=off");
 }

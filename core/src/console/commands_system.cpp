@@ -1,5 +1,4 @@
-// Console commands about the console and the firmware: help, version, status, echo, and the
-// target's own command.
+// Console commands about the console and the firmware: help, version, status, echo.
 
 #include "odocal/console/console.hpp"
 #include "odocal/console/version.hpp"
@@ -27,11 +26,7 @@ void Console::cmd_status() {
          status.illegal_right, status.left_radps, status.right_radps, settings_.unsaved() ? 1u : 0u,
          store_word(settings_.store_state()), umbmark_.cw_count(), umbmark_.ccw_count(),
          lateral_.count(), trials_.size(), c.stream_dropped, c.rx_dropped);
-  if (options_.status_pairs != nullptr) {
-    reply.append_with([this](char* out, std::size_t capacity) {
-      return options_.status_pairs(options_.status_context, out, capacity);
-    });
-  }
+  append_target_status(reply);
   send(reply);
 }
 
@@ -44,16 +39,6 @@ void Console::cmd_echo(const Token* words) {
   echo_ = on;
   options_.echo = echo_ ? EchoMode::on : EchoMode::off;
   send_line(echo_ ? "ok echo=on" : "ok echo=off");
-}
-
-void Console::cmd_extra(const Token* words, std::size_t count) {
-  ReplyLine reply(out_);
-  options_.extra.handler(options_.extra.context, words, count, reply);
-  const char* text = reply.data();
-  if (reply.size() >= 3u && text[0] == 'e' && text[1] == 'r' && text[2] == 'r') {
-    ++errors_;
-  }
-  send(reply);
 }
 
 }  // namespace odocal::console

@@ -319,8 +319,7 @@ void Console::execute(const Token* words, std::size_t count) {
     ++first;
   }
   if (first == table_end) {
-    if (options_.extra.name != nullptr && words[0].is(options_.extra.name) && count <= kMaxWords) {
-      cmd_extra(words, count);
+    if (count <= kMaxWords && run_target_command(words, count)) {
       return;
     }
     send_error(ErrorCode::unknown_command, "unknown command (try help)");
@@ -380,8 +379,8 @@ void Console::continue_listing() {
       const char* text = nullptr;
       if (listing_index_ < form_count_) {
         text = form_table_[listing_index_].synopsis;
-      } else if (listing_index_ == form_count_ && options_.extra.name != nullptr) {
-        text = options_.extra.usage != nullptr ? options_.extra.usage : options_.extra.name;
+      } else if (listing_index_ == form_count_) {
+        text = target_usage();
       }
       if (text != nullptr) {
         ++listing_index_;

@@ -45,7 +45,9 @@ struct TargetCommand {
   void* context = nullptr;
 };
 
-/// What the target chooses.
+/// What the target chooses. `extra`, `status_pairs` and `defaults` are the target options: the
+/// images that use none (the STM32F4 ones) link the console without the code for them
+/// (core/src/console/target/, core/CMakeLists.txt), where they must stay unset.
 struct ConsoleOptions {
   EchoMode echo = EchoMode::off;
   bool crlf = true;    ///< end output lines with CR LF (UART, pty) rather than LF (stdio pipes)
@@ -267,7 +269,15 @@ class Console {
   void cmd_version();
   void cmd_status();
   void cmd_echo(const Token* words);
-  void cmd_extra(const Token* words, std::size_t count);
+  // console/target/options.cpp, or console/target/no_options.cpp where the target options are
+  // not linked (ConsoleOptions).
+  /// Runs the target's command when words[0] names it (its one reply sent). @return false when
+  /// it does not.
+  bool run_target_command(const Token* words, std::size_t count);
+  /// The target command's `help` line; nullptr when there is none.
+  [[nodiscard]] const char* target_usage() const;
+  /// Appends the target's own ` key=value` pairs to the `status` reply.
+  void append_target_status(Reply& reply);
   // commands_params.cpp. [[gnu::noinline]]: handlers with a big frame (a parameter set, a drive
   // configuration, the UMBmark solver) stay out of the dispatch's frame, which every command's
   // path (`load` and the store's the deepest) shares (worst-case stack, docs/stm32f4.md).

@@ -151,7 +151,7 @@ void Console::trial_pairs(Reply& reply, const KeptTrial& trial) {
 void Console::cmd_trials(std::size_t count) {
   if (count == 2u) {  // trials clear
     trials_.clear();
-    send_line("ok trials=0");
+    send_line("ok trials=%u", 0u);  // the spec of `trials`'s last line
     return;
   }
   start_listing(Listing::trials);

@@ -171,10 +171,12 @@ class Console {
 
   enum class Listing : std::uint8_t { none, help, params, trials };
 
-  // console.cpp: I/O, dispatch, listings, streams.
-  void take_input();
+  // console.cpp: I/O, dispatch, listings, streams. take_input and handle_event out of line:
+  // inlined into the main loop, they made one function too long for its literal pools to be
+  // shared (the robot's flash).
+  [[gnu::noinline]] void take_input();
   void detect_terminal(std::uint8_t line_end);
-  void handle_event(LineEvent event);
+  [[gnu::noinline]] void handle_event(LineEvent event);
   void execute(const Token* words, std::size_t count);
   void dispatch(Handler handler, const Token* words, std::size_t count);
   void continue_listing();

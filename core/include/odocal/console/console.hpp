@@ -187,7 +187,7 @@ class Console {
   /// @return its length (to show again after).
   std::size_t clear_typing();
   /// Sends `line` (begun after clear_typing()), then shows the `typed` text again.
-  void send_over_typing(Reply& line, std::size_t typed);
+  [[gnu::noinline]] void send_over_typing(Reply& line, std::size_t typed);
   /// The same for a stream line, dropped (and counted, the queue cut back to `mark`) when a reply
   /// would no longer fit.
   void send_async(Reply& line, std::size_t mark, std::size_t typed);

@@ -78,6 +78,13 @@ std::uint32_t tick_rate_hz(const drive::ControlLoop& loop) {
   return static_cast<std::uint32_t>(loop.config().control_hz + 0.5f);
 }
 
+/// (Re)starts the tick at the loop's `control_hz`. @return that rate. Main loop.
+[[gnu::noinline]] std::uint32_t start_tick(TickContext& tick) {
+  const std::uint32_t rate_hz = tick_rate_hz(tick.loop);
+  static_cast<void>(tick.timer.start(rate_hz, &on_tick, &tick));
+  return rate_hz;
+}
+
 // What run() builds once (BuiltOnce: no guard variables).
 BuiltOnce<f4::SysTickTimer> timer_storage;
 BuiltOnce<drive::ControlLoop> loop_storage;
@@ -122,8 +129,7 @@ BuiltOnce<console::Console> console_storage;
   write_line(session, boot, sizeof(boot) / sizeof(boot[0]));
   // Loads the saved parameters into the loop (the flash is read before the tick runs).
   static_cast<void>(console.start(clock.now_us()));
-  std::uint32_t rate_hz = tick_rate_hz(loop);
-  static_cast<void>(timer.start(rate_hz, &on_tick, &tick));
+  std::uint32_t rate_hz = start_tick(tick);
   f4::Watchdog::start(watchdog_timeout_ms);
 
   std::uint32_t last_rate_check_us = clock.now_us();
@@ -133,17 +139,16 @@ BuiltOnce<console::Console> console_storage;
     console.poll(now_us);
     if (now_us - last_rate_check_us > 100'000u) {
       last_rate_check_us = now_us;
-      const std::uint32_t wanted = tick_rate_hz(loop);
-      if (wanted != rate_hz) {  // `set control_hz` took effect in the loop: follow it
-        rate_hz = wanted;
-        static_cast<void>(timer.start(rate_hz, &on_tick, &tick));
+      if (tick_rate_hz(loop) != rate_hz) {  // `set control_hz` took effect in the loop: follow it
+        rate_hz = start_tick(tick);
       }
     }
-    if (session.end_requested() && console.idle()) {
+    const bool idle = console.idle();
+    if (session.end_requested() && idle) {
       loop.stop();
       board_exit(0);
     }
-    if (console.idle()) {
+    if (idle) {
       f4::wait_for_interrupt();  // every interrupt wakes the loop: the tick at least each period
     }
   }

@@ -22,7 +22,7 @@ bool Console::point_args(const Token* words, float& x, float& y) {
 
 void Console::cmd_umbmark_clear() {
   umbmark_.clear();
-  send_line("ok cw=0 ccw=0");
+  send_line("ok cw=%u ccw=%u", 0u, 0u);  // the spec of `umbmark add`
 }
 
 void Console::cmd_umbmark_add(const Token* words) {

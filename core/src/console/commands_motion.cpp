@@ -44,7 +44,6 @@ void Console::cmd_drive(const Token* words, std::size_t count) {
     send_error(ErrorCode::fault, "drive faulted; stop acknowledges");
     return;
   }
-  note_pending(Pending::drive);
   ReplyLine reply(out_);
   append(reply, "ok v_mps=%3 w_radps=%3 ms=%u", v, w, ms);
   // The loop scales both wheel set-points down to max_wheel_radps, keeping the curvature: say so,
@@ -62,7 +61,6 @@ void Console::cmd_drive(const Token* words, std::size_t count) {
 
 void Console::cmd_stop() {
   loop_.stop();
-  note_pending(Pending::stop);
   send_line("ok mode=idle");
 }
 
@@ -88,7 +86,6 @@ void Console::cmd_run(const Token* words) {
     send_error(ErrorCode::fault, "drive faulted; stop acknowledges");
     return;
   }
-  note_pending(Pending::run);
   if (square) {
     umbmark_.note_driven_side_mm(length_m * 1000.0f);
   }
@@ -154,7 +151,7 @@ void Console::trial_pairs(Reply& reply, const KeptTrial& trial) {
 void Console::cmd_trials(std::size_t count) {
   if (count == 2u) {  // trials clear
     trials_.clear();
-    send_line("ok trials=0");
+    send_line("ok trials=%u", 0u);  // the spec of `trials`'s last line
     return;
   }
   start_listing(Listing::trials);

@@ -75,7 +75,8 @@ void Console::cmd_defaults() {
   if (!config_accepted(settings_.restore_defaults())) {
     return;
   }
-  send_line("ok params=%u unsaved=1", params::param_count);
+  // The spec of `params`'s last line (one string in the image).
+  send_line("ok params=%u unsaved=%u", params::param_count, 1u);
 }
 
 void Console::cmd_provenance() {

@@ -23,11 +23,10 @@ constexpr unsigned kLeftStill = 0x04u;
 constexpr unsigned kCrossed = 0x10u;
 constexpr unsigned kIllegal = 0x20u;  // left; right is the next bit
 constexpr unsigned kLeftWeak = 0x80u;
-constexpr unsigned kFaultCount = 9u;
-// Names in bit order, each ended by a NUL (one string, no table of pointers).
+// Names in bit order, each ended by a NUL, the list by an empty name (Console::flag_names).
 constexpr char kNames[] =
     "left_reversed\0right_reversed\0left_still\0right_still\0crossed\0left_illegal\0"
-    "right_illegal\0left_weak\0right_weak";
+    "right_illegal\0left_weak\0right_weak\0";
 
 }  // namespace
 
@@ -61,7 +60,6 @@ void Console::start_selftest_wheel(unsigned wheel) {
     send_error(ErrorCode::fault, "drive faulted; stop acknowledges");
     return;
   }
-  note_pending(Pending::drive);
   const drive::WheelCounts counts = loop_.wheel_counts();
   const drive::LoopStatus status = loop_.status();
   selftest_start_[0] = static_cast<std::int32_t>(counts.left);
@@ -99,9 +97,7 @@ void Console::continue_selftest() {
       return;
     }
     // Zero set-points after a drive that has not ended: the motors are let go (no braking).
-    if (loop_.drive(drive::Twist{}, kCoast_ms)) {
-      note_pending(Pending::drive);
-    }
+    static_cast<void>(loop_.drive(drive::Twist{}, kCoast_ms));
     selftest_due_us_ = last_now_us_ + (kCoast_ms + 100u) * 1000u;
     ++selftest_phase_;
     return;
@@ -137,23 +133,10 @@ void Console::continue_selftest() {
   selftest_phase_ = 0u;
   if (status.faults != drive::fault_none) {
     loop_.stop();  // acknowledges a stall fault the test caused (the motors are parked)
-    note_pending(Pending::stop);
   }
   ReplyLine reply(out_);
   reply.text("ok faults=");
-  const char* name = kNames;
-  bool first = true;
-  for (unsigned bit = 0u; bit < kFaultCount; ++bit) {
-    if ((selftest_faults_ & (1u << bit)) != 0u) {
-      reply.text(first ? "" : ",").text(name);
-      first = false;
-    }
-    while (*name++ != '\0') {
-    }
-  }
-  if (first) {
-    reply.text("none");
-  }
+  flag_names(reply, selftest_faults_, kNames);
   append(reply, " ll=%i lr=%i rl=%i rr=%i", selftest_counts_[0], selftest_counts_[1],
          selftest_counts_[2], selftest_counts_[3]);
   send(reply);

@@ -1,5 +1,4 @@
-// Console commands about the console and the firmware: help, version, status, echo, and the
-// target's own command.
+// Console commands about the console and the firmware: help, version, status, echo.
 
 #include "odocal/console/console.hpp"
 #include "odocal/console/version.hpp"
@@ -16,18 +15,8 @@ void Console::cmd_status() {
   ReplyLine reply(out_);
   append(reply, "ok mode=%s path=%s segment=%u faults=", drive::mode_name(status.mode),
          drive::path_name(status.path), status.segment);
-  if (status.faults == drive::fault_none) {
-    reply.text("none");
-  } else {
-    const char* names[] = {"encoder_left", "encoder_right", "stall_left", "stall_right"};
-    bool first = true;
-    for (unsigned bit = 0; bit < 4u; ++bit) {
-      if ((status.faults & (1u << bit)) != 0u) {
-        reply.text(first ? "" : ",").text(names[bit]);
-        first = false;
-      }
-    }
-  }
+  // drive::FaultBits in bit order.
+  flag_names(reply, status.faults, "encoder_left\0encoder_right\0stall_left\0stall_right\0");
   const ConsoleCounters c = counters();
   append(reply,
          " ticks=%u tick_us_avg=%3 tick_us_max=%3 illegal_l=%u illegal_r=%u left_radps=%3"
@@ -37,32 +26,19 @@ void Console::cmd_status() {
          status.illegal_right, status.left_radps, status.right_radps, settings_.unsaved() ? 1u : 0u,
          store_word(settings_.store_state()), umbmark_.cw_count(), umbmark_.ccw_count(),
          lateral_.count(), trials_.size(), c.stream_dropped, c.rx_dropped);
-  if (options_.status_pairs != nullptr) {
-    reply.append_with([this](char* out, std::size_t capacity) {
-      return options_.status_pairs(options_.status_context, out, capacity);
-    });
-  }
+  append_target_status(reply);
   send(reply);
 }
 
 void Console::cmd_echo(const Token* words) {
-  if (!words[1].is("on") && !words[1].is("off")) {
+  const bool on = words[1].is("on");
+  if (!on && !words[1].is("off")) {
     send_usage(ErrorCode::bad_argument);
     return;
   }
-  echo_ = words[1].is("on");
+  echo_ = on;
   options_.echo = echo_ ? EchoMode::on : EchoMode::off;
   send_line(echo_ ? "ok echo=on" : "ok echo=off");
-}
-
-void Console::cmd_extra(const Token* words, std::size_t count) {
-  ReplyLine reply(out_);
-  options_.extra.handler(options_.extra.context, words, count, reply);
-  const char* text = reply.data();
-  if (reply.size() >= 3u && text[0] == 'e' && text[1] == 'r' && text[2] == 'r') {
-    ++errors_;
-  }
-  send(reply);
 }
 
 }  // namespace odocal::console

@@ -182,6 +182,21 @@ void Console::pose_pairs(Reply& reply, const drive::Pose& pose) {
          pose.theta_rad * kRadToDeg);
 }
 
+void Console::flag_names(Reply& reply, unsigned bits, const char* names) {
+  const char* separator = "";
+  for (unsigned bit = 1u; *names != '\0'; bit <<= 1u) {
+    if ((bits & bit) != 0u) {
+      reply.text(separator).text(names);
+      separator = ",";
+    }
+    while (*names++ != '\0') {
+    }
+  }
+  if (bits == 0u) {
+    reply.text("none");
+  }
+}
+
 void Console::append_args(Reply& reply, const char* spec, const Arg* args) {
   for (;;) {
     const char* text = spec;
@@ -304,8 +319,7 @@ void Console::execute(const Token* words, std::size_t count) {
     ++first;
   }
   if (first == table_end) {
-    if (options_.extra.name != nullptr && words[0].is(options_.extra.name) && count <= kMaxWords) {
-      cmd_extra(words, count);
+    if (count <= kMaxWords && run_target_command(words, count)) {
       return;
     }
     send_error(ErrorCode::unknown_command, "unknown command (try help)");
@@ -365,8 +379,8 @@ void Console::continue_listing() {
       const char* text = nullptr;
       if (listing_index_ < form_count_) {
         text = form_table_[listing_index_].synopsis;
-      } else if (listing_index_ == form_count_ && options_.extra.name != nullptr) {
-        text = options_.extra.usage != nullptr ? options_.extra.usage : options_.extra.name;
+      } else if (listing_index_ == form_count_) {
+        text = target_usage();
       }
       if (text != nullptr) {
         ++listing_index_;
@@ -500,23 +514,11 @@ bool Console::config_accepted(const drive::ConfigCheck& check) {
   return false;
 }
 
-bool Console::path_running(const drive::LoopStatus& status) const {
-  if (pending_ != Pending::none && status.ticks == pending_ticks_) {
-    return pending_ == Pending::run;
-  }
-  return status.mode == drive::Mode::path;
-}
-
-bool Console::moving(const drive::LoopStatus& status) const {
-  if (pending_ != Pending::none && status.ticks == pending_ticks_) {
-    return pending_ == Pending::run || pending_ == Pending::drive;
-  }
-  return status.mode == drive::Mode::path || status.mode == drive::Mode::drive;
-}
-
 bool Console::refuse_busy(bool path_only) {
-  const drive::LoopStatus status = loop_.status();
-  if (path_only ? path_running(status) : moving(status)) {
+  // The loop's status shows a command not taken yet as taken: `run` then `save` on the next
+  // line is refused even when no tick came between the two.
+  const drive::Mode mode = loop_.status().mode;
+  if (mode == drive::Mode::path || (!path_only && mode == drive::Mode::drive)) {
     send_error(ErrorCode::busy,
                path_only ? "a path is running; stop first" : "the robot is moving; stop first");
     return true;
@@ -541,11 +543,6 @@ bool Console::date_arg(const Token* words, std::size_t count, std::size_t index,
     runs = static_cast<std::uint16_t>(given);
   }
   return true;
-}
-
-void Console::note_pending(Pending pending) {
-  pending_ = pending;
-  pending_ticks_ = loop_.status().ticks;
 }
 
 }  // namespace odocal::console

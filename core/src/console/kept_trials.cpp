@@ -31,6 +31,10 @@ void KeptTrials::push(const drive::TrialRecord& record) {
   kept.path = record.path;
 }
 
+const KeptTrial& KeptTrials::at(std::size_t i) const {
+  return records_[(first_ + (i < count_ ? i : 0u)) % capacity];
+}
+
 const KeptTrial* KeptTrials::find(std::uint32_t number) const {
   for (std::size_t i = 0; i < count_; ++i) {
     if (at(i).number == number) {

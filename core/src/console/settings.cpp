@@ -3,10 +3,6 @@
 namespace odocal::console {
 namespace {
 
-bool usable(const params::ParamSet& set) {
-  return params::all_in_range(set) && drive::valid(params::to_drive_config(set));
-}
-
 bool is_wheel_factor(params::ParamId id) {
   return id == params::ParamId::c_l || id == params::ParamId::c_r ||
          id == params::ParamId::wheelbase_mm || id == params::ParamId::wheelbase_arc_mm;
@@ -40,13 +36,8 @@ Settings::Settings(drive::ControlLoop& loop, params::ParamStore& store,
                    const params::ParamSet* target_defaults)
     : loop_(loop),
       store_(store),
-      target_defaults_(target_defaults != nullptr && usable(*target_defaults) ? target_defaults
-                                                                              : nullptr),
+      target_defaults_(usable_defaults(target_defaults)),
       values_(defaults()) {}
-
-float Settings::default_value(params::ParamId id) const {
-  return target_defaults_ != nullptr ? target_defaults_->get(id) : params::default_params().get(id);
-}
 
 Settings::Start Settings::start() {
   Start start;

@@ -53,10 +53,16 @@ void InvertedOutput::do_set(bool level) {
 
 ControlLoop::ControlLoop(MotorChannel left, MotorChannel right, hal::CriticalSection& critical,
                          const DriveConfig& config)
-    : left_(left), right_(right), critical_(critical) {
-  apply_config(valid(config) ? config : DriveConfig{});
+    // Each member built once from the configuration in force (no defaults written first and
+    // overwritten: the robot's flash).
+    : left_(left),
+      right_(right),
+      critical_(critical),
+      config_(valid(config) ? config : DriveConfig{}),
+      kinematics_(config_),
+      inbox_{config_} {
+  apply_config(config_);
   apply_wiring(config_.wiring_fix);
-  inbox_.config = config_;
   drive_motors(0.0f, 0.0f);
 }
 

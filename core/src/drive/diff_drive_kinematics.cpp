@@ -25,11 +25,6 @@ void DiffDriveKinematics::configure(const DriveConfig& config) {
   inverse_(0, 1) = -wheelbase_m_ / left_diameter_m_;
   inverse_(1, 0) = 2.0f / right_diameter_m_;
   inverse_(1, 1) = wheelbase_m_ / right_diameter_m_;
-  // Maddahi eq. 1-2: v = (D_L θ̇_L + D_R θ̇_R)/4, ω = (D_R θ̇_R − D_L θ̇_L)/(2b).
-  forward_(0, 0) = left_diameter_m_ / 4.0f;
-  forward_(0, 1) = right_diameter_m_ / 4.0f;
-  forward_(1, 0) = -left_diameter_m_ / (2.0f * wheelbase_m_);
-  forward_(1, 1) = right_diameter_m_ / (2.0f * wheelbase_m_);
 }
 
 float DiffDriveKinematics::blend_rates_m(float left, float right) const {
@@ -64,9 +59,15 @@ WheelRates DiffDriveKinematics::inverse(const Twist& twist) const {
 }
 
 Twist DiffDriveKinematics::forward(const WheelRates& rates) const {
+  // Maddahi eq. 1-2: v = (D_L θ̇_L + D_R θ̇_R)/4, ω = (D_R θ̇_R − D_L θ̇_L)/(2b). Computed here, not
+  // kept: the tick never needs it (the robot's RAM and flash).
   const float scale = wheelbase_m_ / wheelbase_for_rates_m(rates.left_radps, rates.right_radps);
-  return Twist{forward_(0, 0) * rates.left_radps + forward_(0, 1) * rates.right_radps,
-               (forward_(1, 0) * rates.left_radps + forward_(1, 1) * rates.right_radps) * scale};
+  const float two_b = 2.0f * wheelbase_m_;
+  return Twist{
+      left_diameter_m_ / 4.0f * rates.left_radps + right_diameter_m_ / 4.0f * rates.right_radps,
+      (-left_diameter_m_ / two_b * rates.left_radps +
+       right_diameter_m_ / two_b * rates.right_radps) *
+          scale};
 }
 
 }  // namespace odocal::drive

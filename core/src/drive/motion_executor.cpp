@@ -8,7 +8,8 @@ namespace {
 constexpr float kPi = 3.14159265358979323846f;
 constexpr float kMaxPathLength_m = 20.0f;
 
-bool valid_length(float length_m) {
+// Out of line: two paths check it.
+[[gnu::noinline]] bool valid_length(float length_m) {
   return std::isfinite(length_m) && length_m > 0.0f && length_m <= kMaxPathLength_m;
 }
 
@@ -29,6 +30,15 @@ float creep_speed(const DriveConfig& limits, bool by_distance, float cruise) {
                                          : wheel_radps * diameter_m / (limits.wheelbase_mm * 1e-3f);
   const float creep = edge_limited > 0.02f * cruise ? edge_limited : 0.02f * cruise;
   return creep < 0.5f * cruise ? creep : 0.5f * cruise;
+}
+
+// Appends `sides` legs of `side_m`, each followed by a turn in place of `turn_rad` (a regular
+// polygon when the turns add up to a full turn). Out of line: three paths share one copy.
+[[gnu::noinline]] void push_polygon(Path& path, int sides, float side_m, float turn_rad) {
+  for (int side = 0; side < sides; ++side) {
+    path.push(Segment{side_m, 0.0f});
+    path.push(Segment{0.0f, turn_rad});
+  }
 }
 
 }  // namespace
@@ -66,11 +76,7 @@ Path make_umbmark_square(bool clockwise, float side_m) {
     return path;
   }
   path.id = clockwise ? PathId::umbmark_cw : PathId::umbmark_ccw;
-  const float corner = clockwise ? -0.5f * kPi : 0.5f * kPi;
-  for (int leg = 0; leg < 4; ++leg) {
-    path.push(Segment{side_m, 0.0f});
-    path.push(Segment{0.0f, corner});
-  }
+  push_polygon(path, 4, side_m, clockwise ? -0.5f * kPi : 0.5f * kPi);
   return path;
 }
 
@@ -87,15 +93,9 @@ Path make_line(float length_m) {
 Path make_unseen_path() {
   Path path;
   path.id = PathId::unseen;
-  for (int side = 0; side < 4; ++side) {  // 100 cm square, left turns
-    path.push(Segment{1.0f, 0.0f});
-    path.push(Segment{0.0f, 0.5f * kPi});
-  }
-  for (int side = 0; side < 3; ++side) {  // 100 cm equilateral triangle, left turns
-    path.push(Segment{1.0f, 0.0f});
-    path.push(Segment{0.0f, 2.0f * kPi / 3.0f});
-  }
-  path.push(Segment{0.8f * kPi, kPi});  // 80 cm-radius left semicircle
+  push_polygon(path, 4, 1.0f, 0.5f * kPi);         // 100 cm square, left turns
+  push_polygon(path, 3, 1.0f, 2.0f * kPi / 3.0f);  // 100 cm equilateral triangle, left turns
+  path.push(Segment{0.8f * kPi, kPi});             // 80 cm-radius left semicircle
   return path;
 }
 
@@ -178,8 +178,9 @@ Twist MotionExecutor::update(const Odometry& odometry, const DriveConfig& limits
   if (speed > cruise) {
     speed = cruise;
   }
-  if (speed < creep_speed(limits, by_distance, cruise)) {
-    speed = creep_speed(limits, by_distance, cruise);
+  const float creep = creep_speed(limits, by_distance, cruise);
+  if (speed < creep) {
+    speed = creep;
   }
   speed_ = speed;
 

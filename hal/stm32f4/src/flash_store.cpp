@@ -49,6 +49,16 @@ bool FlashStore::wait_not_busy(std::uint32_t timeout_us) {
   }
 }
 
+bool FlashStore::begin(std::uint32_t timeout_us) {
+  if (!wait_not_busy(timeout_us) || !unlock()) {
+    last_error_flags_ = bus_.read32(flash::sr.address) & flash::sr_errors;
+    lock();
+    return false;
+  }
+  bus_.write32(flash::sr.address, flash::sr_errors | flash::sr_eop.mask());
+  return true;
+}
+
 hal::StoreStatus FlashStore::finish(bool completed) {
   const std::uint32_t errors = bus_.read32(flash::sr.address) & flash::sr_errors;
   if (completed && errors == 0u) {
@@ -82,12 +92,9 @@ void FlashStore::flush_data_cache() {
 }
 
 hal::StoreStatus FlashStore::do_erase(std::size_t index) {
-  if (!wait_not_busy(erase_timeout_us) || !unlock()) {
-    last_error_flags_ = bus_.read32(flash::sr.address) & flash::sr_errors;
-    lock();
+  if (!begin(erase_timeout_us)) {
     return hal::StoreStatus::device_error;
   }
-  bus_.write32(flash::sr.address, flash::sr_errors | flash::sr_eop.mask());
   const std::uint32_t sector = static_cast<std::uint32_t>(first_sector_ + index);
   const std::uint32_t command =
       flash::cr_ser.mask() | flash::cr_snb(sector) | flash::cr_psize(flash::psize_x32);
@@ -109,12 +116,9 @@ hal::StoreStatus FlashStore::do_program(std::size_t address, const std::uint8_t*
       return hal::StoreStatus::not_erased;
     }
   }
-  if (!wait_not_busy(program_timeout_us) || !unlock()) {
-    last_error_flags_ = bus_.read32(flash::sr.address) & flash::sr_errors;
-    lock();
+  if (!begin(program_timeout_us)) {
     return hal::StoreStatus::device_error;
   }
-  bus_.write32(flash::sr.address, flash::sr_errors | flash::sr_eop.mask());
   bus_.write32(flash::cr.address, flash::cr_pg.mask() | flash::cr_psize(flash::psize_x32));
   bool completed = true;
   for (std::size_t offset = 0u; offset < size && completed; offset += 4u) {

@@ -27,7 +27,7 @@ class LateralSession {
   };
 
   /// Forgets the trials and the solution.
-  void clear();
+  [[gnu::noinline]] void clear();
   /// Adds one straight trial: where it stopped (start frame, mm), its commanded length L (mm),
   /// and the left wheel's measured rotation over it, θ_L (rad, > 0).
   [[nodiscard]] AddStatus add(const Stop& stop, float length_mm, float theta_l_rad);

@@ -45,7 +45,9 @@ struct TargetCommand {
   void* context = nullptr;
 };
 
-/// What the target chooses.
+/// What the target chooses. `extra`, `status_pairs` and `defaults` are the target options: the
+/// images that use none (the STM32F4 ones) link the console without the code for them
+/// (core/src/console/target/, core/CMakeLists.txt), where they must stay unset.
 struct ConsoleOptions {
   EchoMode echo = EchoMode::off;
   bool crlf = true;    ///< end output lines with CR LF (UART, pty) rather than LF (stdio pipes)
@@ -168,12 +170,13 @@ class Console {
   static const std::size_t form_count_;
 
   enum class Listing : std::uint8_t { none, help, params, trials };
-  enum class Pending : std::uint8_t { none, run, drive, stop };
 
-  // console.cpp: I/O, dispatch, listings, streams.
-  void take_input();
+  // console.cpp: I/O, dispatch, listings, streams. take_input and handle_event out of line:
+  // inlined into the main loop, they made one function too long for its literal pools to be
+  // shared (the robot's flash).
+  [[gnu::noinline]] void take_input();
   void detect_terminal(std::uint8_t line_end);
-  void handle_event(LineEvent event);
+  [[gnu::noinline]] void handle_event(LineEvent event);
   void execute(const Token* words, std::size_t count);
   void dispatch(Handler handler, const Token* words, std::size_t count);
   void continue_listing();
@@ -184,7 +187,7 @@ class Console {
   /// @return its length (to show again after).
   std::size_t clear_typing();
   /// Sends `line` (begun after clear_typing()), then shows the `typed` text again.
-  void send_over_typing(Reply& line, std::size_t typed);
+  [[gnu::noinline]] void send_over_typing(Reply& line, std::size_t typed);
   /// The same for a stream line, dropped (and counted, the queue cut back to `mark`) when a reply
   /// would no longer fit.
   void send_async(Reply& line, std::size_t mark, std::size_t typed);
@@ -260,18 +263,23 @@ class Console {
                 std::uint16_t& runs);
   /// Sends the reason a configuration was refused; @return check.ok().
   bool config_accepted(const drive::ConfigCheck& check);
-  [[nodiscard]] bool path_running(const drive::LoopStatus& status) const;
-  [[nodiscard]] bool moving(const drive::LoopStatus& status) const;
   /// Refuses (err busy) and returns true while a path runs (`path_only`) or the robot moves.
   bool refuse_busy(bool path_only);
-  void note_pending(Pending pending);
   void start_listing(Listing listing);
 
   // commands_system.cpp
   void cmd_version();
   void cmd_status();
   void cmd_echo(const Token* words);
-  void cmd_extra(const Token* words, std::size_t count);
+  // console/target/options.cpp, or console/target/no_options.cpp where the target options are
+  // not linked (ConsoleOptions).
+  /// Runs the target's command when words[0] names it (its one reply sent). @return false when
+  /// it does not.
+  bool run_target_command(const Token* words, std::size_t count);
+  /// The target command's `help` line; nullptr when there is none.
+  [[nodiscard]] const char* target_usage() const;
+  /// Appends the target's own ` key=value` pairs to the `status` reply.
+  void append_target_status(Reply& reply);
   // commands_params.cpp. [[gnu::noinline]]: handlers with a big frame (a parameter set, a drive
   // configuration, the UMBmark solver) stay out of the dispatch's frame, which every command's
   // path (`load` and the store's the deepest) shares (worst-case stack, docs/stm32f4.md).
@@ -297,6 +305,9 @@ class Console {
   static void trial_pairs(Reply& reply, const KeptTrial& trial);
   /// ` x_mm=.. y_mm=.. theta_deg=..` (`odom`, the odom stream, trials)
   static void pose_pairs(Reply& reply, const drive::Pose& pose);
+  /// The names of the bits set in `bits`, comma-separated, or `none`. `names`: one name per bit
+  /// from bit 0 on, each ended by a NUL, the list by an empty name (`status` faults, `selftest`).
+  static void flag_names(Reply& reply, unsigned bits, const char* names);
   // commands_calib.cpp
   void cmd_umbmark_clear();
   void cmd_umbmark_add(const Token* words);
@@ -326,10 +337,8 @@ class Console {
   bool echo_ = false;
   bool clock_started_ = false;
   Listing listing_ = Listing::none;
-  Pending pending_ = Pending::none;
   const Form* form_ = form_table_;  ///< the form being handled
   std::size_t listing_index_ = 0u;
-  std::uint32_t pending_ticks_ = 0u;
   std::uint32_t trial_seen_ = 0u;    ///< number of the last trial announced
   std::uint32_t lateral_used_ = 0u;  ///< number of the last trial `lateral add` took
   // `selftest`: 0 off, 1 left wheel driven, 2 its stop pending, 3 right wheel driven; what it

@@ -34,10 +34,8 @@ class KeptTrials {
   /// Forgets every kept trial (numbers go on).
   void clear() { count_ = 0u; }
   [[nodiscard]] std::size_t size() const { return count_; }
-  /// The i-th kept trial, oldest first (i < size()).
-  [[nodiscard]] const KeptTrial& at(std::size_t i) const {
-    return records_[(first_ + (i < count_ ? i : 0u)) % capacity];
-  }
+  /// The i-th kept trial, oldest first (i < size()). Out of line: three callers.
+  [[nodiscard, gnu::noinline]] const KeptTrial& at(std::size_t i) const;
   /// The kept trial numbered `number`; nullptr when it is not kept.
   [[nodiscard]] const KeptTrial* find(std::uint32_t number) const;
   /// The newest kept trial; nullptr when none.

@@ -17,8 +17,9 @@ namespace odocal::console {
 class Settings {
  public:
   /// @param target_defaults this robot build's own defaults (e.g. the simulator's robot file), or
-  /// nullptr for the built-in ones; ignored when out of range or refused by the drive. Must
-  /// outlive the settings.
+  /// nullptr for the built-in ones; ignored when out of range or refused by the drive, and where
+  /// the console is linked without its target options (ConsoleOptions). Must outlive the
+  /// settings.
   Settings(drive::ControlLoop& loop, params::ParamStore& store,
            const params::ParamSet* target_defaults);
 
@@ -38,9 +39,9 @@ class Settings {
   /// True when the values differ from what was last saved or loaded.
   [[nodiscard]] bool unsaved() const { return unsaved_; }
   /// The defaults `defaults` restores: the target's own when usable, else the built-in ones.
-  [[nodiscard]] params::ParamSet defaults() const {
-    return target_defaults_ != nullptr ? *target_defaults_ : params::default_params();
-  }
+  /// This, `default_value` and `usable_defaults` are defined with the console's target options
+  /// (console/target/).
+  [[nodiscard]] params::ParamSet defaults() const;
   /// One value of `defaults()` (out of line: the built-in set is built on its frame).
   [[nodiscard, gnu::noinline]] float default_value(params::ParamId id) const;
 
@@ -71,6 +72,9 @@ class Settings {
  private:
   drive::ControlLoop& loop_;
   params::ParamStore& store_;
+  /// `defaults` when it is usable (in range, taken by the drive), else nullptr.
+  static const params::ParamSet* usable_defaults(const params::ParamSet* defaults);
+
   const params::ParamSet* target_defaults_;  ///< usable target defaults, or nullptr: built-in
   params::ParamSet values_;
   bool unsaved_ = false;

@@ -121,10 +121,12 @@ class ControlLoop {
   [[nodiscard]] Mode mode_after_tick() const { return published_.status.mode; }
   [[nodiscard]] std::uint8_t faults_after_tick() const { return published_.status.faults; }
   /// The last finished trial (number 0 before the first). A trial begins with a path or a timed
-  /// drive and closes once the robot is at rest after it (TrialRecorder).
-  [[nodiscard]] TrialRecord last_trial() const;
+  /// drive and closes once the robot is at rest after it (TrialRecorder). This and
+  /// `wheel_counts` are called from several places of the main loop (never the tick): out of
+  /// line, one copy each in the robot's flash.
+  [[nodiscard, gnu::noinline]] TrialRecord last_trial() const;
   /// Cumulative counts at the last tick, for logging runs.
-  [[nodiscard]] WheelCounts wheel_counts() const;
+  [[nodiscard, gnu::noinline]] WheelCounts wheel_counts() const;
   /// Records how long the last tick took, µs (the target measures it).
   void note_tick_duration_us(float duration_us);
 

@@ -78,7 +78,6 @@ class DiffDriveKinematics {
  private:
   // Every element is written by `configure`, which the constructor calls.
   Eigen::Matrix2f inverse_;
-  Eigen::Matrix2f forward_;
   float left_diameter_m_ = 0.06f;
   float right_diameter_m_ = 0.06f;
   float wheelbase_m_ = 0.15f;

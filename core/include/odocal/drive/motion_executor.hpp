@@ -25,7 +25,7 @@ enum class PathId : std::uint8_t { none, umbmark_cw, umbmark_ccw, line, unseen, 
 
 /// Name of a path as the console spells it ("umbmark-cw", ...; "none"; "drive" names a timed
 /// `drive` in trial records).
-[[nodiscard]] const char* path_name(PathId id);
+[[nodiscard, gnu::noinline]] const char* path_name(PathId id);
 
 /// A fixed-capacity list of segments.
 struct Path {

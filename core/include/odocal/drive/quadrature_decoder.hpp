@@ -77,7 +77,7 @@ class QuadratureDecoder {
   /// other wheel's decoder when the encoder connectors are swapped), counting down going forward
   /// when `reversed`. Not ISR-safe: call where edges cannot interrupt. The counts carry on from
   /// where they are (no jump).
-  void route(QuadratureDecoder& counts, bool reversed) {
+  [[gnu::noinline]] void route(QuadratureDecoder& counts, bool reversed) {
     counts_ = &counts;
     std::memcpy(table_, reversed ? quadrature::transition_reversed : quadrature::transition,
                 sizeof table_);

@@ -26,7 +26,7 @@ class VelocityEstimator {
   void set_counts_per_rev(float counts_per_rev);
 
   /// Forgets history; the next update only initialises.
-  void reset(const EncoderSnapshot& snapshot, std::uint32_t now_us);
+  [[gnu::noinline]] void reset(const EncoderSnapshot& snapshot, std::uint32_t now_us);
 
   /// Processes one tick's snapshot taken at `now_us`. Tick context.
   void update(const EncoderSnapshot& snapshot, std::uint32_t now_us);

@@ -101,6 +101,9 @@ class FlashStore final : public hal::BlockStore {
   [[nodiscard]] bool unlock();
   void lock();
   [[nodiscard]] bool wait_not_busy(std::uint32_t timeout_us);
+  /// The start of an erase or a program: waits for BSY to clear, unlocks and clears stale flags.
+  /// @return false (the controller locked again, its error flags kept) when it cannot.
+  [[nodiscard]] bool begin(std::uint32_t timeout_us);
   [[nodiscard]] hal::StoreStatus finish(bool completed);
   void flush_data_cache();
 

@@ -66,9 +66,9 @@ double num(const std::string& line, const std::string& key) {
   return it == p.end() ? std::nan("") : std::stod(it->second);
 }
 
-#define REQUIRE_SIM()                       \
-  if (sim_program().empty()) {              \
-    GTEST_SKIP() << "odocal-sim not built"; \
+#define REQUIRE_SIM()                                                         \
+  if (sim_program().empty()) {                                                \
+    FAIL() << "odocal-sim not built (cmake --build --preset host builds it)"; \
   }
 
 TEST(OdocalSimSelftest, RightWiredRobotHasNoFaultAndBarelyMoves) {

@@ -22,6 +22,9 @@ float sign_of(float value) {
 // feedback and hunt against dry friction with a coarse encoder); at most half the cruise speed.
 constexpr float kCreepEdgePeriod_s = 0.02f;
 
+// Distance over which a line or an arc steers a heading error away, m.
+constexpr float kSteerDistance_m = 0.2f;
+
 float creep_speed(const DriveConfig& limits, bool by_distance, float cruise) {
   const float wheel_radps = 2.0f * kPi / (limits.counts_per_rev * kCreepEdgePeriod_s);
   const float diameter_m = limits.wheel_diameter_mm * 1e-3f;
@@ -114,6 +117,7 @@ void MotionExecutor::start_loaded(const Odometry& odometry) {
   busy_ = path_.count > 0u;
   settling_ = false;
   speed_ = 0.0f;
+  heading_goal_rad_ = odometry.rotation_rad();
   if (busy_) {
     begin_segment(odometry);
   }
@@ -127,7 +131,10 @@ void MotionExecutor::cancel() {
 
 void MotionExecutor::begin_segment(const Odometry& odometry) {
   start_distance_m_ = odometry.distance_m();
-  start_rotation_rad_ = odometry.rotation_rad();
+  // Headings are planned from the path's start, not from where the last segment ended: what a
+  // turn over- or undershot is made good by the segments after it instead of adding up.
+  start_rotation_rad_ = heading_goal_rad_;
+  heading_goal_rad_ += path_.segments[index_].angle_rad;
   speed_ = 0.0f;
   settling_ = false;
   settle_s_ = 0.0f;
@@ -187,8 +194,13 @@ Twist MotionExecutor::update(const Odometry& odometry, const DriveConfig& limits
   if (!by_distance) {
     return Twist{0.0f, direction * speed};
   }
+  // Lines and arcs steer toward the heading the path has at this point (the plan's heading where
+  // the segment began plus its share of the arc's angle): the steering gain is the speed over a
+  // fixed distance, so a heading error decays over kSteerDistance_m of travel at any speed.
   const float v = direction * speed;
-  return Twist{v, segment.angle_rad != 0.0f ? v * segment.angle_rad / segment.distance_m : 0.0f};
+  const float planned = start_rotation_rad_ + segment.angle_rad * (progress / target);
+  const float steer = (planned - odometry.rotation_rad()) * speed * (1.0f / kSteerDistance_m);
+  return Twist{v, v * segment.angle_rad / segment.distance_m + steer};
 }
 
 }  // namespace odocal::drive

@@ -78,13 +78,14 @@ TEST_P(SquareTest, UmbmarkSquareClosesOnItselfInOdometry) {
   rig.run_until_idle(60.0);
   ASSERT_EQ(rig.loop.status().mode, Mode::idle);
   const Pose p = rig.loop.pose();
-  // Each of the four turns may overrun its angle by `overrun(w_max)`; each leg its length by
-  // `overrun(v_max)`. A heading error δ at a corner displaces the rest of the square by up to
-  // δ · (distance still to drive), at most 3 m after the first corner of a 1 m square.
+  // Headings are planned from the path's start: what one turn overruns the next turn and the
+  // legs' steering make good, so the end heading is off by at most the last turn's overrun. A
+  // leg that starts off its heading by δ (at most one turn's overrun) steers it away over about
+  // kSteerDistance (0.2 m): δ · 0.2 m of sideways offset each, twice that for the wheels' lag.
   const double turn_err = overrun(1.5, false);
   const double leg_err = overrun(0.2, true);
-  EXPECT_LE(std::fabs(p.theta_rad), 4 * turn_err);
-  EXPECT_LE(std::hypot(p.x_m, p.y_m), 4 * leg_err + turn_err * (3 + 2 + 1));
+  EXPECT_LE(std::fabs(p.theta_rad), turn_err);
+  EXPECT_LE(std::hypot(p.x_m, p.y_m), 4 * leg_err + 4 * turn_err * 0.2 * 2);
   // The ideal true robot did the same.
   EXPECT_NEAR(rig.robot.x, p.x_m, 2e-3);
   EXPECT_NEAR(rig.robot.y, p.y_m, 2e-3);
@@ -98,10 +99,45 @@ TEST(MotionExecutor, UnseenPathEndsWhereItsGeometrySays) {
   rig.run_until_idle(120.0);
   ASSERT_EQ(rig.loop.status().mode, Mode::idle);
   const Pose p = rig.loop.pose();
-  // 7 turns and 8 runs, ~9 m of travel after the first turn: same overrun budget as the square.
-  EXPECT_NEAR(p.x_m, 0.0, 8 * overrun(0.2, true) + 7 * overrun(1.5, false) * 9.0);
-  EXPECT_NEAR(p.y_m, 1.6, 8 * overrun(0.2, true) + 7 * overrun(1.5, false) * 9.0);
-  EXPECT_NEAR(std::fabs(p.theta_rad), M_PI, 8 * overrun(1.5, false));
+  // 8 legs and arcs, 7 turns: each leg's length may overrun, each turn's heading error is steered
+  // away within about 0.2 m (twice that for the wheels' lag), and the arc ends by distance on its
+  // planned heading.
+  const double bound = 8 * overrun(0.2, true) + 7 * overrun(1.5, false) * 0.2 * 2;
+  EXPECT_NEAR(p.x_m, 0.0, bound);
+  EXPECT_NEAR(p.y_m, 1.6, bound);
+  EXPECT_NEAR(std::fabs(p.theta_rad), M_PI, overrun(1.5, false));
+}
+
+TEST(MotionExecutor, TurnsDoNotAddUpTheirOverruns) {
+  // Twelve quarter turns in place: each ends when odometry says it is covered and overruns by up
+  // to `overrun`; planned from the path's start, the twelfth ends within one overrun of 3 turns.
+  TestRig rig;
+  Path turns;
+  for (int i = 0; i < 12; ++i) {
+    turns.push(Segment{0.0f, static_cast<float>(M_PI) / 2.0f});
+  }
+  ASSERT_TRUE(rig.loop.run(turns));
+  rig.run_until_idle(60.0);
+  ASSERT_EQ(rig.loop.status().mode, Mode::idle);
+  const double turned = rig.loop.pose().theta_rad;  // wrapped to [-pi, pi]
+  EXPECT_NEAR(std::remainder(turned, 2 * M_PI), 0.0, overrun(1.5, false));
+  EXPECT_GE(std::remainder(turned, 2 * M_PI), 0.0);  // the last turn ends on or past its goal
+}
+
+TEST(MotionExecutor, LineSteersAwayAHeadingErrorItStartsWith) {
+  // A quarter turn overruns by up to `overrun`; the line after it holds the planned heading (90°),
+  // so it ends on that heading, and its sideways offset is the steering's, about δ · 0.2 m.
+  TestRig rig;
+  Path path;
+  path.push(Segment{0.0f, static_cast<float>(M_PI) / 2.0f});
+  path.push(Segment{1.0f, 0.0f});
+  ASSERT_TRUE(rig.loop.run(path));
+  rig.run_until_idle(30.0);
+  const Pose p = rig.loop.pose();
+  const double delta = overrun(1.5, false);
+  EXPECT_NEAR(p.theta_rad, M_PI / 2, 0.1 * delta);
+  EXPECT_NEAR(p.x_m, 0.0, delta * 0.2 * 2);
+  EXPECT_NEAR(p.y_m, 1.0, overrun(0.2, true) + 1e-3);
 }
 
 TEST(MotionExecutor, ArcFollowsItsRadius) {

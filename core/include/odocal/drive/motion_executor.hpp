@@ -54,6 +54,12 @@ struct Path {
 /// then settles at standstill for `settle_ms` before the next segment. Near the end the profile
 /// keeps a creep speed (2 % of cruise, or more with a coarse encoder so that each wheel still sees
 /// an edge every 20 ms) so the end is always reached.
+///
+/// Headings are planned from where the path started: a turn ends at the path's planned heading
+/// (so what the turn before it overran is made good, not added to), and lines and arcs steer
+/// toward the heading the plan has at that point, a heading error decaying over 0.2 m of travel.
+/// The robot therefore ends where its odometry says the path ends, up to the last segment's
+/// overrun, however many segments came before.
 class MotionExecutor {
  public:
   /// Loads a path and starts it from the current odometry.
@@ -85,7 +91,8 @@ class MotionExecutor {
   bool settling_ = false;
   float settle_s_ = 0.0f;
   float start_distance_m_ = 0.0f;
-  float start_rotation_rad_ = 0.0f;
+  float start_rotation_rad_ = 0.0f;  ///< planned heading where this segment begins (odometry's)
+  float heading_goal_rad_ = 0.0f;    ///< planned heading where this segment ends
   float speed_ = 0.0f;  ///< profile speed along the segment's own coordinate (m/s or rad/s)
 };
 

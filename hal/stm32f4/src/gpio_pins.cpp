@@ -41,15 +41,6 @@ void GpioOutput::do_set(bool level) {
   gpio::bsrr(pin_.port).write(level ? pin_bit : pin_bit << 16);
 }
 
-bool ExtiInput::do_read() {
-  return (gpio::idr(pin_.port).read() >> pin_.number & 1u) != 0u;
-}
-
-void ExtiInput::do_on_edge(hal::EdgeHandler handler, void* context) {
-  handler_ = handler;
-  context_ = context;
-}
-
 void start_exti_line(gpio::Pin pin, gpio::Pull pull, std::uint8_t priority) {
   configure_pin(pin, gpio::Mode::input, pull);
   rcc::apb2enr.set(rcc::apb2enr_syscfg.mask());
@@ -61,23 +52,6 @@ void start_exti_line(gpio::Pin pin, gpio::Pull pull, std::uint8_t priority) {
   exti::pr.write(line_bit);
   exti::imr.set(line_bit);
   enable_irq(exti_irq(line), priority);
-}
-
-void ExtiInput::start(std::uint8_t priority) {
-  attach_interrupt(exception_of_irq(exti_irq(pin_.number)), &ExtiInput::on_interrupt, this);
-  start_exti_line(pin_, pull_, priority);
-}
-
-void ExtiInput::service() {
-  // Clear first: an edge arriving while the handler runs pends the interrupt again.
-  exti::pr.write(1u << pin_.number);
-  if (handler_ != nullptr) {
-    handler_(context_);
-  }
-}
-
-void ExtiInput::on_interrupt(void* self) {
-  static_cast<ExtiInput*>(self)->service();
 }
 
 }  // namespace odocal::hal::stm32f4

@@ -197,7 +197,7 @@ class ControlLoop {
   std::uint32_t pose_resets_ = 0u;
   std::uint32_t illegal_base_left_ = 0u;
   std::uint32_t illegal_base_right_ = 0u;
-  std::uint32_t left_stall_us_ = 0u;  ///< time with a large duty and no edge
+  std::uint32_t left_stall_us_ = 0u;  ///< time with a large duty and no net motion
   std::uint32_t right_stall_us_ = 0u;
   std::int64_t left_stall_start_ = 0;  ///< position where the current stall window began
   std::int64_t right_stall_start_ = 0;

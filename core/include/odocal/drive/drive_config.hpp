@@ -37,7 +37,7 @@ struct DriveConfig {
   float alpha_radps2 = 4.0f;  ///< angular acceleration limit
   float settle_ms = 200.0f;   ///< pause at standstill between segments
   // Faults.
-  float stall_ms = 500.0f;          ///< duty above stall_duty with no encoder edge this long
+  float stall_ms = 500.0f;          ///< duty above stall_duty, position within a count, this long
   float stall_duty = 0.3f;          ///< |duty| above which a wheel is expected to turn
   std::uint32_t max_illegal = 16u;  ///< illegal encoder transitions before the fault trips
   // Geometry, added later (the table is in stored-id order, so it comes last).

@@ -18,8 +18,8 @@ void configure_pin(gpio::Pin pin, gpio::Mode mode, gpio::Pull pull = gpio::Pull:
 
 /// Makes `pin` an input whose both edges raise EXTI line `pin.number` (SYSCFG routing, both
 /// triggers, pending bit cleared, line unmasked) and enables that line's NVIC interrupt at
-/// `priority`. The board serves the interrupt itself (its vector, or `ExtiInput` below), clearing
-/// the pending bit. Start-up only, with interrupts disabled.
+/// `priority`. The board serves the interrupt itself from its vector, clearing the pending bit
+/// (board_robot.cpp). Start-up only, with interrupts disabled.
 void start_exti_line(gpio::Pin pin, gpio::Pull pull, std::uint8_t priority);
 
 /// A push-pull output pin.
@@ -35,31 +35,6 @@ class GpioOutput final : public hal::DigitalOutput {
   void do_set(bool level) override;
   gpio::Pin pin_;
   bool initial_;
-};
-
-/// An input pin whose both edges raise EXTI line `pin.number`. Lines 0..4 have an interrupt
-/// each; 5..9 and 10..15 share one (the handler checks the pending bit of its own line, so two
-/// inputs may share a vector only if the board attaches both).
-class ExtiInput final : public hal::DigitalInput {
- public:
-  constexpr ExtiInput(gpio::Pin pin, gpio::Pull pull) : pin_(pin), pull_(pull) {}
-
-  /// Configures the pin, routes it to its EXTI line (SYSCFG), enables both edges and the NVIC
-  /// interrupt at `priority`. Start-up only; `on_edge` must have been called.
-  void start(std::uint8_t priority);
-
-  /// The EXTI interrupt of this line: clears the pending bit and runs the handler. ISR context.
-  void service();
-
- private:
-  bool do_read() override;
-  void do_on_edge(hal::EdgeHandler handler, void* context) override;
-  static void on_interrupt(void* self);
-
-  gpio::Pin pin_;
-  gpio::Pull pull_;
-  hal::EdgeHandler handler_ = nullptr;
-  void* context_ = nullptr;
 };
 
 }  // namespace odocal::hal::stm32f4

@@ -20,7 +20,7 @@ struct UsartConfig {
   std::uint8_t priority;  ///< interrupt priority (below the tick)
 };
 
-/// 8N1 USART with a 256-byte receive ring and a 1 KiB transmit ring, both filled/drained by the
+/// 8N1 USART with a 128-byte receive ring and a 128-byte transmit ring, both filled/drained by the
 /// USART interrupt. `read`/`write` are main-loop only and never block: `write` queues what fits.
 ///
 /// Transmission is started by pending the USART interrupt after queueing: the handler writes

@@ -1,5 +1,8 @@
 #!/bin/sh
-# Regenerates docs/results.md from the simulated procedures (default robot, seed 1).
+# Regenerates docs/results.md from the simulated procedures (default robot, seed 1), the auto
+# study (auto-results.py), the CL/CB/CF/OR seeds (validate-seeds.py) and the non-systematic
+# section (nonsys-results.py). The "Real robot data" section at the end is written by hand (fits
+# of the logs in tests/data, the tests it names): it is carried over from the current file.
 # Usage: host_sim/tools/make-results.sh [BIN_DIR]   (default build/host/bin)
 set -eu
 bin=${1:-build/host/bin}
@@ -7,6 +10,12 @@ here=$(cd "$(dirname "$0")/../.." && pwd)
 out="$here/docs/results.md"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+new="$tmp/results.md"
+sed -n '/^## Real robot data$/,$p' "$out" >"$tmp/real.md"
+if [ ! -s "$tmp/real.md" ]; then
+  echo "make-results.sh: no '## Real robot data' section in $out to carry over" >&2
+  exit 1
+fi
 
 now() { date +%s.%N; }
 t0=$(now); "$bin/odocal" sim umbmark --json >"$tmp/umbmark.json" 2>/dev/null; t1=$(now)
@@ -21,7 +30,7 @@ cores=$(nproc 2>/dev/null || echo unknown)
 t2=$(now); "$bin/odocal" sim montecarlo --robots 1000 --json >"$tmp/mc.json" 2>/dev/null; t3=$(now)
 "$bin/odocal" sim montecarlo --robots 100 >"$tmp/mc.txt" 2>/dev/null
 
-python3 - "$tmp" "$t0" "$t1" "$t2" "$t3" "$load" "$cores" >"$out" <<'PY'
+python3 - "$tmp" "$t0" "$t1" "$t2" "$t3" "$load" "$cores" >"$new" <<'PY'
 import json, math, statistics, sys
 d, t0, t1, t2, t3 = sys.argv[1], *map(float, sys.argv[2:6])
 load, cores = sys.argv[6], sys.argv[7]
@@ -117,6 +126,10 @@ for name, title in (("umbmark.txt", "UMBmark report"), ("validate.txt", "Validat
     print(open(f"{d}/{name}").read().rstrip())
     print("```\n")
 PY
-python3 "$here/host_sim/tools/validate-seeds.py" "$bin" 30 >>"$out"
-python3 "$here/host_sim/tools/nonsys-results.py" "$bin" >>"$out"
+python3 "$here/host_sim/tools/auto-results.py" "$bin" >>"$new"
+python3 "$here/host_sim/tools/validate-seeds.py" "$bin" 30 >>"$new"
+python3 "$here/host_sim/tools/nonsys-results.py" "$bin" >>"$new"
+printf '\n' >>"$new"
+cat "$tmp/real.md" >>"$new"
+cp "$new" "$out"
 echo "wrote $out"

@@ -1,4 +1,5 @@
 #include "odocal/calib/umbmark.hpp"
+#include "odocal/numbers.hpp"
 
 #include <cmath>
 #include <initializer_list>
@@ -27,7 +28,7 @@ double cos_of(double a) {
 }
 
 template <typename Real>
-constexpr Real pi = Real(3.14159265358979323846);
+constexpr Real pi = pi_v<Real>;
 template <typename Real>
 constexpr Real quarter_turn_rad = pi<Real> / 2;
 template <typename Real>

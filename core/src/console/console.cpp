@@ -1,5 +1,6 @@
 #include "odocal/console/console.hpp"
 #include "odocal/drive/numeric.hpp"
+#include "odocal/numbers.hpp"
 
 #include <cstring>
 
@@ -10,7 +11,7 @@ namespace {
 
 // `fit apply <c_l> <c_r> <wheelbase_mm> <unix_s> <runs> arc <wheelbase_arc_mm>`
 constexpr std::size_t kMaxWords = 9u;
-constexpr float kRadToDeg = 180.0f / 3.14159265358979323846f;
+constexpr float kRadToDeg = 180.0f / pi_v<float>;
 
 }  // namespace
 

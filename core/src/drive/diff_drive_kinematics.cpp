@@ -1,10 +1,11 @@
 #include "odocal/drive/diff_drive_kinematics.hpp"
+#include "odocal/numbers.hpp"
 
 #include <cmath>
 
 namespace odocal::drive {
 namespace {
-constexpr float kPi = 3.14159265358979323846f;
+constexpr float kPi = pi_v<float>;
 }
 
 void DiffDriveKinematics::configure(const DriveConfig& config) {

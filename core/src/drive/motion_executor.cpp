@@ -1,11 +1,12 @@
 #include "odocal/drive/motion_executor.hpp"
+#include "odocal/numbers.hpp"
 
 #include <cmath>
 
 namespace odocal::drive {
 namespace {
 
-constexpr float kPi = 3.14159265358979323846f;
+constexpr float kPi = pi_v<float>;
 constexpr float kMaxPathLength_m = 20.0f;
 
 // Out of line: two paths check it.

@@ -1,4 +1,5 @@
 #include "odocal/drive/odometry.hpp"
+#include "odocal/numbers.hpp"
 
 #include <cmath>
 
@@ -7,7 +8,7 @@
 namespace odocal::drive {
 namespace {
 
-constexpr float kPi = 3.14159265358979323846f;
+constexpr float kPi = pi_v<float>;
 
 // Kahan summation: adds `value` to `sum`, carrying the lost low-order bits in `compensation`.
 void add_compensated(float& sum, float& compensation, float value) {

@@ -12,10 +12,11 @@
 #include <vector>
 
 #include "odocal/host/fit.hpp"
+#include "odocal/numbers.hpp"
 
 namespace odocal::host::fit_detail {
 
-constexpr double pi = 3.14159265358979323846;
+using odocal::pi;
 
 /// A stretch of one log: rows [begin, end). Its odometry starts at rows[begin]'s ground-truth
 /// pose when that row has one (averaged with the rows right after it that have the same counts),

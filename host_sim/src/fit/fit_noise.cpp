@@ -2,6 +2,7 @@
 // logged path and the maximum-likelihood estimate beside `odocal fit`. See fit_noise.hpp.
 
 #include "odocal/host/fit_noise.hpp"
+#include "odocal/numbers.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +13,7 @@
 namespace odocal::host {
 namespace {
 
-constexpr double pi = 3.14159265358979323846;
+using odocal::pi;
 
 /// One independent end residual and the matrices its covariance is made of, restricted to the
 /// components measured at its end (x and y, heading, or all three).

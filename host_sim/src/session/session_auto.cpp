@@ -27,12 +27,13 @@
 #include "odocal/host/fit.hpp"
 #include "odocal/host/fit_noise.hpp"
 #include "odocal/host/sim_procedures.hpp"
+#include "odocal/numbers.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = odocal::pi;
 constexpr double kMeasureSigmaMm = 2.0;        ///< a tape over a few metres (docs/calibration.md)
 constexpr double kHeadingLengthMm = 286.4789;  ///< 2 mm per 0.4 degree, as odocal fit
 constexpr std::size_t kTotalMeasurements = 12;

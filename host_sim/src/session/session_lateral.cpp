@@ -15,12 +15,13 @@
 #include "odocal/calib/bootstrap.hpp"
 #include "odocal/calib/lateral.hpp"
 #include "odocal/host/calib_json.hpp"
+#include "odocal/numbers.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
 namespace {
 
-constexpr double pi = 3.14159265358979323846;
+using odocal::pi;
 constexpr std::uint32_t replicates = 2000;
 
 struct Arc {

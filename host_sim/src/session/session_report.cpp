@@ -14,12 +14,13 @@
 #include "odocal/drive/motion_executor.hpp"
 #include "odocal/host/sim_procedures.hpp"
 #include "odocal/host/sim_svg.hpp"
+#include "odocal/numbers.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = odocal::pi;
 const char* const kPalette[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd",
                                 "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
 

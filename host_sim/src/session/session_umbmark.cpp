@@ -13,12 +13,13 @@
 
 #include "odocal/calib/umbmark.hpp"
 #include "odocal/host/calib_json.hpp"
+#include "odocal/numbers.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
 namespace {
 
-constexpr double pi = 3.14159265358979323846;
+using odocal::pi;
 /// Two-sided 95 % normal quantile.
 constexpr double z95 = 1.959963984540054;
 

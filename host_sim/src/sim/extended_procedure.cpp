@@ -11,11 +11,12 @@
 
 #include "odocal/host/sim_procedures.hpp"
 #include "odocal/host/sim_svg.hpp"
+#include "odocal/numbers.hpp"
 
 namespace odocal::host {
 namespace {
 
-constexpr double pi = 3.14159265358979323846;
+using odocal::pi;
 constexpr double deg_per_rad = 180.0 / pi;
 
 /// Student-t distribution function for t >= 0 by Simpson's rule on the density (host code; the

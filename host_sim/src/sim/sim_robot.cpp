@@ -1,4 +1,5 @@
 #include "odocal/host/sim_robot.hpp"
+#include "odocal/numbers.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -74,7 +75,7 @@ bool set_key(const std::string& key, double value, RobotSpec& spec) {
   } else if (key == "measure_sigma_mm") {
     spec.truth.measure_sigma_m = value * 1e-3;
     // The sonar calibrator's ±0.4° goes with its ±2 mm: scale the heading noise alike.
-    spec.truth.measure_heading_sigma_rad = 0.4 * 3.14159265358979323846 / 180.0 * value / 2.0;
+    spec.truth.measure_heading_sigma_rad = 0.4 * odocal::pi / 180.0 * value / 2.0;
   } else {
     return false;
   }
@@ -478,8 +479,7 @@ sim::WorldPose SimulatedRobot::measure_in_odometry_frame() {
   sim::WorldPose local;
   local.x_m = c * dx + s * dy;
   local.y_m = -s * dx + c * dy;
-  local.theta_rad =
-      std::remainder(world.theta_rad - frame_.theta_rad, 2.0 * 3.14159265358979323846);
+  local.theta_rad = std::remainder(world.theta_rad - frame_.theta_rad, 2.0 * odocal::pi);
   return local;
 }
 

@@ -4,12 +4,13 @@
 #include <cmath>
 
 #include "odocal/host/sim_procedures.hpp"
+#include "odocal/numbers.hpp"
 
 namespace odocal::host {
 
 RunOutcome run_path_logged(SimulatedRobot& robot, const drive::Path& path, TickLog& log,
                            LogTruth truth, std::uint32_t period_ms, double timeout_s) {
-  constexpr double rad_to_deg = 180.0 / 3.14159265358979323846;
+  constexpr double rad_to_deg = 180.0 / odocal::pi;
   log.rows.clear();
   const TraceFn record = [&](const sim::WorldPose& pose) {
     TickRow row;

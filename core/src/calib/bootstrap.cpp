@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
+#include "odocal/calib/quantile.hpp"
 #include "odocal/calib/random.hpp"
 
 namespace odocal::calib {
@@ -66,19 +67,6 @@ double normal_quantile(double p) {
     }
   }
   return upper ? z : -z;
-}
-
-/// Type-7 (linear interpolation) sample quantile of values[0..count), reordering them.
-double quantile(double* values, std::size_t count, double probability) {
-  const double h = probability * static_cast<double>(count - 1);
-  const auto below = static_cast<std::size_t>(std::floor(h));
-  std::nth_element(values, values + below, values + count);
-  const double low = values[below];
-  if (below + 1 >= count) {
-    return low;
-  }
-  const double high = *std::min_element(values + below + 1, values + count);
-  return low + (h - static_cast<double>(below)) * (high - low);
 }
 
 BootstrapStatus fit(const TrainingRow* training, std::size_t count, BootstrapFit& out,
@@ -271,8 +259,8 @@ BootstrapStatus run_bootstrap(const BootstrapInput& input, BootstrapEstimate* es
       }
       values[wheel][0] = out.psi.row(wheel).dot(x);  // LR baseline Ψ̂Ẋ
       values[wheel][1] = sum / static_cast<double>(b_count);
-      values[wheel][2] = quantile(predictions, b_count, lower_p);
-      values[wheel][3] = quantile(predictions, b_count, upper_p);
+      values[wheel][2] = sample_quantile(predictions, b_count, lower_p);
+      values[wheel][3] = sample_quantile(predictions, b_count, upper_p);
     }
     BootstrapEstimate& e = estimates[u];
     e.lr_l = values[0][0];

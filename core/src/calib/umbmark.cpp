@@ -1,5 +1,4 @@
 #include "odocal/calib/umbmark.hpp"
-#include "odocal/numbers.hpp"
 
 #include <cmath>
 #include <initializer_list>
@@ -7,6 +6,7 @@
 
 #include "norm.hpp"
 #include "odocal/drive/bounded_trig.hpp"
+#include "odocal/numbers.hpp"
 
 namespace odocal::calib {
 namespace {

@@ -8,6 +8,7 @@
 
 #include "fit_interval.hpp"
 #include "fit_model.hpp"
+#include "odocal/calib/quantile.hpp"
 #include "odocal/calib/random.hpp"
 #include "odocal/host/fit.hpp"
 
@@ -223,21 +224,12 @@ std::vector<Unit> bootstrap_units(const std::vector<TickLog>& logs, std::size_t 
   return units;
 }
 
-/// Type-7 quantile of sorted values.
-double quantile(const std::vector<double>& sorted, double probability) {
-  const double h = (static_cast<double>(sorted.size()) - 1.0) * probability;
-  const auto lo = static_cast<std::size_t>(std::floor(h));
-  const std::size_t hi = std::min(lo + 1, sorted.size() - 1);
-  return sorted[lo] + (h - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
-}
-
 /// Percentile interval of the bootstrap values, each end moved away from the estimate by
 /// `widen` (the small-sample correction, see fit_geometry).
 FitInterval interval(std::vector<double> values, double level, double estimate, double widen) {
-  std::sort(values.begin(), values.end());
   const double tail = 0.5 * (1.0 - level);
-  const double lo = quantile(values, tail);
-  const double hi = quantile(values, 1.0 - tail);
+  const double lo = calib::sample_quantile(values.data(), values.size(), tail);
+  const double hi = calib::sample_quantile(values.data(), values.size(), 1.0 - tail);
   return FitInterval{std::min(lo, estimate - widen * (estimate - lo)),
                      std::max(hi, estimate + widen * (hi - estimate))};
 }

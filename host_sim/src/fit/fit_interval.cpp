@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "odocal/calib/quantile.hpp"
 #include "odocal/calib/random.hpp"
 
 namespace odocal::host::fit_detail {
@@ -81,14 +82,6 @@ Matrix3 cr2_meat(const std::vector<Cluster>& clusters, const std::vector<Vector3
     meat.noalias() += s * s.transpose();
   }
   return meat;
-}
-
-double quantile_of(std::vector<double>& values, double probability) {
-  std::sort(values.begin(), values.end());
-  const double h = (static_cast<double>(values.size()) - 1.0) * probability;
-  const auto lo = static_cast<std::size_t>(std::floor(h));
-  const std::size_t hi = std::min(lo + 1, values.size() - 1);
-  return values[lo] + (h - static_cast<double>(lo)) * (values[hi] - values[lo]);
 }
 
 }  // namespace
@@ -246,8 +239,8 @@ ClusterInterval cluster_interval(const std::vector<UnitRows>& rows, const Params
     }
   }
   for (int l = 0; l < npi && replicates > 0; ++l) {
-    const double q_hi = quantile_of(t_star[l], 1.0 - tail);
-    const double q_lo = quantile_of(t_star[l], tail);
+    const double q_hi = calib::sample_quantile(t_star[l].data(), t_star[l].size(), 1.0 - tail);
+    const double q_lo = calib::sample_quantile(t_star[l].data(), t_star[l].size(), tail);
     out.lo[l] = p[l] * (1.0 - q_hi * out.se[l]);
     out.hi[l] = p[l] * (1.0 - q_lo * out.se[l]);
   }

@@ -2,13 +2,15 @@
 // logged path and the maximum-likelihood estimate beside `odocal fit`. See fit_noise.hpp.
 
 #include "odocal/host/fit_noise.hpp"
-#include "odocal/numbers.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <sstream>
+
+#include "odocal/calib/quantile.hpp"
+#include "odocal/numbers.hpp"
 
 namespace odocal::host {
 namespace {
@@ -258,15 +260,6 @@ Eigen::Vector3d start_point(const std::vector<Stretch>& stretches) {
   return p;
 }
 
-double percentile(std::vector<double> values, double q) {
-  std::sort(values.begin(), values.end());
-  const double position = q * static_cast<double>(values.size() - 1);
-  const auto below = static_cast<std::size_t>(position);
-  const std::size_t above = std::min(below + 1, values.size() - 1);
-  const double f = position - static_cast<double>(below);
-  return values[below] * (1.0 - f) + values[above] * f;
-}
-
 }  // namespace
 
 EndSensitivity end_sensitivity(const TickLog& log, std::size_t first, std::size_t last,
@@ -382,6 +375,9 @@ NoiseEstimate estimate_wheel_noise(const std::vector<TickLog>& runs, const FitNo
     sigma.push_back(std::sqrt(q[2]));
   }
   const double tail = 0.5 * (1.0 - o.level);
+  const auto percentile = [](std::vector<double>& values, double q) {
+    return calib::sample_quantile(values.data(), values.size(), q);
+  };
   e.ci_k_l = FitInterval{percentile(k_l, tail), percentile(k_l, 1.0 - tail)};
   e.ci_k_r = FitInterval{percentile(k_r, tail), percentile(k_r, 1.0 - tail)};
   e.ci_measure_sigma_mm = FitInterval{percentile(sigma, tail), percentile(sigma, 1.0 - tail)};

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "odocal/calib/quantile.hpp"
 #include "odocal/host/sim_procedures.hpp"
 #include "odocal/host/sim_svg.hpp"
 #include "odocal/sim/random.hpp"
@@ -58,22 +59,18 @@ Summary summarise(std::vector<double> v) {
   if (v.empty()) {
     return s;
   }
+  // The mean over the sorted values (its rounding as before), then the quantiles, which reorder.
   std::sort(v.begin(), v.end());
-  auto quantile = [&v](double q) {
-    // Linear interpolation between order statistics.
-    const double pos = q * static_cast<double>(v.size() - 1);
-    const auto lo = static_cast<std::size_t>(pos);
-    const std::size_t hi = std::min(lo + 1, v.size() - 1);
-    return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
-  };
   s.min = v.front();
   s.max = v.back();
+  double sum = 0.0;
+  for (double x : v) {
+    sum += x;
+  }
+  const auto quantile = [&v](double q) { return calib::sample_quantile(v.data(), v.size(), q); };
   s.p05 = quantile(0.05);
   s.median = quantile(0.5);
   s.p95 = quantile(0.95);
-  double sum = 0.0;
-  for (double x : v)
-    sum += x;
   s.mean = sum / static_cast<double>(v.size());
   return s;
 }

@@ -1,5 +1,4 @@
 #include "odocal/host/sim_robot.hpp"
-#include "odocal/numbers.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -14,6 +13,7 @@
 
 #include "odocal/host/calib_json.hpp"
 #include "odocal/host/csv.hpp"
+#include "odocal/numbers.hpp"
 
 namespace odocal::host {
 

@@ -49,3 +49,52 @@ function(odocal_core_area name)
     target_link_libraries(odocal_${name} INTERFACE odocal_core_headers ${ARG_DEPS})
   endif()
 endfunction()
+
+# The simulator's hot path (the firmware's drive core, the plant, the procedure loop) compiled
+# for speed, on the host only (the robot images are built by other presets with their own
+# flags): -O3 and link-time optimization across the tick, the plant and the loop that calls them
+# (docs/simulation.md "Speed"). None of it changes a result bit: no fast-math, FP contraction
+# explicitly off (no fused multiply-add), and -fno-math-errno only drops errno writes. The
+# libraries keep ordinary object code too (fat LTO objects), so the tests that link them link
+# as before. odocal_simulator_speed(TARGET) marks a target of the hot path; each folder marks its
+# own (core: odocal_drive; hal: odocal_hal_sim; host_sim: the procedures and the programs;
+# tests: odocal-bench). On other presets it does nothing: the robot images have their own flags.
+#
+# Optional profile-guided optimisation (host_sim/tools/pgo-build.sh runs both stages in
+# build/host): ODOCAL_SIM_PGO=generate instruments these targets, a training run writes the
+# profile to ODOCAL_SIM_PGO_DIR, and ODOCAL_SIM_PGO=use compiles them with it (about 20 % less
+# time per simulated second; the results stay bit-identical, PGO only moves and inlines code).
+if(ODOCAL_TARGET STREQUAL "host")
+  set(ODOCAL_SIM_PGO "" CACHE STRING "simulator profile-guided optimisation: empty, generate or use")
+  set_property(CACHE ODOCAL_SIM_PGO PROPERTY STRINGS "" generate use)
+  set(ODOCAL_SIM_PGO_DIR ${CMAKE_BINARY_DIR}/sim-pgo CACHE PATH "simulator PGO profile directory")
+  include(CheckIPOSupported)
+  check_ipo_supported(RESULT odocal_host_ipo OUTPUT odocal_host_ipo_output LANGUAGES CXX)
+  set_property(GLOBAL PROPERTY ODOCAL_HOST_IPO ${odocal_host_ipo})
+endif()
+function(odocal_simulator_speed target)
+  if(NOT ODOCAL_TARGET STREQUAL "host")
+    return()
+  endif()
+  get_property(ipo GLOBAL PROPERTY ODOCAL_HOST_IPO)
+  target_compile_options(${target} PRIVATE -O3 -ffp-contract=off -fno-math-errno)
+  get_target_property(type ${target} TYPE)
+  if(ipo)
+    set_property(TARGET ${target} PROPERTY INTERPROCEDURAL_OPTIMIZATION ON)
+    if(type STREQUAL "STATIC_LIBRARY")
+      target_compile_options(${target} PRIVATE -ffat-lto-objects)
+    endif()
+  endif()
+  set(profile -fprofile-dir=${ODOCAL_SIM_PGO_DIR} -fprofile-prefix-path=${CMAKE_BINARY_DIR})
+  if(ODOCAL_SIM_PGO STREQUAL "generate")
+    target_compile_options(${target} PRIVATE -fprofile-generate -fprofile-update=single ${profile})
+    # Whatever links an instrumented library needs the profiling runtime.
+    target_link_options(${target} PUBLIC -fprofile-generate)
+  elseif(ODOCAL_SIM_PGO STREQUAL "use")
+    # A profile older than the sources only loses speed: no error for a missing or stale one.
+    target_compile_options(${target} PRIVATE -fprofile-use -fprofile-partial-training ${profile}
+                                             -Wno-missing-profile -Wno-error=coverage-mismatch)
+  elseif(NOT ODOCAL_SIM_PGO STREQUAL "")
+    message(FATAL_ERROR "ODOCAL_SIM_PGO must be empty, generate or use, not ${ODOCAL_SIM_PGO}")
+  endif()
+endfunction()

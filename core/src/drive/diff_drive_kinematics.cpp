@@ -1,7 +1,8 @@
 #include "odocal/drive/diff_drive_kinematics.hpp"
-#include "odocal/numbers.hpp"
 
 #include <cmath>
+
+#include "odocal/numbers.hpp"
 
 namespace odocal::drive {
 namespace {

@@ -1,9 +1,9 @@
 #include "odocal/drive/odometry.hpp"
-#include "odocal/numbers.hpp"
 
 #include <cmath>
 
 #include "odocal/drive/bounded_trig.hpp"
+#include "odocal/numbers.hpp"
 
 namespace odocal::drive {
 namespace {

@@ -14,6 +14,7 @@
 #include "odocal/host/calib_json.hpp"
 #include "odocal/host/csv.hpp"
 #include "odocal/numbers.hpp"
+#include "odocal/params/param_table.hpp"
 
 namespace odocal::host {
 
@@ -168,16 +169,27 @@ std::string mm(double value) {
 }
 
 // Ranges a robot file must keep so that the simulated firmware can run every procedure on it.
-// The firmware itself takes 5-1000 mm wheels and a 10-5000 mm wheelbase; the wheelbase range is
-// narrower so that a calibrated wheelbase (E_b·b, E_b up to 1.1/0.95) stays inside the firmware's.
-constexpr double wheel_diameter_min_mm = 5.0;
-constexpr double wheel_diameter_max_mm = 1000.0;
+// The wheel diameter's is the firmware's own (its parameter table); the wheelbase range is
+// narrower than the firmware's 10-5000 mm so that a calibrated wheelbase (E_b·b, E_b up to
+// 1.1/0.95) stays inside it.
+constexpr const drive::ConfigField& firmware_field(params::ParamId id) {
+  return drive::config_fields[static_cast<std::size_t>(id)];
+}
+constexpr double wheel_diameter_min_mm =
+    static_cast<double>(firmware_field(params::ParamId::wheel_diameter_mm).min);
+constexpr double wheel_diameter_max_mm =
+    static_cast<double>(firmware_field(params::ParamId::wheel_diameter_mm).max);
 constexpr double wheelbase_min_mm = 12.0;
 constexpr double wheelbase_max_mm = 4000.0;
+static_assert(wheelbase_min_mm * 0.95 / 1.1 >= firmware_field(params::ParamId::wheelbase_mm).min &&
+                  wheelbase_max_mm * 1.1 / 0.95 <=
+                      firmware_field(params::ParamId::wheelbase_mm).max,
+              "a calibrated wheelbase stays within the firmware's range");
 // Fewer than 100 counts per turn (under 2 mm of wheel travel per count on the default wheel) is
 // too coarse for return errors of a few millimetres to mean anything.
 constexpr double counts_per_rev_min = 100.0;
-constexpr double counts_per_rev_max = 1.0e6;  // the firmware's limit
+constexpr double counts_per_rev_max =
+    static_cast<double>(firmware_field(params::ParamId::counts_per_rev).max);
 // The procedures correct errors of a few percent (UMBmark's formulas are small-angle ones, and
 // Maddahi's factors must stay in the firmware's 0.5-2): the real wheels within 5 % of what the
 // firmware is told, the real wheelbase within 10 %.
@@ -286,7 +298,8 @@ bool parse_robot(const std::string& text, const std::string& source, RobotSpec& 
   const double wheelbase_mm = static_cast<double>(out.nominal.wheelbase_mm);
   if (!(wheel_mm >= wheel_diameter_min_mm && wheel_mm <= wheel_diameter_max_mm)) {
     return fail(error, source, "wheel_diameter_mm",
-                "must be from 5 to 1000 mm (the firmware's range), not " + mm(wheel_mm));
+                fmt::format("must be from {:g} to {:g} mm (the firmware's range), not {}",
+                            wheel_diameter_min_mm, wheel_diameter_max_mm, mm(wheel_mm)));
   }
   if (!(wheelbase_mm > wheel_mm)) {
     return fail(

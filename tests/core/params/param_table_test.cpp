@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <utility>
 
 #include "alloc_counter.hpp"
 
@@ -42,6 +43,41 @@ TEST(ParamTable, HasEveryDesignParameterAndEveryDriveConfigField) {
     EXPECT_STREQ(param_info(id).name, name);
   }
   EXPECT_EQ(param_count, sizeof(names) / sizeof(names[0]));
+}
+
+TEST(ParamTable, StoredIdsNeverChange) {
+  // The ids are written in stored records, and the one list (ODOCAL_DRIVE_PARAMETERS) numbers
+  // them by position: a parameter inserted or moved there would renumber what robots have saved.
+  // A new parameter appends a line here with the next id.
+  const std::pair<const char*, int> stored[] = {{"wheel_diameter_mm", 0},
+                                                {"wheelbase_mm", 1},
+                                                {"counts_per_rev", 2},
+                                                {"c_l", 3},
+                                                {"c_r", 4},
+                                                {"f_lat", 5},
+                                                {"f_lon", 6},
+                                                {"control_hz", 7},
+                                                {"kp", 8},
+                                                {"ki", 9},
+                                                {"kff", 10},
+                                                {"max_wheel_radps", 11},
+                                                {"cmd_timeout_ms", 12},
+                                                {"v_max_mps", 13},
+                                                {"w_max_radps", 14},
+                                                {"accel_mps2", 15},
+                                                {"alpha_radps2", 16},
+                                                {"settle_ms", 17},
+                                                {"stall_ms", 18},
+                                                {"stall_duty", 19},
+                                                {"max_illegal", 20},
+                                                {"wheelbase_arc_mm", 21},
+                                                {"wiring_fix", 22}};
+  for (const auto& [name, id] : stored) {
+    ParamId found{};
+    ASSERT_TRUE(find_param(name, std::strlen(name), found)) << name;
+    EXPECT_EQ(static_cast<int>(found), id) << name;
+  }
+  EXPECT_EQ(param_count, sizeof(stored) / sizeof(stored[0]));
 }
 
 TEST(ParamTable, NamesAreExactAndCaseSensitive) {

@@ -8,47 +8,59 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 namespace odocal::drive {
 
-/// Robot geometry, calibration factors, controller gains and motion limits.
-/// Units are in the field names; every field has a closed valid range (`config_fields`).
+/// Every parameter, declared once: X(type, name, default, unit, min, max), in the order of the
+/// stored parameter ids (params::ParamId): never reorder, only append. From this list come the
+/// DriveConfig member (type, name, default), the console's and the store's table row
+/// (`config_fields`: name, unit, closed range, whole or real) and the stored id (`ParamId`).
+/// Units are in the names; a `std::uint32_t` parameter takes whole numbers only. Ranges are what a
+/// robot can run with; the cross-field rules come on top (`check`). A new parameter is one line
+/// here (docs/architecture.md, "How to add").
+// clang-format off
+#define ODOCAL_DRIVE_PARAMETERS(X)                                                               \
+  /* Geometry the firmware is told (nominal). */                                                 \
+  X(float, wheel_diameter_mm, 60.0f, "mm", 5.0f, 1000.0f)       /* average wheel diameter D_a */ \
+  X(float, wheelbase_mm, 150.0f, "mm", 10.0f, 5000.0f)          /* b, between contact points */  \
+  X(float, counts_per_rev, 1440.0f, "counts", 4.0f, 1.0e6f)     /* per wheel turn after x4 */    \
+  /* Calibration factors. */                                                                     \
+  X(float, c_l, 1.0f, "1", 0.5f, 2.0f)             /* UMBmark left counts-to-distance, 6.35 */   \
+  X(float, c_r, 1.0f, "1", 0.5f, 2.0f)             /* UMBmark right counts-to-distance, 6.35 */  \
+  X(float, f_lat, 1.0f, "1", 0.5f, 2.0f)           /* Maddahi lateral: the left wheel, eq. 7 */  \
+  X(float, f_lon, 1.0f, "1", 0.5f, 2.0f)           /* Maddahi longitudinal: both, eq. 7 */       \
+  /* Wheel-velocity loop; duty is the signed PWM fraction in [-1, 1]. */                         \
+  X(float, control_hz, 1000.0f, "Hz", 50.0f, 20000.0f)          /* tick rate */                  \
+  X(float, kp, 0.05f, "duty*s/rad", 0.0f, 100.0f)     /* duty per rad/s of speed error */        \
+  X(float, ki, 1.0f, "duty/rad", 0.0f, 10000.0f)      /* duty per rad of accumulated error */    \
+  X(float, kff, 0.033f, "duty*s/rad", 0.0f, 10.0f)    /* feed-forward, duty per rad/s */         \
+  X(float, max_wheel_radps, 25.0f, "rad/s", 0.1f, 1000.0f)      /* set-points clamped to +- */   \
+  X(float, cmd_timeout_ms, 500.0f, "ms", 10.0f, 60000.0f)       /* a `drive` older stops */      \
+  /* Motion limits of paths. */                                                                  \
+  X(float, v_max_mps, 0.2f, "m/s", 0.001f, 10.0f)     /* cruise speed, lines and arcs */         \
+  X(float, w_max_radps, 1.5f, "rad/s", 0.01f, 50.0f)  /* cruise turn rate, turns in place */     \
+  X(float, accel_mps2, 0.5f, "m/s2", 0.01f, 50.0f)    /* linear acceleration limit */            \
+  X(float, alpha_radps2, 4.0f, "rad/s2", 0.01f, 500.0f)         /* angular acceleration limit */ \
+  X(float, settle_ms, 200.0f, "ms", 0.0f, 10000.0f)   /* standstill between segments */          \
+  /* Faults. */                                                                                  \
+  X(float, stall_ms, 500.0f, "ms", 10.0f, 60000.0f)   /* duty > stall_duty, no net motion */     \
+  X(float, stall_duty, 0.3f, "1", 0.0f, 1.0f)         /* |duty| a turning wheel needs */         \
+  X(std::uint32_t, max_illegal, 16u, "count", 0.0f, 1.0e6f)     /* illegal transitions, fault */ \
+  /* Added later. wheelbase_arc_mm: the arc wheelbase b_arc, the wheelbase in force being        \
+     b + w·(b_arc − b), w = |forward| / (|forward| + |differential|) wheel travel (0 turning in   \
+     place, R/(R + b/2) on an arc of radius R, 1 straight), as `odocal fit`'s arc model; 0: the   \
+     same as wheelbase_mm, else within 20 % of it (`check`). */                                   \
+  X(float, wheelbase_arc_mm, 0.0f, "mm", 0.0f, 5000.0f)                                          \
+  X(std::uint32_t, wiring_fix, 0u, "bits", 0.0f, 63.0f)         /* WiringFix bits */
+// clang-format on
+
+/// Robot geometry, calibration factors, controller gains and motion limits: one member per
+/// parameter of ODOCAL_DRIVE_PARAMETERS, with its default.
 struct DriveConfig {
-  // Geometry the firmware is told (nominal).
-  float wheel_diameter_mm = 60.0f;  ///< average wheel diameter D_a
-  float wheelbase_mm = 150.0f;      ///< wheelbase b (distance between wheel contact points)
-  float counts_per_rev = 1440.0f;   ///< encoder counts per wheel revolution after x4 decoding
-  // Calibration factors.
-  float c_l = 1.0f;    ///< UMBmark left-wheel scale of counts-to-distance (eq. 6.35)
-  float c_r = 1.0f;    ///< UMBmark right-wheel scale of counts-to-distance (eq. 6.35)
-  float f_lat = 1.0f;  ///< Maddahi lateral factor: scales the left wheel (eq. 7)
-  float f_lon = 1.0f;  ///< Maddahi longitudinal factor: scales both wheels (eq. 7)
-  // Wheel-velocity loop. Duty is the signed PWM fraction in [-1, 1].
-  float control_hz = 1000.0f;     ///< tick rate
-  float kp = 0.05f;               ///< proportional gain, duty per (rad/s) of wheel speed error
-  float ki = 1.0f;                ///< integral gain, duty per rad of accumulated wheel angle error
-  float kff = 0.033f;             ///< feed-forward, duty per (rad/s) of wheel speed set-point
-  float max_wheel_radps = 25.0f;  ///< wheel speed set-points are clamped to +- this
-  float cmd_timeout_ms = 500.0f;  ///< a `drive` command older than this stops the wheels
-  // Motion limits used by paths.
-  float v_max_mps = 0.2f;     ///< cruise speed on lines and arcs
-  float w_max_radps = 1.5f;   ///< cruise turn rate for turns in place
-  float accel_mps2 = 0.5f;    ///< linear acceleration limit
-  float alpha_radps2 = 4.0f;  ///< angular acceleration limit
-  float settle_ms = 200.0f;   ///< pause at standstill between segments
-  // Faults.
-  float stall_ms = 500.0f;          ///< duty above stall_duty, position within a count, this long
-  float stall_duty = 0.3f;          ///< |duty| above which a wheel is expected to turn
-  std::uint32_t max_illegal = 16u;  ///< illegal encoder transitions before the fault trips
-  // Geometry, added later (the table is in stored-id order, so it comes last).
-  /// Arc wheelbase b_arc: the wheelbase in force is b + w·(b_arc − b) with the blend weight
-  /// w = |forward| / (|forward| + |differential|) wheel travel (0 turning in place, R/(R + b/2) on
-  /// an arc of radius R, 1 straight), as `odocal fit`'s arc-wheelbase model. 0 = the same as
-  /// wheelbase_mm (one wheelbase, the robot behaves as before the parameter existed); otherwise
-  /// within 20 % of wheelbase_mm (`check`).
-  float wheelbase_arc_mm = 0.0f;
-  // Wiring.
-  std::uint32_t wiring_fix = 0u;  ///< WiringFix bits: how the motors and encoders are connected
+#define ODOCAL_DRIVE_MEMBER(type, name, initial, unit, min, max) type name = initial;
+  ODOCAL_DRIVE_PARAMETERS(ODOCAL_DRIVE_MEMBER)
+#undef ODOCAL_DRIVE_MEMBER
 };
 
 /// Bits of DriveConfig::wiring_fix: the firmware's fixes for a miswired robot (docs/wiring.md).
@@ -102,34 +114,17 @@ struct ConfigField {
 static_assert(sizeof(DriveConfig) < 256u, "field offsets fit ConfigField::offset");
 
 /// Number of fields (= number of console parameters).
-inline constexpr std::size_t config_field_count = 23u;
+inline constexpr std::size_t config_field_count =
+#define ODOCAL_DRIVE_ONE(type, name, initial, unit, min, max) 1u +
+    ODOCAL_DRIVE_PARAMETERS(ODOCAL_DRIVE_ONE) 0u;
+#undef ODOCAL_DRIVE_ONE
 
-/// The table, in the order of the stored parameter ids (params::ParamId): never reorder, only
-/// append. Ranges are what a robot can run with; one cross-field rule comes on top (`check`).
+/// The table, in the order of the stored parameter ids (params::ParamId).
 inline constexpr std::array<ConfigField, config_field_count> config_fields{{
-    {"wheel_diameter_mm", "mm", 5.0f, 1000.0f, offsetof(DriveConfig, wheel_diameter_mm), false},
-    {"wheelbase_mm", "mm", 10.0f, 5000.0f, offsetof(DriveConfig, wheelbase_mm), false},
-    {"counts_per_rev", "counts", 4.0f, 1.0e6f, offsetof(DriveConfig, counts_per_rev), false},
-    {"c_l", "1", 0.5f, 2.0f, offsetof(DriveConfig, c_l), false},
-    {"c_r", "1", 0.5f, 2.0f, offsetof(DriveConfig, c_r), false},
-    {"f_lat", "1", 0.5f, 2.0f, offsetof(DriveConfig, f_lat), false},
-    {"f_lon", "1", 0.5f, 2.0f, offsetof(DriveConfig, f_lon), false},
-    {"control_hz", "Hz", 50.0f, 20000.0f, offsetof(DriveConfig, control_hz), false},
-    {"kp", "duty*s/rad", 0.0f, 100.0f, offsetof(DriveConfig, kp), false},
-    {"ki", "duty/rad", 0.0f, 10000.0f, offsetof(DriveConfig, ki), false},
-    {"kff", "duty*s/rad", 0.0f, 10.0f, offsetof(DriveConfig, kff), false},
-    {"max_wheel_radps", "rad/s", 0.1f, 1000.0f, offsetof(DriveConfig, max_wheel_radps), false},
-    {"cmd_timeout_ms", "ms", 10.0f, 60000.0f, offsetof(DriveConfig, cmd_timeout_ms), false},
-    {"v_max_mps", "m/s", 0.001f, 10.0f, offsetof(DriveConfig, v_max_mps), false},
-    {"w_max_radps", "rad/s", 0.01f, 50.0f, offsetof(DriveConfig, w_max_radps), false},
-    {"accel_mps2", "m/s2", 0.01f, 50.0f, offsetof(DriveConfig, accel_mps2), false},
-    {"alpha_radps2", "rad/s2", 0.01f, 500.0f, offsetof(DriveConfig, alpha_radps2), false},
-    {"settle_ms", "ms", 0.0f, 10000.0f, offsetof(DriveConfig, settle_ms), false},
-    {"stall_ms", "ms", 10.0f, 60000.0f, offsetof(DriveConfig, stall_ms), false},
-    {"stall_duty", "1", 0.0f, 1.0f, offsetof(DriveConfig, stall_duty), false},
-    {"max_illegal", "count", 0.0f, 1.0e6f, offsetof(DriveConfig, max_illegal), true},
-    {"wheelbase_arc_mm", "mm", 0.0f, 5000.0f, offsetof(DriveConfig, wheelbase_arc_mm), false},
-    {"wiring_fix", "bits", 0.0f, 63.0f, offsetof(DriveConfig, wiring_fix), true},
+#define ODOCAL_DRIVE_FIELD(type, name, initial, unit, min, max) \
+  {#name, unit, min, max, offsetof(DriveConfig, name), std::is_same_v<type, std::uint32_t>},
+    ODOCAL_DRIVE_PARAMETERS(ODOCAL_DRIVE_FIELD)
+#undef ODOCAL_DRIVE_FIELD
 }};
 
 /// Why a configuration was refused.

@@ -14,30 +14,10 @@ namespace odocal::params {
 /// Stable parameter identifiers. The numeric value is the id written in stored records: never
 /// renumber, only append (before `count`).
 enum class ParamId : std::uint8_t {
-  wheel_diameter_mm = 0,
-  wheelbase_mm = 1,
-  counts_per_rev = 2,
-  c_l = 3,
-  c_r = 4,
-  f_lat = 5,
-  f_lon = 6,
-  control_hz = 7,
-  kp = 8,
-  ki = 9,
-  kff = 10,
-  max_wheel_radps = 11,
-  cmd_timeout_ms = 12,
-  v_max_mps = 13,
-  w_max_radps = 14,
-  accel_mps2 = 15,
-  alpha_radps2 = 16,
-  settle_ms = 17,
-  stall_ms = 18,
-  stall_duty = 19,
-  max_illegal = 20,
-  wheelbase_arc_mm = 21,
-  wiring_fix = 22,
-  count = 23,
+#define ODOCAL_PARAM_ID(type, name, initial, unit, min, max) name,
+  ODOCAL_DRIVE_PARAMETERS(ODOCAL_PARAM_ID)
+#undef ODOCAL_PARAM_ID
+      count,
 };
 
 /// Number of parameters.

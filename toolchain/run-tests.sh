@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Every test of the project, as CI runs it: install the packages, build each preset, run its tests.
-# The last line is the grand total over every preset: "N passed, N failed"; the exit status is
-# non-zero when a test failed or a preset's tests could not run.
+# The last line is the grand total over every preset: "N passed, N failed", counting test cases
+# (each GoogleTest case, and each other ctest entry: an image check, the QEMU console test, a
+# study); the line before it counts the ctest entries. The exit status is non-zero when a test
+# failed or a preset's tests could not run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./toolchain/install-deps.sh
@@ -20,14 +22,22 @@ status=0
 passed=0
 failed=0
 skipped=0
+cases_passed=0
+cases_failed=0
 log=$(mktemp)
-trap 'rm -f "${log}"' EXIT
+xml=$(mktemp -d)
+trap 'rm -rf "${log}" "${xml}"' EXIT
 for preset in stm32f4 linux-sbc host; do
   echo "== tests ${preset} =="
+  rm -rf "${xml:?}"/*
   set +e
-  ctest --preset "${preset}" -j "${jobs}" 2>&1 | tee "${log}"
+  # Each GoogleTest program writes its cases to ${xml}/PROGRAM.xml (GTEST_OUTPUT).
+  GTEST_OUTPUT="xml:${xml}/" ctest --preset "${preset}" -j "${jobs}" 2>&1 | tee "${log}"
   ctest_status=${PIPESTATUS[0]}
   set -e
+  read -r cp cf <<<"$(python3 toolchain/count-test-cases.py "${log}" "${xml}")"
+  cases_passed=$((cases_passed + cp))
+  cases_failed=$((cases_failed + cf))
   # ctest ends with "NN% tests passed, F tests failed out of T"; tests that exited with their
   # SKIP_RETURN_CODE are listed as "(Skipped)" and counted neither passed nor failed here.
   summary=$(sed -n 's/^[0-9]*% tests passed, \([0-9]*\) tests* failed out of \([0-9]*\)$/\1 \2/p' "${log}")
@@ -48,5 +58,7 @@ echo "== total over the presets stm32f4, linux-sbc, host =="
 if [ "${skipped}" -ne 0 ]; then
   echo "${skipped} skipped (a package the test fetches could not be downloaded)"
 fi
-echo "${passed} passed, ${failed} failed"
+echo "ctest entries: ${passed} passed, ${failed} failed"
+if [ "${cases_failed}" -ne 0 ]; then status=1; fi
+echo "${cases_passed} passed, ${cases_failed} failed"
 exit ${status}

@@ -1,0 +1,63 @@
+#!/usr/bin/env python3
+"""Test cases of one ctest run, as a user would count them: each GoogleTest case of a program that
+wrote its XML report (GTEST_OUTPUT) and each other ctest entry (or a GoogleTest program that
+wrote none, e.g. one that crashed) as one case.
+
+Usage: count-test-cases.py CTEST_LOG XML_DIR   prints "PASSED FAILED"
+"""
+import glob
+import os
+import re
+import sys
+import xml.etree.ElementTree as ET
+
+ENTRY = re.compile(r"^\s*\d+/\d+ Test\s+#\d+: (\S+) \.*\s*(.*?)\s+[\d.]+ sec\s*$")
+
+
+def gtest_cases(path):
+    """(passed, failed) of a GoogleTest XML report; skipped and disabled cases count neither."""
+    root = ET.parse(path).getroot()
+    passed = failed = 0
+    for case in root.iter("testcase"):
+        if case.get("status", "run") != "run" or case.get("result") == "skipped":
+            continue
+        if case.find("failure") is not None or case.find("error") is not None:
+            failed += 1
+        else:
+            passed += 1
+    return passed, failed
+
+
+def main():
+    log, xml_dir = sys.argv[1], sys.argv[2]
+    reports = {}
+    for path in glob.glob(os.path.join(xml_dir, "*.xml")):
+        name = re.sub(r"(_\d+)?\.xml$", "", os.path.basename(path))
+        reports.setdefault(name, []).append(path)
+    passed = failed = 0
+    with open(log, encoding="utf-8", errors="replace") as f:
+        for line in f:
+            m = ENTRY.match(line)
+            if not m:
+                continue
+            name, status = m.group(1), m.group(2)
+            if "Skipped" in status:
+                continue
+            ok = status == "Passed"
+            counted = False
+            for path in reports.get(name, []):
+                try:
+                    p, q = gtest_cases(path)
+                except ET.ParseError:
+                    continue
+                passed, failed = passed + p, failed + q
+                counted = True
+            if counted and not ok and not any(gtest_cases(x)[1] for x in reports[name]):
+                failed += 1  # the program failed after its cases (a crash at exit, a leak check)
+            elif not counted:
+                passed, failed = (passed + 1, failed) if ok else (passed, failed + 1)
+    print(passed, failed)
+
+
+if __name__ == "__main__":
+    main()

@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <memory>
 
-#include "../core/params/power_cut_harness.hpp"
+#include "../../core/params/power_cut_harness.hpp"
 #include "flash_model.hpp"
 #include "odocal/hal/stm32f4/flash_store.hpp"
 

@@ -12,6 +12,7 @@ covariances it gives.
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -23,6 +24,30 @@ odocal = os.path.join(bin_dir, "odocal")
 
 def run(args, **kw):
     return subprocess.run(args, check=True, capture_output=True, text=True, **kw).stdout
+
+
+def wrap(text, indent=""):
+    """A paragraph (indent "") or a Markdown list item's continuation (indent "  ") at 98."""
+    lines, line = [], ""
+    for w in text.replace(" %", "\u00a0%").split(" "):
+        if line and len(line) + 1 + len(w) > 98:
+            lines.append(line)
+            line = indent + w
+        else:
+            line = w if not line else line + " " + w
+    lines.append(line)
+    return "\n".join(lines).replace("\u00a0", " ")
+
+
+def inside(lines):
+    """(points inside, points) over lines that say 'K of N ...'."""
+    found = [re.search(r"(\d+) of (\d+)", l) for l in lines]
+    return (sum(int(m.group(1)) for m in found if m), sum(int(m.group(2)) for m in found if m))
+
+
+def expected_inside(n):
+    return (f"expected {0.95 * n:.0f} of {n} inside; 3 binomial standard deviations: "
+            f"+-{3 * math.sqrt(n * 0.95 * 0.05):.1f}.")
 
 
 def loss_per_cable_mm(radius_mm, height_mm):
@@ -51,6 +76,7 @@ print("rolling over a cable predicts with no slip: 2 directions x 10 x (arc - ch
 print("The figure's interval is that of seed 1.\n")
 print("| robot | e_nonsys, deg (seed 1) | 95 % interval | seeds 1-5: mean (min-max) | cables alone, deg |")
 print("| --- | --- | --- | --- | --- |")
+table = {}  # robot name -> (seed 1's figure, its interval, mean over seeds, seed 1's reference)
 with tempfile.TemporaryDirectory() as tmp:
     for name, keys in robots:
         robot = os.path.join(tmp, "robot.json")
@@ -68,19 +94,40 @@ with tempfile.TemporaryDirectory() as tmp:
         r = 0.5 * d * 1.0005                        # its true right wheel
         h = keys.get("bump_height_mm", 10)
         cables = 2 * 10 * loss_per_cable_mm(r, h) / b * 180 / math.pi
+        table[name] = (first["e_nonsys_deg"], first["ci"], sum(figures) / len(figures),
+                       first["reference"])
         print(f"| {name} | {first['e_nonsys_deg']:.2f} | {first['ci'][0]:.2f}-{first['ci'][1]:.2f} "
               f"| {sum(figures)/len(figures):.2f} ({min(figures):.2f}-{max(figures):.2f}) "
               f"| {cables:.2f} |")
-print("""
-How to read it: the smooth-floor runs give each direction's own systematic heading error (the
-default robot is uncalibrated: about +16 deg cw and +8 deg ccw); the figure is how far the bump
-runs land from that, in both directions together. A robot with larger wheels (the cable costs a
-smaller share of the arc) and a wider wheelbase (the same lost travel turns it less) is less
-susceptible. Slip scatters the runs about the smooth-floor average: with 10 mm cables it widens
-the interval but hardly moves the figure, which the cables dominate; with 2 mm cables the test
-`ExtendedUmbmark.MoreSlipGivesALargerFigure` shows the figure rising with slip. Compare robots
-on the same floor, the same cables and the same square.
-""")
+# The prose cites the table: each claim is checked against it.
+default, small, large = (table[robots[0][0]], table["small (D 40 mm, b 100 mm)"],
+                         table["large (D 150 mm, b 400 mm)"])
+slip10, thin, thin_slip = (table["default, slip 0.005"], table["default, 2 mm cables"],
+                           table["default, 2 mm cables, slip 0.01"])
+width = lambda row: row[1][1] - row[1][0]
+ordered = large[2] < default[2] < small[2]
+widens = width(slip10) > width(default)
+holds = abs(slip10[2] - default[2]) < 0.05 * default[2]
+rises = thin_slip[2] > thin[2]
+print()
+print(wrap(
+    f"How to read it: the smooth-floor runs give each direction's own systematic heading error "
+    f"(the default robot is uncalibrated: {default[3]['cw']:+.0f} deg cw and {default[3]['ccw']:+.0f} "
+    f"deg ccw on seed 1); the figure is how far the bump runs land from that, in both directions "
+    f"together. " +
+    ("A robot with larger wheels (the cable costs a smaller share of the arc) and a wider "
+     "wheelbase (the same lost travel turns it less) is less susceptible. " if ordered else
+     "Larger wheels and a wider wheelbase do not order the figures here as the geometry would "
+     "(large below default below small). ") +
+    f"Slip scatters the runs about the smooth-floor average: with 10 mm cables it "
+    f"{'widens' if widens else 'does not widen'} the interval ({width(default):.2f} to "
+    f"{width(slip10):.2f} deg at slip 0.005) {'but hardly moves' if holds else 'and moves'} the "
+    f"figure (mean {default[2]:.2f} and {slip10[2]:.2f} deg)"
+    f"{', which the cables dominate' if holds else ''}; with 2 mm cables the figure "
+    f"{'rises' if rises else 'does not rise'} with slip ({thin[2]:.2f} to {thin_slip[2]:.2f} deg at "
+    f"slip 0.01; the test `ExtendedUmbmark.MoreSlipGivesALargerFigure` holds it to that). Compare "
+    f"robots on the same floor, the same cables and the same square."))
+print()
 
 print("### Odometry covariance: the 95 % ellipse against simulated end points\n")
 tests = os.path.join(bin_dir, "odocal_test_host_sim")
@@ -94,8 +141,8 @@ june = [l for l in out.splitlines() if "held-out end points" in l]
 print("Test `OdometryNoise.NinetyFivePercentEllipseHolds...`: the firmware told the robot's true")
 print("geometry (so what remains is random), 240 runs per robot (1 m squares cw and ccw and the")
 print("unseen path), the ellipse of each run from its own logged counts with k = slip_sigma^2 x")
-print("slip_length (the simulator's slip, a ratio redrawn every 50 mm of wheel travel). Expected")
-print("228 of 240 inside; 3 binomial standard deviations: +-10.1.\n")
+print("slip_length (the simulator's slip, a ratio redrawn every 50 mm of wheel travel). Per robot")
+print(f"{expected_inside(inside(model[:1])[1])}\n")
 print("```")
 print("\n".join(model))
 print("```\n")
@@ -112,7 +159,7 @@ print("two similar robots.\n")
 print("### On the real June runs (`tests/data/optiodom-june`)\n")
 print("Leave one data set out: geometry and noise fitted on the other sets of the same path kind,")
 print("the 95 % ellipse (wheel noise plus the measured start and end) predicted for each run of")
-print("the set left out. Expected 57 of 60; 3 binomial standard deviations: +-5.1.\n")
+print(f"the set left out. In all, {expected_inside(inside(june)[1])}\n")
 print("```")
 print("\n".join(june))
 print("```\n")
@@ -131,20 +178,25 @@ for kind in ("square", "circle"):
           f"{n['k_r']:.2g} [{n['ci']['k_r'][0]:.2g}, {n['ci']['k_r'][1]:.2g}] mm^2/mm, "
           f"measurement {n['measure_sigma_mm']:.2f} mm")
     if kind == "square":
+        square_sigma_mm = n["measure_sigma_mm"]
         fit_file = os.path.join(tempfile.gettempdir(), "nonsys-results-fit.json")
         with open(fit_file, "w") as f:
             json.dump(j, f)
         ros2 = run([odocal, "ros2", "--from", fit_file])
         os.remove(fit_file)
-print("""
-The June robot's random drift: k ~ 1e-3 mm^2/mm, i.e. each wheel's travel off by about 1 mm (one
-standard deviation) after 1 m and 32 mm after 1 km, far less than its systematic errors before
-calibration (tens of mm on these paths); the measurement noise the
-estimate finds (1.5 mm on the squares) is larger than OptiTrack's: it also takes what the
-three-parameter geometry leaves unexplained (DESIGN, Real-robot model), which is why the ellipses
-hold a little more than 95 %. With the squares' fit, `odocal ros2 --from FIT.json` writes (0.2 m/s,
-50 Hz, pose after 1 m):
-""")
+june_in, june_n = inside(june)
+print()
+print(wrap(
+    "The June robot's random drift: k ~ 1e-3 mm^2/mm, i.e. each wheel's travel off by about 1 mm "
+    "(one standard deviation) after 1 m and 32 mm after 1 km, far less than its systematic errors "
+    "before calibration (tens of mm on these paths); the measurement noise the estimate finds "
+    f"({square_sigma_mm:.1f} mm on the squares) is larger than OptiTrack's: it also takes what the "
+    "three-parameter geometry leaves unexplained (DESIGN, Real-robot model)" +
+    (f", which is why the ellipses hold more than 95 % ({june_in} of {june_n})"
+     if june_in > 0.95 * june_n else "") +
+    ". With the squares' fit, `odocal ros2 --from FIT.json` writes (0.2 m/s, 50 Hz, pose after "
+    "1 m):"))
+print()
 print("```")
 print(ros2.rstrip().replace(tempfile.gettempdir() + "/", ""))
 print("```")

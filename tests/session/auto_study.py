@@ -4,8 +4,9 @@ geometry reaches, beside UMBmark and the fit session, with the tape measurements
 
 For each robot and seed: a calibration session on a fresh store, then the unseen path driven
 --eval-runs times (odocal session --procedure verify, other seeds) with the factors it saved, and
-with the true geometry in force (the oracle). Prints a Markdown table (docs/results.md) and, with
---json, the figures. Usage: auto_study.py BIN_DIR [--seeds N] [--procedures auto,umbmark,fit]
+with the true geometry in force (the oracle). Prints a Markdown table and, with --json, the
+figures, each session's among them (host_sim/tools/auto-results.py makes docs/results.md's section
+of them). Usage: auto_study.py BIN_DIR [--seeds N] [--procedures auto,umbmark,fit]
 """
 import argparse
 import json
@@ -28,6 +29,15 @@ ROBOTS = {
 }
 
 
+# What --check (ctest odocal_auto_study) holds auto to; host_sim/tools/auto-results.py cites them.
+MAX_MEASUREMENTS = 12     # tape measurements per session, auto's verification included
+MAX_MEDIAN_ALL = 1.3      # the median over all sessions of all robots, unseen path / oracle
+MAX_MEDIAN_ROBOT = 1.6    # each robot's median
+UNSEEN_RUNS = 16          # unseen-path runs per verify session
+EVAL_SEED = 1000          # the verify sessions' seeds: EVAL_SEED, EVAL_SEED + 1, ...
+EVAL_SESSIONS = 2         # verify sessions per calibration (and for the oracle)
+
+
 def run(cmd):
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:
@@ -36,13 +46,14 @@ def run(cmd):
 
 
 def unseen_rms(bindir, robot, store, seeds, work):
-    """RMS end error (mm) of the unseen path over len(seeds) x 16 runs with `store`'s factors."""
+    """RMS end error (mm) of the unseen path over len(seeds) x UNSEEN_RUNS runs with `store`'s
+    factors."""
     errors = []
     for s in seeds:
         out = tempfile.mkdtemp(prefix="verify-%d-" % s, dir=work)
         doc = json.loads(run([bindir + "/odocal", "session", "--sim", robot, "--store", store,
-                              "--seed", str(s), "--procedure", "verify", "--runs", "16",
-                              "--json", "--out", out + "/v"]))
+                              "--seed", str(s), "--procedure", "verify",
+                              "--runs", str(UNSEEN_RUNS), "--json", "--out", out + "/v"]))
         with open(os.path.join(out, "v", "accuracy.csv")) as f:
             for line in f.read().splitlines()[1:]:
                 name, _, x, y = line.split(",")
@@ -65,6 +76,26 @@ def oracle_store(bindir, robot_doc, robot, work):
     return store
 
 
+def session_figures(seed, session, rms):
+    """What a calibration session left: the factors it saved, the runs it measured (label and
+    command) and, for auto and fit, the model the fit chose and each candidate's held-out path
+    RMS."""
+    result = session.get("result") if isinstance(session.get("result"), dict) else {}
+    fit = result.get("fit") if isinstance(result.get("fit"), dict) else {}
+    model = fit.get("model") if isinstance(fit.get("model"), dict) else {}
+    return {
+        "seed": seed,
+        "measurements": session["measurements"],
+        "unseen_rms_mm": rms,
+        "factors": session.get("factors"),
+        "model": model.get("name"),
+        "heldout_mm": {c["name"]: c["heldout_path_rms_mm"]
+                       for c in model.get("candidates", []) if c.get("tried")},
+        "runs": [{"label": r.get("label"), "command": r.get("command")}
+                 for r in session.get("runs", [])],
+    }
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("bindir")
@@ -72,11 +103,12 @@ def main():
     ap.add_argument("--seed-list", default="", help="these seeds instead of 1..--seeds")
     ap.add_argument("--procedures", default="auto,umbmark,fit")
     ap.add_argument("--robots", default=",".join(ROBOTS))
-    ap.add_argument("--eval-sessions", type=int, default=2)
+    ap.add_argument("--eval-sessions", type=int, default=EVAL_SESSIONS)
     ap.add_argument("--json", action="store_true")
     ap.add_argument("--check", action="store_true",
-                    help="a test: auto takes at most 12 measurements, the median over all its "
-                         "sessions is within 1.3x of the oracle and no robot's median past 1.6x")
+                    help="a test: auto takes at most %d measurements, the median over all its "
+                         "sessions is within %gx of the oracle and no robot's median past %gx"
+                         % (MAX_MEASUREMENTS, MAX_MEDIAN_ALL, MAX_MEDIAN_ROBOT))
     a = ap.parse_args()
     rows = []
     with tempfile.TemporaryDirectory() as work:
@@ -85,11 +117,11 @@ def main():
             robot = os.path.join(work, name + ".json")
             with open(robot, "w") as f:
                 json.dump(doc, f)
-            eval_seeds = [1000 + i for i in range(a.eval_sessions)]
+            eval_seeds = [EVAL_SEED + i for i in range(a.eval_sessions)]
             oracle = unseen_rms(a.bindir, robot, oracle_store(a.bindir, doc, robot, work),
                                 eval_seeds, work)
             for procedure in a.procedures.split(","):
-                ratios, counts = [], []
+                ratios, counts, sessions = [], [], []
                 seeds = ([int(v) for v in a.seed_list.split(",")] if a.seed_list
                          else range(1, a.seeds + 1))
                 for seed in seeds:
@@ -102,24 +134,27 @@ def main():
                     counts.append(session["measurements"])
                     rms = unseen_rms(a.bindir, robot, store, eval_seeds, work)
                     ratios.append(rms / oracle)
+                    sessions.append(session_figures(seed, session, rms))
                     print("%s %s seed %d: %d measurements, unseen %.2f mm (oracle %.2f): %.2fx"
                           % (name, procedure, seed, counts[-1], rms, oracle, ratios[-1]),
                           file=sys.stderr)
                 rows.append({"robot": name, "procedure": procedure, "oracle_mm": oracle,
-                             "ratios": ratios, "measurements": counts,
+                             "ratios": ratios, "measurements": counts, "sessions": sessions,
                              "median": statistics.median(ratios), "worst": max(ratios)})
     if a.check:
         failures = []
         autos = [r for r in rows if r["procedure"] == "auto"]
         every = [x for r in autos for x in r["ratios"]]
-        if any(m > 12 for r in autos for m in r["measurements"]):
-            failures.append("more than 12 measurements: %s" % [r["measurements"] for r in autos])
-        if every and statistics.median(every) > 1.3:
-            failures.append("median over all auto sessions %.2fx > 1.3x"
-                            % statistics.median(every))
+        if any(m > MAX_MEASUREMENTS for r in autos for m in r["measurements"]):
+            failures.append("more than %d measurements: %s"
+                            % (MAX_MEASUREMENTS, [r["measurements"] for r in autos]))
+        if every and statistics.median(every) > MAX_MEDIAN_ALL:
+            failures.append("median over all auto sessions %.2fx > %gx"
+                            % (statistics.median(every), MAX_MEDIAN_ALL))
         for r in autos:
-            if r["median"] > 1.6:
-                failures.append("%s: median %.2fx > 1.6x" % (r["robot"], r["median"]))
+            if r["median"] > MAX_MEDIAN_ROBOT:
+                failures.append("%s: median %.2fx > %gx"
+                                % (r["robot"], r["median"], MAX_MEDIAN_ROBOT))
         for f in failures:
             print("FAIL " + f)
         print("auto_study: %d checks passed, %d failed" % (3 - min(3, len(failures)),

@@ -72,8 +72,8 @@ std::vector<std::string> replies(const std::vector<std::string>& lines) {
   return out;
 }
 
-#define REQUIRE_SIM()                       \
-  if (sim_program().empty()) {              \
+#define REQUIRE_SIM()                                                         \
+  if (sim_program().empty()) {                                                \
     FAIL() << "odocal-sim not built (cmake --build --preset host builds it)"; \
   }
 

@@ -320,21 +320,24 @@ struct Precision {
   nlohmann::json noise;  ///< `odocal fit`'s `noise` object, null when not estimated
 };
 
+/// The fit's comparison of model `kind` (nullptr when it was not among the candidates).
+const FitCandidate* candidate_of(const FitResult& r, FitModelKind kind) {
+  for (const FitCandidate& k : r.model.candidates) {
+    if (k.kind == kind) {
+      return &k;
+    }
+  }
+  return nullptr;
+}
+
 Precision precision_of(const FitResult& r, const FitNominal& nominal,
                        const std::vector<TickLog>& logs, const Plan& plan,
                        std::optional<double> target, std::size_t room, std::size_t arc_count) {
   Precision out;
   bool arc_unresolved = false;
   if (r.geometry.model == FitModelKind::one_wheelbase) {
-    const FitCandidate* one = nullptr;
-    const FitCandidate* arc = nullptr;
-    for (const FitCandidate& k : r.model.candidates) {
-      if (k.kind == FitModelKind::one_wheelbase) {
-        one = &k;
-      } else if (k.kind == FitModelKind::arc_wheelbase) {
-        arc = &k;
-      }
-    }
+    const FitCandidate* one = candidate_of(r, FitModelKind::one_wheelbase);
+    const FitCandidate* arc = candidate_of(r, FitModelKind::arc_wheelbase);
     // At most two arcs more than the first round's: beyond that the arcs' own scatter is what
     // the held-out comparison sees.
     // Better by a fifth, and by more than a quarter of the tape's noise (perfect measurements
@@ -507,15 +510,8 @@ Outcome run_auto(Context& c) {
     if (r.geometry.model != FitModelKind::turn_rate_wheelbase) {
       return r;
     }
-    const FitCandidate* one = nullptr;
-    const FitCandidate* arc = nullptr;
-    for (const FitCandidate& k : r.model.candidates) {
-      if (k.kind == FitModelKind::one_wheelbase) {
-        one = &k;
-      } else if (k.kind == FitModelKind::arc_wheelbase) {
-        arc = &k;
-      }
-    }
+    const FitCandidate* one = candidate_of(r, FitModelKind::one_wheelbase);
+    const FitCandidate* arc = candidate_of(r, FitModelKind::arc_wheelbase);
     FitOptions forced = fo;
     forced.model = FitModelKind::one_wheelbase;
     if (one != nullptr && arc != nullptr && arc->tried && arc->supported &&

@@ -131,8 +131,8 @@ struct ReportInput {
   nlohmann::json result = nlohmann::json::object();
   Factors factors;
   std::map<std::string, std::string> provenance;  ///< the console's `provenance` pairs
-  std::string summary;                             ///< the procedure's result for people
-  double wheel_diameter_mm = 60.0;                 ///< nominal geometry (odometry traces)
+  std::string summary;                            ///< the procedure's result for people
+  double wheel_diameter_mm = 60.0;                ///< nominal geometry (odometry traces)
   double wheelbase_mm = 150.0;
   double counts_per_rev = 1440.0;
   double side_m = 4.0;  ///< UMBmark square side (paths of runs without a tick log)
@@ -149,8 +149,8 @@ std::string runs_csv(const std::vector<RunRecord>& runs);
 /// The runs' end points (odometry and measured) and, for logged runs, their odometry traces.
 std::string runs_svg(const std::vector<RunRecord>& runs, const std::string& title);
 /// The same panels, `columns` to an SVG document (one per row).
-std::vector<std::string> runs_svg_rows(const std::vector<RunRecord>& runs,
-                                       const std::string& title, std::size_t columns);
+std::vector<std::string> runs_svg_rows(const std::vector<RunRecord>& runs, const std::string& title,
+                                       std::size_t columns);
 /// The `runs` array of the session JSON.
 nlohmann::json runs_json(const std::vector<RunRecord>& runs);
 

@@ -3,10 +3,10 @@
 #include <cmath>
 #include <initializer_list>
 #include <limits>
+#include <numbers>
 
 #include "norm.hpp"
 #include "odocal/drive/bounded_trig.hpp"
-#include "odocal/numbers.hpp"
 
 namespace odocal::calib {
 namespace {
@@ -28,7 +28,7 @@ double cos_of(double a) {
 }
 
 template <typename Real>
-constexpr Real pi = pi_v<Real>;
+constexpr Real pi = std::numbers::pi_v<Real>;
 template <typename Real>
 constexpr Real quarter_turn_rad = pi<Real> / 2;
 template <typename Real>

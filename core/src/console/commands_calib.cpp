@@ -1,18 +1,27 @@
 // Console commands of the on-robot calibrations: umbmark (UMBmark, seed 002 section 6) and
 // lateral (Maddahi eq. 4-5).
 
+#include <numbers>
+
 #include "odocal/console/console.hpp"
 
 namespace odocal::console {
 namespace {
 
-constexpr float kTwoPi = 6.28318530717958647692f;
+constexpr float kTwoPi = 2.0f * std::numbers::pi_v<float>;
 
-// UMBmark applies the first three; `fit apply` all four (the arc wheelbase 0 when not given).
-constexpr params::ParamId kWheelIds[] = {params::ParamId::c_l, params::ParamId::c_r,
-                                         params::ParamId::wheelbase_mm,
-                                         params::ParamId::wheelbase_arc_mm};
-constexpr params::ParamId kLateralIds[] = {params::ParamId::f_lat, params::ParamId::f_lon};
+// Each group's factors in the order its commands take them: the wheel group (UMBmark applies the
+// first three; `fit apply` all four, the arc wheelbase 0 when not given), then the lateral group.
+// One table: one address to load for either group.
+constexpr params::ParamId kFactorIds[] = {
+    params::ParamId::c_l,          params::ParamId::c_r,
+    params::ParamId::wheelbase_mm, params::ParamId::wheelbase_arc_mm,
+    params::ParamId::f_lat,        params::ParamId::f_lon};
+constexpr std::size_t kLateralFirst = 4u;
+
+const params::ParamId* factor_ids(bool wheel) {
+  return kFactorIds + (wheel ? 0u : kLateralFirst);
+}
 
 }  // namespace
 
@@ -133,7 +142,8 @@ void Console::cmd_lateral_solve() {
             result.f_lat, result.f_lon, result.theta_l_rad, lateral_.length_mm(), lateral_.count());
 }
 
-void Console::cmd_calib_apply(bool lateral, const Token* words, std::size_t count) {
+void Console::cmd_calib_apply(FactorGroup group, const Token* words, std::size_t count) {
+  const bool lateral = group == FactorGroup::lateral;
   std::uint32_t date = 0u;
   std::uint16_t runs = static_cast<std::uint16_t>(
       lateral ? lateral_.count() : umbmark_.cw_count() + umbmark_.ccw_count());
@@ -141,15 +151,15 @@ void Console::cmd_calib_apply(bool lateral, const Token* words, std::size_t coun
     return;
   }
   if (!(lateral ? lateral_.solved() : umbmark_.solved())) {
-    send_error(ErrorCode::not_solved,
-               lateral ? "run lateral solve first" : "run umbmark solve first");
+    send_error_line(ErrorCode::not_solved, "run %s solve first", lateral ? "lateral" : "umbmark");
     return;
   }
   if (lateral) {
     const calib::LateralSession::Result& result = lateral_.result();
     const float values[] = {settings_.get(params::ParamId::f_lat) * result.f_lat,
                             settings_.get(params::ParamId::f_lon) * result.f_lon};
-    if (apply_factors(kLateralIds, values, 2u, params::FactorMethod::maddahi, runs, date, 0.0f)) {
+    if (apply_factors(FactorGroup::lateral, values, 2u, params::FactorMethod::maddahi, runs, date,
+                      0.0f)) {
       lateral_.applied();
     }
     return;
@@ -163,15 +173,16 @@ void Console::cmd_calib_apply(bool lateral, const Token* words, std::size_t coun
   const calib::UmbmarkSession::Result& result = umbmark_.result();
   const params::FactorMethod method =
       result.exact ? params::FactorMethod::umbmark_exact : params::FactorMethod::umbmark;
-  if (apply_factors(kWheelIds, values, 3u, method, runs, date,
+  if (apply_factors(FactorGroup::wheel, values, 3u, method, runs, date,
                     static_cast<float>(result.e_max_syst_mm))) {
     umbmark_.applied();
   }
 }
 
-void Console::cmd_host_factors(bool fit, const Token* words, std::size_t count) {
+void Console::cmd_host_factors(FactorGroup group, const Token* words, std::size_t count) {
+  const bool fit = group == FactorGroup::wheel;
   // Every value is checked against its parameter's range before anything changes.
-  const params::ParamId* ids = fit ? kWheelIds : kLateralIds;
+  const params::ParamId* ids = factor_ids(fit);
   const std::size_t id_count = fit ? 3u : 2u;
   // values[3]: `fit apply`'s arc wheelbase, 0 (one wheelbase) unless `arc <mm>` ends the line.
   float values[4] = {};
@@ -198,20 +209,21 @@ void Console::cmd_host_factors(bool fit, const Token* words, std::size_t count) 
   }
   const params::FactorMethod method =
       fit ? params::FactorMethod::fit : params::FactorMethod::bootstrap;
-  (void)apply_factors(ids, values, id_count + (fit ? 1u : 0u), method, runs, date, 0.0f);
+  (void)apply_factors(group, values, id_count + (fit ? 1u : 0u), method, runs, date, 0.0f);
 }
 
-bool Console::apply_factors(const params::ParamId* ids, const float* values, std::size_t count,
+bool Console::apply_factors(FactorGroup group, const float* values, std::size_t count,
                             params::FactorMethod method, std::uint16_t runs, std::uint32_t date,
                             float quality_mm) {
-  if (refuse_busy(false)) {
+  if (refuse_busy(Busy::motion)) {
     return false;
   }
+  const bool wheel = group == FactorGroup::wheel;
+  const params::ParamId* ids = factor_ids(wheel);
   params::ParamSet candidate = settings_.values();
   for (std::size_t i = 0; i < count; ++i) {
     candidate.set(ids[i], values[i]);
   }
-  const bool wheel = ids == kWheelIds;
   if (!params::all_in_range(candidate)) {
     send_error(ErrorCode::out_of_range, "factors out of range; not applied");
     return false;
@@ -232,8 +244,8 @@ bool Console::apply_factors(const params::ParamId* ids, const float* values, std
     append(reply, " %s=%6", params::param_info(ids[i]).name, settings_.get(ids[i]));
   }
   // Factors computed on a host print runs only when the host said how many.
-  append(reply, runs == 0u ? " method=%s unsaved=1" : " method=%s runs=%u unsaved=1",
-         params::method_name(method), runs);
+  append_either(reply, runs != 0u, " method=%s runs=%u unsaved=1", " method=%s unsaved=1",
+                params::method_name(method), runs);
   send(reply);
   return true;
 }

@@ -1,8 +1,6 @@
 // Console commands that move the robot or watch it move: odom, drive, stop, run, stream, trial,
 // trials.
 
-#include <cmath>
-
 #include "odocal/console/console.hpp"
 #include "odocal/drive/diff_drive_kinematics.hpp"
 #include "odocal/drive/motion_executor.hpp"
@@ -12,7 +10,7 @@ namespace odocal::console {
 void Console::cmd_odom(std::size_t count) {
   if (count == 2u) {  // odom reset
     // The path's segments end on odometry: zeroing it mid-path would stretch the segment.
-    if (refuse_busy(true)) {
+    if (refuse_busy(Busy::path)) {
       return;
     }
     loop_.reset_pose();
@@ -50,10 +48,9 @@ void Console::cmd_drive(const Token* words, std::size_t count) {
   // with the twist that will really be driven.
   const drive::DriveConfig config = params::to_drive_config(settings_.values());
   const drive::DiffDriveKinematics kinematics(config);
-  const drive::WheelRates rates = kinematics.inverse(twist);
-  const float peak = std::fmax(std::fabs(rates.left_radps), std::fabs(rates.right_radps));
-  if (peak > config.max_wheel_radps) {
-    const float scale = config.max_wheel_radps / peak;
+  drive::WheelRates rates = kinematics.inverse(twist);
+  float scale = 1.0f;
+  if (drive::limit_wheel_speeds(rates, config.max_wheel_radps, scale)) {
     append(reply, " clipped=1 v_clipped_mps=%3 w_clipped_radps=%3", v * scale, w * scale);
   }
   send(reply);
@@ -64,24 +61,22 @@ void Console::cmd_stop() {
   send_line("ok mode=idle");
 }
 
-void Console::cmd_run(const Token* words) {
-  // The table matched the path's name (umbmark-cw, umbmark-ccw, line or unseen) and the word
-  // count: the name's length tells which it is.
-  const std::size_t name_length = words[1].length;
-  const bool line = name_length == 4u;
-  const bool unseen = name_length == 6u;
+void Console::cmd_run(Handler handler, const Token* words) {
+  const bool line = handler == Handler::run_line;
+  const bool unseen = handler == Handler::run_unseen;
   const bool square = !line && !unseen;
   float length_m = 0.0f;
   if (!unseen && !number_arg(words[2], 0.01f, 20.0f, length_m)) {
     return;
   }
-  if (refuse_busy(true)) {
+  if (refuse_busy(Busy::path)) {
     return;
   }
   // Built in place (one expression): no default path to overwrite, no copy of one.
-  const drive::Path path = square ? drive::make_umbmark_square(name_length == 10u, length_m)
-                           : line ? drive::make_line(length_m)
-                                  : drive::make_unseen_path();
+  const drive::Path path =
+      square ? drive::make_umbmark_square(handler == Handler::run_umbmark_cw, length_m)
+      : line ? drive::make_line(length_m)
+             : drive::make_unseen_path();
   if (!loop_.run(path)) {
     send_error(ErrorCode::fault, "drive faulted; stop acknowledges");
     return;
@@ -89,24 +84,22 @@ void Console::cmd_run(const Token* words) {
   if (square) {
     umbmark_.note_driven_side_mm(length_m * 1000.0f);
   }
-  // The last value is left out for the unseen path (it has no length).
-  send_line(unseen ? "ok path=%s segments=%u" : "ok path=%s segments=%u length_m=%3",
-            drive::path_name(path.id), path.count, length_m);
+  // The unseen path has no length.
+  send_either(!unseen, "ok path=%s segments=%u length_m=%3", "ok path=%s segments=%u",
+              drive::path_name(path.id), path.count, length_m);
 }
 
-void Console::cmd_stream(const Token* words) {
-  // The table matched odom, ticks or off and the word count: the word's length tells which.
-  const bool odom = words[1].length == 4u;
-  const bool ticks = words[1].length == 5u;
-  if (!odom && !ticks) {
+void Console::cmd_stream(Handler handler, const Token* words) {
+  if (handler == Handler::stream_off) {
     streams_[0].period_us = 0u;
     streams_[1].period_us = 0u;
     send_line("ok stream=off");
     return;
   }
+  const bool odom = handler == Handler::stream_odom;
   // Tick logs want the control rate's detail; odometry is for watching.
   float hz = 0.0f;
-  if (!number_arg(words[2], 0.1f, ticks ? 1000.0f : 100.0f, hz)) {
+  if (!number_arg(words[2], 0.1f, odom ? 100.0f : 1000.0f, hz)) {
     return;
   }
   const auto period_us = static_cast<std::uint32_t>(1.0e6f / hz + 0.5f);

@@ -21,7 +21,7 @@ void Console::cmd_param(const Token* words, std::size_t count) {
                     info.integer ? "a whole number is required" : nullptr)) {
       return;
     }
-    if (refuse_busy(true)) {
+    if (refuse_busy(Busy::path)) {
       return;
     }
     if (!config_accepted(settings_.set(id, stored))) {

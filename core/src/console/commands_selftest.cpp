@@ -3,6 +3,7 @@
 // does nothing it would not do for a `drive`.
 
 #include <cmath>
+#include <numbers>
 
 #include "odocal/console/console.hpp"
 #include "odocal/drive/diff_drive_kinematics.hpp"
@@ -69,7 +70,8 @@ void Console::start_selftest_wheel(unsigned wheel) {
   selftest_duty_ = 0.0f;
   // A quarter of the counts the wheel turns at the commanded speed tells motion from jitter.
   selftest_enough_ = 0.25f * kSpeedShare * config.max_wheel_radps *
-                     (static_cast<float>(kDrive_ms) * 1e-3f) * config.counts_per_rev / 6.2831853f;
+                     (static_cast<float>(kDrive_ms) * 1e-3f) * config.counts_per_rev /
+                     (2.0f * std::numbers::pi_v<float>);
   selftest_due_us_ = last_now_us_ + kDrive_ms * 1000u;
   selftest_phase_ = static_cast<std::uint8_t>(2u * wheel + 1u);
 }

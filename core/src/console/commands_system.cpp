@@ -38,7 +38,7 @@ void Console::cmd_echo(const Token* words) {
   }
   echo_ = on;
   options_.echo = echo_ ? EchoMode::on : EchoMode::off;
-  send_line(echo_ ? "ok echo=on" : "ok echo=off");
+  send_line("ok echo=%s", echo_ ? "on" : "off");
 }
 
 }  // namespace odocal::console

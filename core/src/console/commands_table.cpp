@@ -24,10 +24,10 @@ const Console::Form Console::form_table_[] = {
     {"drive <v_mps> <w_radps> [ms]", 3, 4, 0, Handler::drive},
     {"stop", 1, 1, 0, Handler::stop},
     {"selftest [left|right]", 1, 2, form_moving, Handler::selftest},
-    {"run umbmark-cw <side_m>", 3, 3, form_sub, Handler::run},
-    {"run umbmark-ccw <side_m>", 3, 3, form_sub, Handler::run},
-    {"run line <m>", 3, 3, form_sub, Handler::run},
-    {"run unseen", 2, 2, form_sub, Handler::run},
+    {"run umbmark-cw <side_m>", 3, 3, form_sub, Handler::run_umbmark_cw},
+    {"run umbmark-ccw <side_m>", 3, 3, form_sub, Handler::run_umbmark_ccw},
+    {"run line <m>", 3, 3, form_sub, Handler::run_line},
+    {"run unseen", 2, 2, form_sub, Handler::run_unseen},
     {"trial [N]", 1, 2, 0, Handler::trial},
     {"trials", 1, 1, 0, Handler::trials},
     {"trials clear", 2, 2, form_sub, Handler::trials},
@@ -43,9 +43,9 @@ const Console::Form Console::form_table_[] = {
     {"lateral set <f_lat> <f_lon> [unix_s [runs]]", 4, 6, form_sub, Handler::lateral_set},
     {"fit apply <c_l> <c_r> <wheelbase_mm> [unix_s [runs]] [arc <mm>]", 5, 9, form_sub,
      Handler::fit_apply},
-    {"stream odom <hz>", 3, 3, form_sub, Handler::stream},
-    {"stream ticks <hz>", 3, 3, form_sub, Handler::stream},
-    {"stream off", 2, 2, form_sub, Handler::stream},
+    {"stream odom <hz>", 3, 3, form_sub, Handler::stream_odom},
+    {"stream ticks <hz>", 3, 3, form_sub, Handler::stream_ticks},
+    {"stream off", 2, 2, form_sub, Handler::stream_off},
     {"echo on|off", 2, 2, 0, Handler::echo},
 };
 const std::size_t Console::form_count_ = sizeof(Console::form_table_) / sizeof(Form);
@@ -100,8 +100,11 @@ void Console::dispatch(Handler handler, const Token* words, std::size_t count) {
     case Handler::selftest:
       cmd_selftest(words, count);
       return;
-    case Handler::run:
-      cmd_run(words);
+    case Handler::run_umbmark_cw:
+    case Handler::run_umbmark_ccw:
+    case Handler::run_line:
+    case Handler::run_unseen:
+      cmd_run(handler, words);
       return;
     case Handler::trial:
       cmd_trial(words, count);
@@ -132,14 +135,18 @@ void Console::dispatch(Handler handler, const Token* words, std::size_t count) {
       return;
     case Handler::umbmark_apply:
     case Handler::lateral_apply:
-      cmd_calib_apply(handler == Handler::lateral_apply, words, count);
+      cmd_calib_apply(handler == Handler::lateral_apply ? FactorGroup::lateral : FactorGroup::wheel,
+                      words, count);
       return;
     case Handler::lateral_set:
     case Handler::fit_apply:
-      cmd_host_factors(handler == Handler::fit_apply, words, count);
+      cmd_host_factors(handler == Handler::fit_apply ? FactorGroup::wheel : FactorGroup::lateral,
+                       words, count);
       return;
-    case Handler::stream:
-      cmd_stream(words);
+    case Handler::stream_odom:
+    case Handler::stream_ticks:
+    case Handler::stream_off:
+      cmd_stream(handler, words);
       return;
     case Handler::echo:
       cmd_echo(words);

@@ -1,6 +1,9 @@
+// The console's core: start-up, input, line events and the dispatch of a line to its command
+// form. Replies are written in console_replies.cpp, the asynchronous lines (listings, trials,
+// streams) in console_async.cpp, the handlers' shared argument checks in commands_args.cpp, the
+// handlers in commands_*.cpp.
+
 #include "odocal/console/console.hpp"
-#include "odocal/drive/numeric.hpp"
-#include "odocal/numbers.hpp"
 
 #include <cstring>
 
@@ -11,7 +14,6 @@ namespace {
 
 // `fit apply <c_l> <c_r> <wheelbase_mm> <unix_s> <runs> arc <wheelbase_arc_mm>`
 constexpr std::size_t kMaxWords = 9u;
-constexpr float kRadToDeg = 180.0f / pi_v<float>;
 
 }  // namespace
 
@@ -136,133 +138,6 @@ void Console::detect_terminal(std::uint8_t line_end) {
   (void)out_.push(editor_.line(), editor_.length());
 }
 
-void Console::send_newline() {
-  if (options_.crlf) {
-    (void)out_.push("\r\n", 2u);
-  } else {
-    (void)out_.push("\n", 1u);
-  }
-}
-
-void Console::send(Reply& reply) {
-  // The reply was written in place at the queue's tail, leaving room for the line end.
-  out_.commit(reply.size());
-  send_newline();
-}
-
-std::size_t Console::clear_typing() {
-  // An asynchronous line never lands inside a line the user is typing: that line is cleared first
-  // (carriage return, erase to end of line) and shown again after.
-  const std::size_t typed = echo_ ? editor_.pending_length() : 0u;
-  if (typed > 0u) {
-    (void)out_.push("\r\x1b[K", 4u);
-  }
-  return typed;
-}
-
-void Console::send_over_typing(Reply& line, std::size_t typed) {
-  send(line);
-  if (typed > 0u) {
-    (void)out_.push(editor_.pending(), typed);
-  }
-}
-
-void Console::send_async(Reply& line, std::size_t mark, std::size_t typed) {
-  // A line that is not a reply never takes the room a reply needs: dropped and counted instead.
-  const std::size_t newline = options_.crlf ? 2u : 1u;
-  if (out_.free_space() < line.size() + newline + typed + max_reply + 8u) {
-    out_.truncate(mark);
-    ++stream_dropped_;
-    return;
-  }
-  send_over_typing(line, typed);
-}
-
-void Console::pose_pairs(Reply& reply, const drive::Pose& pose) {
-  append(reply, " x_mm=%3 y_mm=%3 theta_deg=%3", pose.x_m * 1000.0f, pose.y_m * 1000.0f,
-         pose.theta_rad * kRadToDeg);
-}
-
-void Console::flag_names(Reply& reply, unsigned bits, const char* names) {
-  const char* separator = "";
-  for (unsigned bit = 1u; *names != '\0'; bit <<= 1u) {
-    if ((bits & bit) != 0u) {
-      reply.text(separator).text(names);
-      separator = ",";
-    }
-    while (*names++ != '\0') {
-    }
-  }
-  if (bits == 0u) {
-    reply.text("none");
-  }
-}
-
-void Console::append_args(Reply& reply, const char* spec, const Arg* args) {
-  for (;;) {
-    const char* text = spec;
-    while (*spec != '\0' && *spec != '%') {
-      ++spec;
-    }
-    reply.bytes(text, static_cast<std::size_t>(spec - text));
-    if (*spec == '\0') {
-      return;
-    }
-    const char code = spec[1];
-    spec += 2;
-    const Arg& arg = *args++;
-    if (code == 's') {
-      reply.text(arg.s);
-    } else if (code == 'u') {
-      reply.unsigned_number(arg.u);
-    } else if (code == 'U') {
-      reply.unsigned_number(*arg.u64);
-    } else if (code == 'i' || code == 'I') {
-      // %i was stored modulo 2^N from a 32-bit value: its low 32 bits give it back.
-      const std::int64_t value = code == 'i' ? static_cast<std::int32_t>(arg.u) : *arg.i64;
-      std::uint64_t magnitude = static_cast<std::uint64_t>(value);
-      if (value < 0) {
-        reply.bytes("-", 1u);
-        magnitude = 0u - magnitude;  // unsigned: right for INT64_MIN too
-      }
-      reply.unsigned_number(magnitude);
-    } else {
-      reply.number(arg.f, code - '0');
-    }
-  }
-}
-
-void Console::send_args(const char* spec, const Arg* args) {
-  ReplyLine line(out_);
-  append_args(line, spec, args);
-  send(line);
-}
-
-void Console::send_error_args(ErrorCode code, const char* spec, const Arg* args) {
-  ReplyLine line(out_);
-  append(line, "err %s ", error_code_name(code));
-  append_args(line, spec, args);
-  send_refusal(line);
-}
-
-void Console::send_refusal(Reply& reply) {
-  ++errors_;
-  send(reply);
-}
-
-void Console::send_error(ErrorCode code, const char* message) {
-  send_error_line(code, "%s", message);
-}
-
-void Console::send_usage(ErrorCode code, const Form* first, const Form* last) {
-  ReplyLine reply(out_);
-  append(reply, "err %s usage: ", error_code_name(code));
-  for (const Form* form = first; form != last; ++form) {
-    reply.text(form == first ? "" : " | ").text(form->synopsis);
-  }
-  send_refusal(reply);
-}
-
 void Console::handle_event(LineEvent event) {
   if (echo_) {
     if (event == LineEvent::cancelled) {
@@ -360,190 +235,10 @@ void Console::execute(const Token* words, std::size_t count) {
     send_usage(ErrorCode::wrong_arity);
     return;
   }
-  if ((form->flags & form_moving) != 0u && refuse_busy(false)) {
+  if ((form->flags & form_moving) != 0u && refuse_busy(Busy::motion)) {
     return;
   }
   dispatch(form->handler, words, count);
-}
-
-void Console::start_listing(Listing listing) {
-  listing_ = listing;
-  listing_index_ = 0u;
-  continue_listing();
-}
-
-void Console::continue_listing() {
-  while (listing_ != Listing::none && out_.free_space() >= max_reply + 2u) {
-    ReplyLine line(out_);
-    if (listing_ == Listing::help) {
-      // One line per form, then the target's own command.
-      const char* text = nullptr;
-      if (listing_index_ < form_count_) {
-        text = form_table_[listing_index_].synopsis;
-      } else if (listing_index_ == form_count_) {
-        text = target_usage();
-      }
-      if (text != nullptr) {
-        ++listing_index_;
-        append(line, "# %s", text);
-        send(line);
-        continue;
-      }
-      append(line, "ok commands=%u", listing_index_);  // the number of help lines
-    } else if (listing_ == Listing::params) {
-      if (listing_index_ < params::param_count) {
-        const auto id = static_cast<params::ParamId>(listing_index_++);
-        const params::ParamInfo& info = params::param_info(id);
-        append(line, "# %s=%6 unit=%s min=%6 max=%6 default=%6", info.name, settings_.get(id),
-               info.unit, info.min, info.max, settings_.default_value(id));
-        send(line);
-        continue;
-      }
-      append(line, "ok params=%u unsaved=%u", params::param_count, settings_.unsaved() ? 1u : 0u);
-    } else {
-      if (listing_index_ < trials_.size()) {
-        const KeptTrial& trial = trials_.at(listing_index_++);
-        append(line, "# trial %u", trial.number);
-        trial_pairs(line, trial);
-        send(line);
-        continue;
-      }
-      append(line, "ok trials=%u", trials_.size());
-    }
-    send(line);
-    listing_ = Listing::none;
-  }
-}
-
-void Console::note_trials() {
-  const drive::TrialRecord trial = loop_.last_trial();
-  if (trial.number == 0u || trial.number == trial_seen_) {
-    return;
-  }
-  trial_seen_ = trial.number;
-  trials_.push(trial);
-  const std::size_t typed = clear_typing();
-  ReplyLine line(out_);
-  append(line, "# done trial=%u path=%s", trial.number, drive::path_name(trial.path));
-  // Announced like a reply (never dropped): a host waits for it.
-  send_over_typing(line, typed);
-}
-
-namespace {
-
-// Next due instant of a periodic stream; @return false when not due yet.
-bool due(std::uint32_t now_us, std::uint32_t period_us, std::uint32_t& next_us) {
-  if (static_cast<std::int32_t>(now_us - next_us) < 0) {
-    return false;
-  }
-  next_us += period_us;
-  if (static_cast<std::int32_t>(now_us - next_us) >= 0) {
-    next_us = now_us + period_us;  // fell behind: skip, do not burst
-  }
-  return true;
-}
-
-}  // namespace
-
-void Console::emit_streams(std::uint32_t now_us) {
-  // One path for both streams (odom first): they differ only in their time and values.
-  for (std::size_t i = 0u; i < streams_.size(); ++i) {
-    StreamTimer& timer = streams_[i];
-    if (timer.period_us == 0u || !due(now_us, timer.period_us, timer.next_us)) {
-      continue;
-    }
-    const bool odom = i == 0u;
-    drive::Pose pose;
-    drive::WheelCounts counts;
-    if (odom) {
-      pose = loop_.pose();
-      counts.t_us = clock_us_;
-    } else {
-      counts = loop_.wheel_counts();
-    }
-    const std::size_t mark = out_.size();
-    const std::size_t typed = clear_typing();
-    ReplyLine line(out_);
-    const std::uint64_t t_ms = drive::divide_u64(counts.t_us, 1000u);
-    if (odom) {
-      append(line, "# odom t_ms=%U", &t_ms);
-      pose_pairs(line, pose);
-    } else {
-      append(line, "# ticks t_ms=%U count_l=%I count_r=%I", &t_ms, &counts.left, &counts.right);
-    }
-    send_async(line, mark, typed);
-  }
-}
-
-bool Console::number_arg(const Token& token, float lo, float hi, float& value,
-                         const char* not_whole) {
-  constexpr int decimals = 6;  // bounds as `params` and the refusal print them
-  Decimal typed;
-  if (!parse_decimal(token, typed)) {
-    send_error(ErrorCode::bad_number, "not a finite decimal number");
-    return false;
-  }
-  // The typed decimal against the printed bounds, exactly: `set v_max_mps 0.001` is the minimum
-  // although the table's float is 0.0010000000475, and 2.0000001 is above 2 though not as a float.
-  if (compare(typed, lo, decimals) < 0 || compare(typed, hi, decimals) > 0) {
-    send_error_line(ErrorCode::out_of_range, "allowed min=%6 max=%6", lo, hi);
-    return false;
-  }
-  // Whole as typed: 1440.0000001 is not, although its nearest float is 1440.
-  if (not_whole != nullptr && !is_whole(typed)) {
-    send_error(ErrorCode::bad_number, not_whole);
-    return false;
-  }
-  const float parsed = to_float(typed);
-  value = parsed < lo ? lo : (parsed > hi ? hi : parsed);
-  return true;
-}
-
-bool Console::config_accepted(const drive::ConfigCheck& check) {
-  if (check.ok()) {
-    return true;
-  }
-  if (check.error == drive::ConfigError::out_of_range) {
-    send_error_line(ErrorCode::rejected, "drive refused %s (outside its range)",
-                    drive::config_fields[check.field].name);
-  } else {
-    send_error(ErrorCode::rejected,
-               check.error == drive::ConfigError::wheelbase_arc
-                   ? "drive refused (need wheelbase_arc_mm 0 or within 20% of wheelbase_mm)"
-                   : "drive refused (need wheelbase_mm > wheel_diameter_mm/4)");
-  }
-  return false;
-}
-
-bool Console::refuse_busy(bool path_only) {
-  // The loop's status shows a command not taken yet as taken: `run` then `save` on the next
-  // line is refused even when no tick came between the two.
-  const drive::Mode mode = loop_.status().mode;
-  if (mode == drive::Mode::path || (!path_only && mode == drive::Mode::drive)) {
-    send_error(ErrorCode::busy,
-               path_only ? "a path is running; stop first" : "the robot is moving; stop first");
-    return true;
-  }
-  return false;
-}
-
-bool Console::date_arg(const Token* words, std::size_t count, std::size_t index,
-                       std::uint32_t& date, std::uint16_t& runs) {
-  date = 0u;
-  if (count > index && !parse_unsigned(words[index], date)) {
-    send_error(ErrorCode::bad_number, "unix_s must be whole seconds");
-    return false;
-  }
-  // The runs the result came from, when the host knows more than this console saw (every pass).
-  std::uint32_t given = 0u;
-  if (count > index + 1u) {
-    if (!parse_unsigned(words[index + 1u], given) || given == 0u || given > 65535u) {
-      send_error(ErrorCode::bad_number, "runs must be a whole number from 1 to 65535");
-      return false;
-    }
-    runs = static_cast<std::uint16_t>(given);
-  }
-  return true;
 }
 
 }  // namespace odocal::console

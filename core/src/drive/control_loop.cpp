@@ -318,13 +318,8 @@ void ControlLoop::tick(std::uint32_t now_us) {
   } else {
     const Twist twist = twist_for_mode(dt_s, dt_us);
     WheelRates rates = kinematics_.inverse(twist);
-    const float peak = std::fmax(std::fabs(rates.left_radps), std::fabs(rates.right_radps));
-    clipped = peak > config_.max_wheel_radps;
-    if (clipped) {
-      const float scale = config_.max_wheel_radps / peak;
-      rates.left_radps *= scale;
-      rates.right_radps *= scale;
-    }
+    float scale = 1.0f;
+    clipped = limit_wheel_speeds(rates, config_.max_wheel_radps, scale);
     if (rates.left_radps == 0.0f && rates.right_radps == 0.0f) {
       // Nothing to drive. After a drive or a `stop`, brake each wheel to rest under proportional
       // speed control to zero (a robot told to stop stops: about a third of the distance it would

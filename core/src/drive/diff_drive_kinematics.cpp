@@ -1,12 +1,11 @@
 #include "odocal/drive/diff_drive_kinematics.hpp"
 
 #include <cmath>
-
-#include "odocal/numbers.hpp"
+#include <numbers>
 
 namespace odocal::drive {
 namespace {
-constexpr float kPi = pi_v<float>;
+constexpr float kPi = std::numbers::pi_v<float>;
 }
 
 void DiffDriveKinematics::configure(const DriveConfig& config) {

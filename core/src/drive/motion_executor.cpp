@@ -1,13 +1,12 @@
 #include "odocal/drive/motion_executor.hpp"
 
 #include <cmath>
-
-#include "odocal/numbers.hpp"
+#include <numbers>
 
 namespace odocal::drive {
 namespace {
 
-constexpr float kPi = pi_v<float>;
+constexpr float kPi = std::numbers::pi_v<float>;
 constexpr float kMaxPathLength_m = 20.0f;
 
 // Out of line: two paths check it.

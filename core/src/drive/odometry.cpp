@@ -1,14 +1,14 @@
 #include "odocal/drive/odometry.hpp"
 
 #include <cmath>
+#include <numbers>
 
 #include "odocal/drive/bounded_trig.hpp"
-#include "odocal/numbers.hpp"
 
 namespace odocal::drive {
 namespace {
 
-constexpr float kPi = pi_v<float>;
+constexpr float kPi = std::numbers::pi_v<float>;
 
 // Kahan summation: adds `value` to `sum`, carrying the lost low-order bits in `compensation`.
 void add_compensated(float& sum, float& compensation, float value) {

@@ -1,10 +1,11 @@
 #include "odocal/drive/velocity_estimator.hpp"
 
 #include <cmath>
+#include <numbers>
 
 namespace odocal::drive {
 namespace {
-constexpr float kTwoPi = 6.28318530717958647692f;
+constexpr float kTwoPi = 2.0f * std::numbers::pi_v<float>;
 }
 
 VelocityEstimator::VelocityEstimator(float counts_per_rev, std::uint32_t stop_timeout_us)

@@ -1,11 +1,12 @@
 #include "odocal/sim/plant.hpp"
 
 #include <cmath>
+#include <numbers>
 
 namespace odocal::sim {
 namespace {
 
-constexpr double two_pi = 6.283185307179586476925;
+constexpr double two_pi = 2.0 * std::numbers::pi;
 /// Step fraction of the next edge of a wheel that has none left (real fractions are <= 1).
 constexpr double no_edge = 2.0;
 

@@ -1,6 +1,7 @@
 #include "odocal/sim/random.hpp"
 
 #include <cmath>
+#include <numbers>
 
 namespace odocal::sim {
 
@@ -26,7 +27,7 @@ double Random::normal() {
   const double u1 = 1.0 - uniform();
   const double u2 = uniform();
   const double radius = std::sqrt(-2.0 * std::log(u1));
-  const double angle = 6.283185307179586476925 * u2;
+  const double angle = 2.0 * std::numbers::pi * u2;
   spare_ = radius * std::sin(angle);
   has_spare_ = true;
   return radius * std::cos(angle);

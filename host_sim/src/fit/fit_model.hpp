@@ -9,14 +9,14 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <cstddef>
+#include <numbers>
 #include <vector>
 
 #include "odocal/host/fit.hpp"
-#include "odocal/numbers.hpp"
 
 namespace odocal::host::fit_detail {
 
-using odocal::pi;
+using std::numbers::pi;
 
 /// A stretch of one log: rows [begin, end). Its odometry starts at rows[begin]'s ground-truth
 /// pose when that row has one (averaged with the rows right after it that have the same counts),

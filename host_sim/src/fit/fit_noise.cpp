@@ -7,15 +7,15 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <numbers>
 #include <sstream>
 
 #include "odocal/calib/quantile.hpp"
-#include "odocal/numbers.hpp"
 
 namespace odocal::host {
 namespace {
 
-using odocal::pi;
+using std::numbers::pi;
 
 /// One independent end residual and the matrices its covariance is made of, restricted to the
 /// components measured at its end (x and y, heading, or all three).

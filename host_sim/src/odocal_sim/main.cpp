@@ -13,13 +13,13 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <thread>
 
 #include "odocal/console/console.hpp"
 #include "odocal/console/text.hpp"
 #include "odocal/host/sim_robot.hpp"
-#include "odocal/numbers.hpp"
 #include "odocal/params/param_store.hpp"
 #include "odocal/params/param_table.hpp"
 #include "odocal/posix/fd_byte_stream.hpp"
@@ -148,7 +148,7 @@ class SimCommand {
     reply.text("ok")
         .pair("x_mm", pose.x_m * 1000.0, 3)
         .pair("y_mm", pose.y_m * 1000.0, 3)
-        .pair("theta_deg", pose.theta_rad * 180.0 / odocal::pi, 3);
+        .pair("theta_deg", pose.theta_rad * 180.0 / std::numbers::pi, 3);
   }
 
   /// `measure cables off`: a smooth floor. `measure cables FIRST SPACING COUNT WHEEL [HEIGHT]`:

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <numbers>
 #include <sstream>
 #include <stdexcept>
 
@@ -27,13 +28,12 @@
 #include "odocal/host/fit.hpp"
 #include "odocal/host/fit_noise.hpp"
 #include "odocal/host/sim_procedures.hpp"
-#include "odocal/numbers.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
 namespace {
 
-constexpr double kPi = odocal::pi;
+constexpr double kPi = std::numbers::pi;
 constexpr double kMeasureSigmaMm = 2.0;        ///< a tape over a few metres (docs/calibration.md)
 constexpr double kHeadingLengthMm = 286.4789;  ///< 2 mm per 0.4 degree, as odocal fit
 constexpr std::size_t kTotalMeasurements = 12;

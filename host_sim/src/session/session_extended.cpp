@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <ostream>
 #include <stdexcept>
@@ -20,14 +21,13 @@
 #include "odocal/host/csv.hpp"
 #include "odocal/host/robot_link.hpp"
 #include "odocal/host/sim_procedures.hpp"
-#include "odocal/numbers.hpp"
 #include "odocal/toolkit/numbers.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
 namespace {
 
-using odocal::pi;
+using std::numbers::pi;
 /// The published test: ten cables of 10 mm on the first leg, under one wheel.
 constexpr std::size_t cable_count = 10;
 constexpr double cable_height_mm = 10.0;

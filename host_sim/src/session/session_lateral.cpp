@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <sstream>
 #include <stdexcept>
 
@@ -15,13 +16,12 @@
 #include "odocal/calib/bootstrap.hpp"
 #include "odocal/calib/lateral.hpp"
 #include "odocal/host/calib_json.hpp"
-#include "odocal/numbers.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
 namespace {
 
-using odocal::pi;
+using std::numbers::pi;
 constexpr std::uint32_t replicates = 2000;
 
 struct Arc {

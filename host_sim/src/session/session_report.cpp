@@ -7,6 +7,7 @@
 #include <ctime>
 #include <deque>
 #include <map>
+#include <numbers>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -14,13 +15,12 @@
 #include "odocal/drive/motion_executor.hpp"
 #include "odocal/host/sim_procedures.hpp"
 #include "odocal/host/sim_svg.hpp"
-#include "odocal/numbers.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
 namespace {
 
-constexpr double kPi = odocal::pi;
+constexpr double kPi = std::numbers::pi;
 const char* const kPalette[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd",
                                 "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
 

@@ -7,19 +7,19 @@
 #include <cstdio>
 #include <ctime>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 
 #include "odocal/calib/umbmark.hpp"
 #include "odocal/host/calib_json.hpp"
-#include "odocal/numbers.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
 namespace {
 
-using odocal::pi;
+using std::numbers::pi;
 /// Two-sided 95 % normal quantile.
 constexpr double z95 = 1.959963984540054;
 

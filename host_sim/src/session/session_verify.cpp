@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -11,7 +12,6 @@
 #include "odocal/drive/motion_executor.hpp"
 #include "odocal/host/calib_json.hpp"
 #include "odocal/host/sim_procedures.hpp"
-#include "odocal/numbers.hpp"
 #include "odocal/toolkit/numbers.hpp"
 #include "session_internal.hpp"
 
@@ -110,7 +110,7 @@ Outcome run_verify(Context& c) {
   outcome.result = accuracy_to_json(scenarios, "before");
   outcome.result["goal"] = {{"x_mm", goal.x_m * 1e3},
                             {"y_mm", goal.y_m * 1e3},
-                            {"theta_deg", goal.theta_rad * 180.0 / odocal::pi}};
+                            {"theta_deg", goal.theta_rad * 180.0 / std::numbers::pi}};
   std::ostringstream text;
   text << "Verify: end error on the unseen path (measured minus where it should end)\n"
        << "scenario     trials       rms_mm  improvement_pct\n";

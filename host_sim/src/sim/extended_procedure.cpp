@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -11,12 +12,11 @@
 
 #include "odocal/host/sim_procedures.hpp"
 #include "odocal/host/sim_svg.hpp"
-#include "odocal/numbers.hpp"
 
 namespace odocal::host {
 namespace {
 
-using odocal::pi;
+using std::numbers::pi;
 constexpr double deg_per_rad = 180.0 / pi;
 
 /// Student-t distribution function for t >= 0 by Simpson's rule on the density (host code; the

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -13,7 +14,6 @@
 
 #include "odocal/host/calib_json.hpp"
 #include "odocal/host/csv.hpp"
-#include "odocal/numbers.hpp"
 #include "odocal/params/param_table.hpp"
 
 namespace odocal::host {
@@ -76,7 +76,7 @@ bool set_key(const std::string& key, double value, RobotSpec& spec) {
   } else if (key == "measure_sigma_mm") {
     spec.truth.measure_sigma_m = value * 1e-3;
     // The sonar calibrator's ±0.4° goes with its ±2 mm: scale the heading noise alike.
-    spec.truth.measure_heading_sigma_rad = 0.4 * odocal::pi / 180.0 * value / 2.0;
+    spec.truth.measure_heading_sigma_rad = 0.4 * std::numbers::pi / 180.0 * value / 2.0;
   } else {
     return false;
   }
@@ -492,7 +492,7 @@ sim::WorldPose SimulatedRobot::measure_in_odometry_frame() {
   sim::WorldPose local;
   local.x_m = c * dx + s * dy;
   local.y_m = -s * dx + c * dy;
-  local.theta_rad = std::remainder(world.theta_rad - frame_.theta_rad, 2.0 * odocal::pi);
+  local.theta_rad = std::remainder(world.theta_rad - frame_.theta_rad, 2.0 * std::numbers::pi);
   return local;
 }
 
@@ -511,7 +511,7 @@ RunOutcome SimulatedRobot::run_path(const drive::Path& path, double timeout_s, c
   tick_once();
   plant_.place();
   loop_.reset_pose();
-  const double rad_per_count = 6.283185307179586476925 / spec_.nominal.counts_per_rev;
+  const double rad_per_count = 2.0 * std::numbers::pi / spec_.nominal.counts_per_rev;
   const std::int64_t left0 = plant_.left().encoder_count();
   const std::int64_t right0 = plant_.right().encoder_count();
   if (!loop_.run(path)) {

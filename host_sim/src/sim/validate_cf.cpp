@@ -2,15 +2,15 @@
 // for the CF calibration of `odocal sim validate` and for tests of `odocal fit`.
 
 #include <cmath>
+#include <numbers>
 
 #include "odocal/host/sim_procedures.hpp"
-#include "odocal/numbers.hpp"
 
 namespace odocal::host {
 
 RunOutcome run_path_logged(SimulatedRobot& robot, const drive::Path& path, TickLog& log,
                            LogTruth truth, std::uint32_t period_ms, double timeout_s) {
-  constexpr double rad_to_deg = 180.0 / odocal::pi;
+  constexpr double rad_to_deg = 180.0 / std::numbers::pi;
   log.rows.clear();
   const TraceFn record = [&](const sim::WorldPose& pose) {
     TickRow row;

@@ -1,6 +1,7 @@
 // `odocal sim validate`: the Maddahi & Zareinia protocol on the simulated robot.
 
 #include <cmath>
+#include <numbers>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -65,7 +66,7 @@ bool run_cf(SimulatedRobot& robot, const drive::DriveConfig& base, const Validat
   const std::size_t spins = 2 * o.cf_spins;
   for (std::size_t i = 0; i < spins; ++i) {
     report_progress(progress, floor.name, "CF turn in place", i, spins);
-    constexpr double two_pi = 6.283185307179586;
+    constexpr double two_pi = 2.0 * std::numbers::pi;
     const double sign = i % 2 == 0 ? -1.0 : 1.0;
     drive::Path spin;
     static_cast<void>(

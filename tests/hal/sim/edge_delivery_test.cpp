@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <vector>
 
 #include "odocal/drive/quadrature_decoder.hpp"
@@ -15,7 +16,7 @@
 namespace odocal::sim {
 namespace {
 
-constexpr double two_pi = 6.283185307179586476925;
+constexpr double two_pi = 2.0 * std::numbers::pi;
 
 RobotModel quiet_robot() {
   RobotModel m;

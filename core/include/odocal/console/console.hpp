@@ -17,6 +17,7 @@
 #include "odocal/console/line_editor.hpp"
 #include "odocal/console/output_queue.hpp"
 #include "odocal/console/reply.hpp"
+#include "odocal/console/reply_spec.hpp"
 #include "odocal/console/settings.hpp"
 #include "odocal/console/spsc_ring.hpp"
 #include "odocal/console/text.hpp"
@@ -138,7 +139,10 @@ class Console {
     odom,
     drive,
     stop,
-    run,
+    run_umbmark_cw,
+    run_umbmark_ccw,
+    run_line,
+    run_unseen,
     trial,
     trials,
     umbmark_clear,
@@ -152,7 +156,9 @@ class Console {
     lateral_apply,
     lateral_set,
     fit_apply,
-    stream,
+    stream_odom,
+    stream_ticks,
+    stream_off,
     echo,
     selftest,
   };
@@ -201,7 +207,8 @@ class Console {
   void send_newline();
 
   /// One value of a line written from a spec (`append`, `send_line`): a whole number (at most
-  /// 32 bits on the robot), a float, a text, or the address of a 64-bit whole number.
+  /// 32 bits on the robot), a float, a text, or the address of a 64-bit whole number. Untagged:
+  /// the spec's directive says which member is set, and ReplySpec checks that when compiled.
   struct Arg {
     template <typename T, std::enable_if_t<std::is_integral_v<T>, int> = 0>
     explicit Arg(T value) : u(static_cast<std::size_t>(value)) {
@@ -220,37 +227,55 @@ class Console {
       const std::int64_t* i64;
     };
   };
-  /// Appends `spec` to `reply`, each `%` directive in it replaced by the next of `args`: %u a
-  /// whole number, %i a signed 32-bit one, %U and %I the same at an address, 64-bit, %s a text,
-  /// %0..%9 a float with that many decimals (as Reply::number). One shared path instead of a call
-  /// per key and value at every reply.
+  /// Appends `spec` to `reply`, each `%` directive in it replaced by the next of `args`
+  /// (reply_spec.hpp lists the directives). One shared path instead of a call per key and value
+  /// at every reply; callers go through append, send_line and send_error_line, whose spec is
+  /// checked against its values when compiled.
   static void append_args(Reply& reply, const char* spec, const Arg* args);
   template <typename... Values>
-  static void append(Reply& reply, const char* spec, Values... values) {
+  static void append(Reply& reply, ReplySpec<std::type_identity_t<Values>...> spec,
+                     Values... values) {
     if constexpr (sizeof...(Values) == 0u) {
-      append_args(reply, spec, nullptr);
+      append_args(reply, spec.text(), nullptr);
     } else {
       const Arg args[] = {Arg(values)...};
-      append_args(reply, spec, args);
+      append_args(reply, spec.text(), args);
     }
+  }
+  /// Appends `full` when `use_full`, else `shorter`, which leaves the last values out.
+  template <typename... Values>
+  static void append_either(Reply& reply, bool use_full,
+                            ReplySpec<std::type_identity_t<Values>...> full,
+                            LeadingReplySpec<std::type_identity_t<Values>...> shorter,
+                            Values... values) {
+    const Arg args[] = {Arg(values)...};
+    append_args(reply, use_full ? full.text() : shorter.text(), args);
   }
   /// Sends one line written from `spec` (see append_args).
   void send_args(const char* spec, const Arg* args);
   template <typename... Values>
-  void send_line(const char* spec, Values... values) {
+  void send_line(ReplySpec<std::type_identity_t<Values>...> spec, Values... values) {
     if constexpr (sizeof...(Values) == 0u) {
-      send_args(spec, nullptr);
+      send_args(spec.text(), nullptr);
     } else {
       const Arg args[] = {Arg(values)...};
-      send_args(spec, args);
+      send_args(spec.text(), args);
     }
+  }
+  /// Sends `full` when `use_full`, else `shorter`, which leaves the last values out.
+  template <typename... Values>
+  void send_either(bool use_full, ReplySpec<std::type_identity_t<Values>...> full,
+                   LeadingReplySpec<std::type_identity_t<Values>...> shorter, Values... values) {
+    const Arg args[] = {Arg(values)...};
+    send_args(use_full ? full.text() : shorter.text(), args);
   }
   /// Sends an `err <code> ` line whose message is written from `spec` (counted in `errors`).
   void send_error_args(ErrorCode code, const char* spec, const Arg* args);
   template <typename... Values>
-  void send_error_line(ErrorCode code, const char* spec, Values... values) {
+  void send_error_line(ErrorCode code, ReplySpec<std::type_identity_t<Values>...> spec,
+                       Values... values) {
     const Arg args[] = {Arg(values)...};
-    send_error_args(code, spec, args);
+    send_error_args(code, spec.text(), args);
   }
   /// Parses `token` into [lo, hi] (and, with `not_whole` set, requires a whole number as typed,
   /// sending `not_whole` otherwise); sends the error and returns false when refused.
@@ -263,8 +288,13 @@ class Console {
                 std::uint16_t& runs);
   /// Sends the reason a configuration was refused; @return check.ok().
   bool config_accepted(const drive::ConfigCheck& check);
-  /// Refuses (err busy) and returns true while a path runs (`path_only`) or the robot moves.
-  bool refuse_busy(bool path_only);
+  /// What a command must wait for (refuse_busy).
+  enum class Busy : std::uint8_t {
+    motion,  ///< any motion (`save`, `load`, the factors' `apply`)
+    path,    ///< a path running (`run`, `odom reset`, `set`: a drive command may go on)
+  };
+  /// Refuses (err busy) and returns true while `busy` holds.
+  bool refuse_busy(Busy busy);
   void start_listing(Listing listing);
 
   // commands_system.cpp
@@ -293,8 +323,10 @@ class Console {
   void cmd_odom(std::size_t count);
   [[gnu::noinline]] void cmd_drive(const Token* words, std::size_t count);
   void cmd_stop();
-  void cmd_run(const Token* words);
-  void cmd_stream(const Token* words);
+  /// `run <path>` (handler: which path).
+  void cmd_run(Handler handler, const Token* words);
+  /// `stream odom|ticks <hz>`, `stream off` (handler: which form).
+  void cmd_stream(Handler handler, const Token* words);
   void cmd_trial(const Token* words, std::size_t count);
   void cmd_trials(std::size_t count);
   // commands_selftest.cpp: `selftest`, run from `poll` until its one reply.
@@ -316,18 +348,22 @@ class Console {
   void cmd_lateral_clear();
   void cmd_lateral_add(const Token* words);
   void cmd_lateral_solve();
-  /// `umbmark apply` / `lateral apply` (`lateral`): puts the solved factors in force.
-  void cmd_calib_apply(bool lateral, const Token* words, std::size_t count);
-  /// `fit apply` (`fit`) / `lateral set`: puts host-computed factors in force with their
-  /// provenance. Main loop.
-  void cmd_host_factors(bool fit, const Token* words, std::size_t count);
-  /// Puts the factors `ids` (the wheel or the lateral group) = `values` in force with their
-  /// provenance when the robot is still, they are in range and the drive accepts them, and sends
-  /// the `ok` line; sends the refusal otherwise. Out of line: the candidate parameter set is on
-  /// its frame only.
-  [[gnu::noinline]] bool apply_factors(const params::ParamId* ids, const float* values,
-                                       std::size_t count, params::FactorMethod method,
-                                       std::uint16_t runs, std::uint32_t date, float quality_mm);
+  /// The two groups of factors, each with its own provenance (params::ParamSet).
+  enum class FactorGroup : std::uint8_t {
+    wheel,    ///< c_l, c_r, wheelbase_mm, wheelbase_arc_mm: UMBmark, `fit apply`
+    lateral,  ///< f_lat, f_lon: Maddahi, `lateral set`
+  };
+  /// `umbmark apply` (wheel) / `lateral apply` (lateral): puts the solved factors in force.
+  void cmd_calib_apply(FactorGroup group, const Token* words, std::size_t count);
+  /// `fit apply` (wheel) / `lateral set` (lateral): puts host-computed factors in force with
+  /// their provenance. Main loop.
+  void cmd_host_factors(FactorGroup group, const Token* words, std::size_t count);
+  /// Puts the first `count` factors of `group` = `values` in force with their provenance when
+  /// the robot is still, they are in range and the drive accepts them, and sends the `ok` line;
+  /// sends the refusal otherwise. Out of line: the candidate parameter set is on its frame only.
+  [[gnu::noinline]] bool apply_factors(FactorGroup group, const float* values, std::size_t count,
+                                       params::FactorMethod method, std::uint16_t runs,
+                                       std::uint32_t date, float quality_mm);
 
   // The small state first, the buffers and the parameter set last: on the robot most accesses
   // then reach their field with a short offset from the object (smaller instructions).

@@ -10,7 +10,7 @@
 /// the reduction loses precision, so such inputs are outside the contract. ISR-safe, no state.
 
 #include <cstdint>
-#include "odocal/numbers.hpp"
+#include <numbers>
 
 namespace odocal::drive {
 
@@ -105,7 +105,7 @@ inline float wrap_pi(float angle) {
   // Whole turns are multiples of 4 quadrants, which the split pi/2 removes exactly.
   const std::int32_t turns = nearest(angle * quarter_over_pi_half);
   float r = reduce(angle, static_cast<float>(turns * 4));
-  constexpr float pi = pi_v<float>;
+  constexpr float pi = std::numbers::pi_v<float>;
   if (r > pi) {
     r -= 2.0f * pi;
   } else if (r < -pi) {
@@ -138,7 +138,7 @@ inline float atan_unit(float t) {
 /// newlib's atan2f/atanf (750 B). Error within 3e-7 rad of the exact angle (two roundings of pi;
 /// tests/core/drive/bounded_trig_test.cpp). atan2(0, 0) is 0. ISR-safe, no state.
 inline float arctan2(float y, float x) {
-  constexpr float pi = pi_v<float>;
+  constexpr float pi = std::numbers::pi_v<float>;
   const float ax = x < 0.0f ? -x : x;
   const float ay = y < 0.0f ? -y : y;
   float angle = 0.0f;

@@ -2,6 +2,8 @@
 /// @file
 /// Differential-drive kinematics with the UMBmark and Maddahi calibration factors.
 
+#include <cmath>
+
 #include <Eigen/Core>
 
 #include "odocal/drive/drive_config.hpp"
@@ -19,6 +21,21 @@ struct WheelRates {
   float left_radps = 0.0f;
   float right_radps = 0.0f;
 };
+
+/// The speed limit: scales both wheels of `rates` down by one factor (keeping the curvature)
+/// when the faster exceeds `max_radps`, so that it turns at `max_radps`. @return whether it did;
+/// `scale` is then the factor (else unchanged). The tick applies it; the console's `drive`
+/// reports the twist that will really be driven (the twist times `scale`).
+inline bool limit_wheel_speeds(WheelRates& rates, float max_radps, float& scale) {
+  const float peak = std::fmax(std::fabs(rates.left_radps), std::fabs(rates.right_radps));
+  const bool clipped = peak > max_radps;
+  if (clipped) {
+    scale = max_radps / peak;
+    rates.left_radps *= scale;
+    rates.right_radps *= scale;
+  }
+  return clipped;
+}
 
 /// Maps between wheel rotation and body motion.
 ///

@@ -1,0 +1,80 @@
+// What the command handlers share: number and date arguments, the drive's refusal of a
+// configuration, and the busy check.
+
+#include "odocal/console/console.hpp"
+
+namespace odocal::console {
+
+bool Console::number_arg(const Token& token, float lo, float hi, float& value,
+                         const char* not_whole) {
+  constexpr int decimals = 6;  // bounds as `params` and the refusal print them
+  Decimal typed;
+  if (!parse_decimal(token, typed)) {
+    send_error(ErrorCode::bad_number, "not a finite decimal number");
+    return false;
+  }
+  // The typed decimal against the printed bounds, exactly: `set v_max_mps 0.001` is the minimum
+  // although the table's float is 0.0010000000475, and 2.0000001 is above 2 though not as a float.
+  if (compare(typed, lo, decimals) < 0 || compare(typed, hi, decimals) > 0) {
+    send_error_line(ErrorCode::out_of_range, "allowed min=%6 max=%6", lo, hi);
+    return false;
+  }
+  // Whole as typed: 1440.0000001 is not, although its nearest float is 1440.
+  if (not_whole != nullptr && !is_whole(typed)) {
+    send_error(ErrorCode::bad_number, not_whole);
+    return false;
+  }
+  const float parsed = to_float(typed);
+  value = parsed < lo ? lo : (parsed > hi ? hi : parsed);
+  return true;
+}
+
+bool Console::config_accepted(const drive::ConfigCheck& check) {
+  if (check.ok()) {
+    return true;
+  }
+  if (check.error == drive::ConfigError::out_of_range) {
+    send_error_line(ErrorCode::rejected, "drive refused %s (outside its range)",
+                    drive::config_fields[check.field].name);
+  } else {
+    send_error_line(ErrorCode::rejected, "drive refused (need %s)",
+                    check.error == drive::ConfigError::wheelbase_arc
+                        ? "wheelbase_arc_mm 0 or within 20% of wheelbase_mm"
+                        : "wheelbase_mm > wheel_diameter_mm/4");
+  }
+  return false;
+}
+
+bool Console::refuse_busy(Busy busy) {
+  const bool path_only = busy == Busy::path;
+  // The loop's status shows a command not taken yet as taken: `run` then `save` on the next
+  // line is refused even when no tick came between the two.
+  const drive::Mode mode = loop_.status().mode;
+  if (mode == drive::Mode::path || (!path_only && mode == drive::Mode::drive)) {
+    send_error_line(ErrorCode::busy, "%s; stop first",
+                    path_only ? "a path is running" : "the robot is moving");
+    return true;
+  }
+  return false;
+}
+
+bool Console::date_arg(const Token* words, std::size_t count, std::size_t index,
+                       std::uint32_t& date, std::uint16_t& runs) {
+  date = 0u;
+  if (count > index && !parse_unsigned(words[index], date)) {
+    send_error(ErrorCode::bad_number, "unix_s must be whole seconds");
+    return false;
+  }
+  // The runs the result came from, when the host knows more than this console saw (every pass).
+  std::uint32_t given = 0u;
+  if (count > index + 1u) {
+    if (!parse_unsigned(words[index + 1u], given) || given == 0u || given > 65535u) {
+      send_error(ErrorCode::bad_number, "runs must be a whole number from 1 to 65535");
+      return false;
+    }
+    runs = static_cast<std::uint16_t>(given);
+  }
+  return true;
+}
+
+}  // namespace odocal::console

@@ -94,10 +94,10 @@ void ControlLoop::apply_config(const DriveConfig& config) {
     config_ = config;
   }
   kinematics_.configure(config_);
-  left_speed_.set_counts_per_rev(config_.counts_per_rev);
-  right_speed_.set_counts_per_rev(config_.counts_per_rev);
-  left_controller_.set_gains(gains_of(config_));
-  right_controller_.set_gains(gains_of(config_));
+  left_wheel_.speed.set_counts_per_rev(config_.counts_per_rev);
+  right_wheel_.speed.set_counts_per_rev(config_.counts_per_rev);
+  left_wheel_.controller.set_gains(gains_of(config_));
+  right_wheel_.controller.set_gains(gains_of(config_));
 }
 
 void ControlLoop::take_command(const Taken& inbox, const EncoderSnapshot& left,
@@ -113,10 +113,10 @@ void ControlLoop::take_command(const Taken& inbox, const EncoderSnapshot& left,
       mode_ = Mode::idle;
       drive_twist_ = Twist{};
       faults_ = fault_none;  // stop acknowledges faults
-      left_stall_us_ = 0u;
-      right_stall_us_ = 0u;
-      illegal_base_left_ = left.illegal;  // from this tick's snapshot, not a fresh racy read
-      illegal_base_right_ = right.illegal;
+      left_wheel_.stall_us = 0u;
+      right_wheel_.stall_us = 0u;
+      left_wheel_.illegal_base = left.illegal;  // from this tick's snapshot, not a fresh racy read
+      right_wheel_.illegal_base = right.illegal;
       trial_.abandon();
       break;
     case Command::drive:
@@ -127,8 +127,8 @@ void ControlLoop::take_command(const Taken& inbox, const EncoderSnapshot& left,
         drive_ms_ = inbox.duration_ms;
         drive_age_us_ = 0u;
         if (drive_ms_ > 0u) {
-          trial_.begin(PathId::drive, 0.0f, left_speed_.position_counts(),
-                       right_speed_.position_counts());
+          trial_.begin(PathId::drive, 0.0f, left_wheel_.speed.position_counts(),
+                       right_wheel_.speed.position_counts());
         } else {
           trial_.abandon();  // an open-ended drive is no trial
         }
@@ -140,7 +140,7 @@ void ControlLoop::take_command(const Taken& inbox, const EncoderSnapshot& left,
         mode_ = motion_.busy() ? Mode::path : Mode::idle;
         drive_twist_ = Twist{};
         trial_.begin(motion_.path().id, path_length_m(motion_.path()),
-                     left_speed_.position_counts(), right_speed_.position_counts());
+                     left_wheel_.speed.position_counts(), right_wheel_.speed.position_counts());
       }
       break;
     case Command::none:
@@ -148,33 +148,33 @@ void ControlLoop::take_command(const Taken& inbox, const EncoderSnapshot& left,
   }
 }
 
-void ControlLoop::check_faults(const EncoderSnapshot& left, const EncoderSnapshot& right,
-                               std::uint32_t dt_us) {
-  if (left.illegal - illegal_base_left_ > config_.max_illegal) {
-    faults_ |= fault_encoder_left;
-  }
-  if (right.illegal - illegal_base_right_ > config_.max_illegal) {
-    faults_ |= fault_encoder_right;
-  }
+bool ControlLoop::stalled(Wheel& wheel, std::uint32_t dt_us) {
   // A wheel is stalled when it gets a large duty and does not get anywhere for stall_ms: its
   // position stays within one count of where the window began. Net motion, not edges: a dead
   // encoder channel still yields edges from the other one, whose counts only go back and forth.
-  const auto stall_time = [this, dt_us](std::uint32_t& stalled_us, std::int64_t& window_start,
-                                        float duty, std::int64_t position) {
-    const std::int64_t moved = position - window_start;
-    if (std::fabs(duty) > config_.stall_duty && moved <= 1 && moved >= -1) {
-      stalled_us += dt_us;
-    } else {
-      stalled_us = 0u;
-      window_start = position;
-    }
-    return static_cast<float>(stalled_us) * 1e-3f > config_.stall_ms;
-  };
-  if (stall_time(left_stall_us_, left_stall_start_, left_duty_, left_speed_.position_counts())) {
+  const std::int64_t position = wheel.speed.position_counts();
+  const std::int64_t moved = position - wheel.stall_start;
+  if (std::fabs(wheel.duty) > config_.stall_duty && moved <= 1 && moved >= -1) {
+    wheel.stall_us += dt_us;
+  } else {
+    wheel.stall_us = 0u;
+    wheel.stall_start = position;
+  }
+  return static_cast<float>(wheel.stall_us) * 1e-3f > config_.stall_ms;
+}
+
+void ControlLoop::check_faults(const EncoderSnapshot& left, const EncoderSnapshot& right,
+                               std::uint32_t dt_us) {
+  if (left.illegal - left_wheel_.illegal_base > config_.max_illegal) {
+    faults_ |= fault_encoder_left;
+  }
+  if (right.illegal - right_wheel_.illegal_base > config_.max_illegal) {
+    faults_ |= fault_encoder_right;
+  }
+  if (stalled(left_wheel_, dt_us)) {
     faults_ |= fault_stall_left;
   }
-  if (stall_time(right_stall_us_, right_stall_start_, right_duty_,
-                 right_speed_.position_counts())) {
+  if (stalled(right_wheel_, dt_us)) {
     faults_ |= fault_stall_right;
   }
 }
@@ -208,26 +208,26 @@ Twist ControlLoop::twist_for_mode(float dt_s, std::uint32_t dt_us) {
 }
 
 void ControlLoop::start_braking() {
-  const float left = left_speed_.speed_radps();
-  const float right = right_speed_.speed_radps();
-  left_brake_sign_ = left > 0.0f ? 1 : (left < 0.0f ? -1 : 0);
-  right_brake_sign_ = right > 0.0f ? 1 : (right < 0.0f ? -1 : 0);
+  const float left = left_wheel_.speed.speed_radps();
+  const float right = right_wheel_.speed.speed_radps();
+  left_wheel_.brake_sign = left > 0.0f ? 1 : (left < 0.0f ? -1 : 0);
+  right_wheel_.brake_sign = right > 0.0f ? 1 : (right < 0.0f ? -1 : 0);
   brake_us_ = 0u;
 }
 
-float ControlLoop::brake_duty(int& sign, WheelController& controller,
-                              const VelocityEstimator& speed) {
+float ControlLoop::brake_duty(Wheel& wheel) {
   // The speed loop's proportional term alone, towards zero: the duty shrinks with the speed and
   // is 0 at rest, so braking cannot push the wheel backwards (an integral term, wound up by the
   // angle turned while stopping, did: a few counts of reverse creep). The controller stays reset
   // so the next motion starts bumpless.
-  controller.reset();
-  const float measured = speed.speed_radps();
+  wheel.controller.reset();
+  const float measured = wheel.speed.speed_radps();
   // At rest (the estimator reads 0 once no edge came for its timeout), or turning back: release.
-  if (sign != 0 && (measured * static_cast<float>(sign) <= 0.0f || brake_us_ > kMaxBrake_us)) {
-    sign = 0;
+  if (wheel.brake_sign != 0 &&
+      (measured * static_cast<float>(wheel.brake_sign) <= 0.0f || brake_us_ > kMaxBrake_us)) {
+    wheel.brake_sign = 0;
   }
-  if (sign == 0) {
+  if (wheel.brake_sign == 0) {
     return 0.0f;
   }
   const float duty = -config_.kp * measured;
@@ -235,8 +235,8 @@ float ControlLoop::brake_duty(int& sign, WheelController& controller,
 }
 
 void ControlLoop::drive_motors(float left_duty, float right_duty) {
-  left_duty_ = left_duty;
-  right_duty_ = right_duty;
+  left_wheel_.duty = left_duty;
+  right_wheel_.duty = right_duty;
   left_forward_->set(left_duty >= 0.0f);
   left_pwm_->set_duty(std::fabs(left_duty));
   right_forward_->set(right_duty >= 0.0f);
@@ -268,10 +268,10 @@ void ControlLoop::tick(std::uint32_t now_us) {
   if (!started_) {
     started_ = true;
     last_tick_us_ = now_us;
-    left_speed_.reset(left_snap, now_us);
-    right_speed_.reset(right_snap, now_us);
-    illegal_base_left_ = left_snap.illegal;
-    illegal_base_right_ = right_snap.illegal;
+    left_wheel_.speed.reset(left_snap, now_us);
+    right_wheel_.speed.reset(right_snap, now_us);
+    left_wheel_.illegal_base = left_snap.illegal;
+    right_wheel_.illegal_base = right_snap.illegal;
   }
   std::uint32_t dt_us = now_us - last_tick_us_;
   last_tick_us_ = now_us;
@@ -288,14 +288,15 @@ void ControlLoop::tick(std::uint32_t now_us) {
   take_command(inbox, left_snap, right_snap);
 
   // 2. Estimate wheel speeds. 3. Odometry from the wheel increments.
-  left_speed_.update(left_snap, now_us);
-  right_speed_.update(right_snap, now_us);
+  left_wheel_.speed.update(left_snap, now_us);
+  right_wheel_.speed.update(right_snap, now_us);
   odometry_.update(
-      static_cast<float>(left_speed_.delta_counts()) * kinematics_.left_m_per_count(),
-      static_cast<float>(right_speed_.delta_counts()) * kinematics_.right_m_per_count(),
+      static_cast<float>(left_wheel_.speed.delta_counts()) * kinematics_.left_m_per_count(),
+      static_cast<float>(right_wheel_.speed.delta_counts()) * kinematics_.right_m_per_count(),
       // The wheelbase in force: b, or with an arc wheelbase the blend for the wheels' measured
       // rates (M/T speeds: a tick's 0-3 counts would quantise the weight and bias it).
-      kinematics_.wheelbase_for_rates_m(left_speed_.speed_radps(), right_speed_.speed_radps()));
+      kinematics_.wheelbase_for_rates_m(left_wheel_.speed.speed_radps(),
+                                        right_wheel_.speed.speed_radps()));
 
   // Faults are sticky and park the motors.
   check_faults(left_snap, right_snap, dt_us);
@@ -311,10 +312,10 @@ void ControlLoop::tick(std::uint32_t now_us) {
   float right_duty = 0.0f;
   bool clipped = false;
   if (mode_ == Mode::fault) {
-    left_controller_.reset();
-    right_controller_.reset();
-    left_brake_sign_ = 0;  // a fault parks the motors: no braking either
-    right_brake_sign_ = 0;
+    left_wheel_.controller.reset();
+    right_wheel_.controller.reset();
+    left_wheel_.brake_sign = 0;  // a fault parks the motors: no braking either
+    right_wheel_.brake_sign = 0;
   } else {
     const Twist twist = twist_for_mode(dt_s, dt_us);
     WheelRates rates = kinematics_.inverse(twist);
@@ -327,13 +328,15 @@ void ControlLoop::tick(std::uint32_t now_us) {
       // segments), release the motors, instead of a velocity loop that would wind up and creep
       // backwards.
       brake_us_ += dt_us;
-      left_duty = brake_duty(left_brake_sign_, left_controller_, left_speed_);
-      right_duty = brake_duty(right_brake_sign_, right_controller_, right_speed_);
+      left_duty = brake_duty(left_wheel_);
+      right_duty = brake_duty(right_wheel_);
     } else {
-      left_brake_sign_ = 0;
-      right_brake_sign_ = 0;
-      left_duty = left_controller_.update(rates.left_radps, left_speed_.speed_radps(), dt_s);
-      right_duty = right_controller_.update(rates.right_radps, right_speed_.speed_radps(), dt_s);
+      left_wheel_.brake_sign = 0;
+      right_wheel_.brake_sign = 0;
+      left_duty =
+          left_wheel_.controller.update(rates.left_radps, left_wheel_.speed.speed_radps(), dt_s);
+      right_duty =
+          right_wheel_.controller.update(rates.right_radps, right_wheel_.speed.speed_radps(), dt_s);
     }
   }
   drive_motors(left_duty, right_duty);
@@ -341,8 +344,9 @@ void ControlLoop::tick(std::uint32_t now_us) {
   // 8. Trial bookkeeping: a trial closes once the robot is at rest after its motion.
   // A closed trial's record stays in trial_ (last_trial reads it under the critical section).
   static_cast<void>(trial_.update(mode_ == Mode::path || mode_ == Mode::drive,
-                                  left_speed_.position_counts(), right_speed_.position_counts(),
-                                  odometry_, dt_us, std::fmax(config_.settle_ms, kMinStill_ms)));
+                                  left_wheel_.speed.position_counts(),
+                                  right_wheel_.speed.position_counts(), odometry_, dt_us,
+                                  std::fmax(config_.settle_ms, kMinStill_ms)));
 
   // 9. Publish for the main loop.
   hal::CriticalGuard guard(critical_);
@@ -354,15 +358,15 @@ void ControlLoop::tick(std::uint32_t now_us) {
   status.ticks = ticks_;
   status.illegal_left = left_snap.illegal;
   status.illegal_right = right_snap.illegal;
-  status.left_radps = left_speed_.speed_radps();
-  status.right_radps = right_speed_.speed_radps();
+  status.left_radps = left_wheel_.speed.speed_radps();
+  status.right_radps = right_wheel_.speed.speed_radps();
   status.left_duty = left_duty;
   status.right_duty = right_duty;
   status.trial_open = trial_.open();
   status.pose_resets = pose_resets_;
   status.clipped = clipped;
-  published_.counts =
-      WheelCounts{clock_us_, left_speed_.position_counts(), right_speed_.position_counts()};
+  published_.counts = WheelCounts{clock_us_, left_wheel_.speed.position_counts(),
+                                  right_wheel_.speed.position_counts()};
 }
 
 ConfigCheck ControlLoop::configure(const DriveConfig& config) {

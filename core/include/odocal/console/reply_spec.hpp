@@ -73,14 +73,16 @@ constexpr bool spec_matches(const char* spec, bool all) {
 /// does not compile, and the compiler's message names this function.
 void reply_spec_does_not_match_its_values();
 
-/// A spec whose directives take every one of `Values`, in order. Built from a string literal at
-/// compile time (consteval): `send_line("ok hz=%3", hz)` checks "%3" against `float`.
-template <typename... Values>
-class ReplySpec {
+/// A spec checked against `Values` when compiled: with `all_values`, its directives take every
+/// one of them, in order; without, only the first few (at least one left out: the shorter
+/// alternative of a two-spec reply whose last values are not always written). Built from a string
+/// literal (consteval): `send_line("ok hz=%3", hz)` checks "%3" against `float`.
+template <bool all_values, typename... Values>
+class BasicReplySpec {
  public:
   // NOLINTNEXTLINE(google-explicit-constructor): a literal converts, as std::format_string does
-  consteval ReplySpec(const char* text) : text_(text) {
-    if (!spec_matches<Values...>(text, true)) {
+  consteval BasicReplySpec(const char* text) : text_(text) {
+    if (!spec_matches<Values...>(text, all_values)) {
       reply_spec_does_not_match_its_values();
     }
   }
@@ -90,21 +92,12 @@ class ReplySpec {
   const char* text_;
 };
 
-/// A spec whose directives take only the first of `Values` (at least one left out): the
-/// alternative of a two-spec reply whose last values are not always written.
+/// A spec that writes every one of `Values`.
 template <typename... Values>
-class LeadingReplySpec {
- public:
-  // NOLINTNEXTLINE(google-explicit-constructor)
-  consteval LeadingReplySpec(const char* text) : text_(text) {
-    if (!spec_matches<Values...>(text, false)) {
-      reply_spec_does_not_match_its_values();
-    }
-  }
-  [[nodiscard]] constexpr const char* text() const { return text_; }
+using ReplySpec = BasicReplySpec<true, Values...>;
 
- private:
-  const char* text_;
-};
+/// A spec that writes only the first of `Values`.
+template <typename... Values>
+using LeadingReplySpec = BasicReplySpec<false, Values...>;
 
 }  // namespace odocal::console

@@ -170,19 +170,38 @@ class ControlLoop {
   MotorChannel right_;  ///< the right motor connector
   hal::CriticalSection& critical_;
 
+  /// One wheel's tick-owned state: its speed, its speed loop, the watch for its faults and its
+  /// braking.
+  struct Wheel {
+    // Built in place in the loop's constructor: out of line, one copy for both wheels cost the
+    // robot's flash more than it saved.
+    [[gnu::always_inline]] Wheel() {}  // NOLINT(modernize-use-equals-default)
+    VelocityEstimator speed;
+    WheelController controller;
+    std::uint32_t illegal_base = 0u;  ///< its decoder's illegal count that `stop` acknowledged
+    std::uint32_t stall_us = 0u;      ///< time with a large duty and no net motion
+    std::int64_t stall_start = 0;     ///< position where the current stall window began
+    float duty = 0.0f;                ///< the duty the last tick drove
+    /// Braking after a drive ends or `stop`: the speed loop holds a zero set-point until the
+    /// wheel is at rest (direction of travel at the start: +1, -1; 0 = released).
+    int brake_sign = 0;
+  };
+
+  /// Watches `wheel` for a stall over one more tick of `dt_us`. @return true when stalled for
+  /// longer than stall_ms. One copy called for each wheel: inlined twice it cost the robot's flash
+  /// 52 bytes, called it costs the tick about 60 instructions (docs/performance.md).
+  [[gnu::noinline]] bool stalled(Wheel& wheel, std::uint32_t dt_us);
   /// Starts braking the wheels that are turning (a drive ended, or `stop`).
   void start_braking();
   /// One wheel's duty while braking: −kp·speed until the wheel is at rest (or turns the other
-  /// way), then 0 and `sign` cleared. Keeps `controller` reset.
-  float brake_duty(int& sign, WheelController& controller, const VelocityEstimator& speed);
+  /// way), then 0 and its brake_sign cleared. Keeps its controller reset.
+  float brake_duty(Wheel& wheel);
 
   // Tick-owned state (only the tick touches it; `run` loads motion_ under the critical section).
   DriveConfig config_;
   DiffDriveKinematics kinematics_;
-  VelocityEstimator left_speed_;
-  VelocityEstimator right_speed_;
-  WheelController left_controller_;
-  WheelController right_controller_;
+  Wheel left_wheel_;
+  Wheel right_wheel_;
   Odometry odometry_;  ///< also read by `pose` under the critical section
   MotionExecutor motion_;
   TrialRecorder trial_;  ///< its last() is also read by the main loop, under the critical section
@@ -195,20 +214,8 @@ class ControlLoop {
   std::uint64_t clock_us_ = 0u;  ///< since the first tick, unwrapped
   std::uint32_t ticks_ = 0u;
   std::uint32_t pose_resets_ = 0u;
-  std::uint32_t illegal_base_left_ = 0u;
-  std::uint32_t illegal_base_right_ = 0u;
-  std::uint32_t left_stall_us_ = 0u;  ///< time with a large duty and no net motion
-  std::uint32_t right_stall_us_ = 0u;
-  std::int64_t left_stall_start_ = 0;  ///< position where the current stall window began
-  std::int64_t right_stall_start_ = 0;
-  float left_duty_ = 0.0f;
-  float right_duty_ = 0.0f;
   bool started_ = false;
-  // Braking after a drive ends or `stop`: each wheel's speed loop holds a zero set-point until
-  // that wheel is at rest (direction of travel at the start: +1, -1; 0 = released).
-  int left_brake_sign_ = 0;
-  int right_brake_sign_ = 0;
-  std::uint32_t brake_us_ = 0u;
+  std::uint32_t brake_us_ = 0u;  ///< time since braking started
 
   // Shared with the main loop under the critical section.
   Inbox inbox_{};

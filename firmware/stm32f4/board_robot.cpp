@@ -7,7 +7,7 @@
 #include "board.hpp"
 #include "built_once.hpp"
 #include "odocal/hal/stm32f4/cortex_m4.hpp"
-#include "odocal/hal/stm32f4/exti.hpp"
+#include "odocal/hal/stm32f4/encoder_edge.hpp"
 #include "odocal/hal/stm32f4/flash_store.hpp"
 #include "odocal/hal/stm32f4/gpio_pins.hpp"
 #include "odocal/hal/stm32f4/irq.hpp"
@@ -55,27 +55,24 @@ BoardInfo info{"robot", f4::ClockReport{}, f4::usart::usart1};
 f4::GpioOutput left_forward{left_dir_pin, true};
 f4::GpioOutput right_forward{right_dir_pin, true};
 f4::GpioOutput driver_enable{driver_enable_pin, false};
-f4::MemoryBus flash_bus;
+/// Register and flash-memory access: the flash store's, and the edge path's.
+f4::MemoryBus memory_bus;
 
 /// The application's clock: TIM5 counting microseconds, started first thing in board_init (the
 /// flash store's timeouts read it too).
 constexpr f4::Block us_timer = f4::tim::tim5;
 f4::MicrosecondTimer us_clock{us_timer, f4::rcc::apb1enr_tim5};
-f4::FlashStore store{flash_bus, us_clock, store_first_sector, store_sectors};
+f4::FlashStore store{memory_bus, us_clock, store_first_sector, store_sectors};
 
 drive::QuadratureDecoder* left_decoder = nullptr;
 drive::QuadratureDecoder* right_decoder = nullptr;
 
 /// One wheel's edge, served straight from its EXTI vector (each vector is flattened: the decoder
-/// is inlined, the whole edge path is one function without a call): clear both of the wheel's
-/// pending bits first (an edge from here on pends the vector again), then one IDR read samples A
-/// and B and one TIM5 read stamps them. Lines = pin numbers (port C, EXTICR routes them).
+/// is inlined, the whole edge path is one function without a call). Lines = pin numbers (port C,
+/// EXTICR routes them); the stamp is TIM5's count.
 template <std::uint8_t a_line, std::uint8_t b_line>
 inline void serve_edge(drive::QuadratureDecoder& decoder) {
-  f4::exti::pr.write((1u << a_line) | (1u << b_line));
-  const std::uint32_t levels = f4::gpio::idr(encoder_port).read();
-  decoder.on_edge(((levels >> a_line) & 1u) != 0u, ((levels >> b_line) & 1u) != 0u,
-                  f4::MicrosecondTimer::read(us_timer));
+  f4::serve_encoder_edge<a_line, b_line>(memory_bus, encoder_port, us_timer, decoder);
 }
 
 // What board_init builds once, from the clock it reached (BuiltOnce: no guard variables).

@@ -47,7 +47,7 @@ VIRTUAL_BY_CALLER = [
     ("odocal::drive::", r"do_set_duty|do_set\(|do_enter|do_exit"),
     ("odocal::params::", r"do_erase|do_program|do_read\(unsigned|do_sector|do_program_gran"),
     ("odocal::hal::BlockStore", r"do_erase|do_program|do_read\(unsigned|do_sector|do_program_gran"),
-    ("odocal::hal::stm32f4::FlashStore", r"do_now_us|do_read32|do_write32"),
+    ("odocal::hal::stm32f4::FlashStore", r"do_now_us"),
     ("odocal::console::", r"do_read\(unsigned char|do_write|do_enter|do_exit"),
     ("odocal::firmware::SessionStream", r"do_read\(unsigned char|do_write"),
     ("odocal::hal::CriticalGuard", r"do_enter|do_exit"),

@@ -3,10 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
-#include <thread>
 #include <vector>
-
-#include "odocal/console/spsc_ring.hpp"
 
 namespace odocal::console {
 namespace {
@@ -100,47 +97,6 @@ TEST(LineEditor, ScriptedInputDoesNotLookLikeATerminal) {
   EXPECT_FALSE(editor.saw_terminal());
   feed(editor, "status\rx");  // a bare CR, as picocom sends for Enter
   EXPECT_TRUE(editor.saw_terminal());
-}
-
-TEST(SpscRing, KeepsOrderAndRefusesWhenFull) {
-  SpscRing<8> ring;
-  for (std::uint8_t i = 0; i < 7; ++i)
-    EXPECT_TRUE(ring.push(i));
-  EXPECT_FALSE(ring.push(99));
-  EXPECT_EQ(ring.size(), 7u);
-  EXPECT_EQ(ring.free_space(), 0u);
-  for (std::uint8_t i = 0; i < 7; ++i) {
-    std::uint8_t b = 0;
-    ASSERT_TRUE(ring.pop(b));
-    EXPECT_EQ(b, i);
-  }
-  std::uint8_t b = 0;
-  EXPECT_FALSE(ring.pop(b));
-}
-
-TEST(SpscRing, ProducerAndConsumerThreadsSeeEveryByteInOrder) {
-  // The acquire/release pairing is what makes this pass under ThreadSanitizer-free conditions;
-  // it stands for the UART ISR and the main loop.
-  SpscRing<64> ring;
-  constexpr std::uint32_t kBytes = 200000;
-  std::thread producer([&] {
-    for (std::uint32_t i = 0; i < kBytes;) {
-      if (ring.push(static_cast<std::uint8_t>(i * 7u)))
-        ++i;
-    }
-  });
-  std::uint32_t received = 0;
-  bool in_order = true;
-  while (received < kBytes) {
-    std::uint8_t b = 0;
-    if (ring.pop(b)) {
-      in_order = in_order && b == static_cast<std::uint8_t>(received * 7u);
-      ++received;
-    }
-  }
-  producer.join();
-  EXPECT_TRUE(in_order);
-  EXPECT_EQ(ring.size(), 0u);
 }
 
 }  // namespace

@@ -33,7 +33,7 @@ void FlashModel::poke(std::uintptr_t address, std::uint8_t value) {
   memory_.at(address - flash::memory_base) = value;
 }
 
-std::uint32_t FlashModel::do_read32(std::uintptr_t address) {
+std::uint32_t FlashModel::read32(std::uintptr_t address) {
   if (address == flash::sr.address) {
     const std::uint32_t value = sr_ | (busy() ? flash::sr_bsy.mask() : 0u);
     if (busy_polls_ > 0u) {
@@ -58,7 +58,7 @@ std::uint32_t FlashModel::do_read32(std::uintptr_t address) {
   return 0u;
 }
 
-void FlashModel::do_write32(std::uintptr_t address, std::uint32_t value) {
+void FlashModel::write32(std::uintptr_t address, std::uint32_t value) {
   if (address == flash::keyr.address) {
     if (hard_locked_ || !locked_) {
       hard_locked_ = true;  // keys while unlocked: locked to reset
@@ -176,3 +176,5 @@ void FlashModel::program_word(std::uintptr_t address, std::uint32_t value) {
 }
 
 }  // namespace odocal::test
+
+template class odocal::hal::stm32f4::FlashStore<odocal::test::FlashModel>;

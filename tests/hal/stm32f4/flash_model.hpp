@@ -1,7 +1,8 @@
 #pragma once
 /// @file
-/// A model of the STM32F4 embedded-flash interface (RM0090 section 3) behind a FlashBus, so the
-/// flash store's register sequences run on the host. It enforces the rules and counts breaches.
+/// A model of the STM32F4 embedded-flash interface (RM0090 section 3) as the flash store's register
+/// bus, so the store's register sequences run on the host. It enforces the rules and counts
+/// breaches.
 
 #include <cstdint>
 #include <vector>
@@ -23,9 +24,13 @@ namespace odocal::test {
 ///  - a flash write without PG, or while locked, sets PGSERR and changes nothing;
 ///  - SR error flags and EOP are cleared by writing 1;
 ///  - ACR is stored as written (the data-cache reset bit is counted).
-class FlashModel final : public hal::stm32f4::FlashBus {
+class FlashModel final {
  public:
   FlashModel();
+
+  /// The bus (`FlashStore`'s `Bus`): 32-bit reads and writes of the registers and the memory.
+  std::uint32_t read32(std::uintptr_t address);
+  void write32(std::uintptr_t address, std::uint32_t value);
 
   /// Sector `s` refuses erase and program with WRPERR.
   void protect(std::size_t sector) { protected_sector_ = static_cast<int>(sector); }
@@ -51,8 +56,6 @@ class FlashModel final : public hal::stm32f4::FlashBus {
   void poke(std::uintptr_t address, std::uint8_t value);
 
  private:
-  std::uint32_t do_read32(std::uintptr_t address) override;
-  void do_write32(std::uintptr_t address, std::uint32_t value) override;
   void write_cr(std::uint32_t value);
   void program_word(std::uintptr_t address, std::uint32_t value);
   [[nodiscard]] bool busy() const { return stuck_busy_ || busy_polls_ > 0u; }
@@ -86,4 +89,9 @@ class SteppingClock final : public hal::MonotonicClock {
   std::uint32_t now_ = 0u;
 };
 
+/// The flash store on the model (built once, in flash_model.cpp).
+using ModelFlashStore = hal::stm32f4::FlashStore<FlashModel>;
+
 }  // namespace odocal::test
+
+extern template class odocal::hal::stm32f4::FlashStore<odocal::test::FlashModel>;

@@ -21,13 +21,13 @@ struct Stm32Backend {
     backend = Backend{"stm32f4", &flash, [this] { reboot(); }};
   }
   void reboot() {
-    driver = std::make_unique<hal::stm32f4::FlashStore>(model, clock, 1u, 2u);
+    driver = std::make_unique<ModelFlashStore>(model, clock, 1u, 2u);
     ASSERT_TRUE(driver->valid());
     flash.retarget(driver.get());
   }
   FlashModel model;
   SteppingClock clock;
-  std::unique_ptr<hal::stm32f4::FlashStore> driver;
+  std::unique_ptr<ModelFlashStore> driver;
   FaultyFlash flash{nullptr};
   Backend backend;
 };

@@ -23,7 +23,7 @@ constexpr std::uintptr_t store_base = 0x0800'4000u;  // sector 1
 struct Fixture : ::testing::Test {
   FlashModel model;
   SteppingClock clock;
-  f4::FlashStore store{model, clock, 1u, 2u};
+  ModelFlashStore store{model, clock, 1u, 2u};
 };
 
 TEST_F(Fixture, UsesSectorsOneAndTwoOf16KiB) {
@@ -37,11 +37,11 @@ TEST_F(Fixture, UsesSectorsOneAndTwoOf16KiB) {
 TEST(FlashStoreLayout, RefusesSectorZeroMixedSizesAndMissingSectors) {
   FlashModel model;
   SteppingClock clock;
-  EXPECT_FALSE((f4::FlashStore{model, clock, 0u, 2u}.valid()));   // the vector table
-  EXPECT_FALSE((f4::FlashStore{model, clock, 3u, 2u}.valid()));   // 16 KiB + 64 KiB
-  EXPECT_FALSE((f4::FlashStore{model, clock, 11u, 2u}.valid()));  // there is no sector 12
-  EXPECT_TRUE((f4::FlashStore{model, clock, 10u, 2u}.valid()));   // two 128 KiB sectors
-  f4::FlashStore invalid{model, clock, 0u, 2u};
+  EXPECT_FALSE((ModelFlashStore{model, clock, 0u, 2u}.valid()));   // the vector table
+  EXPECT_FALSE((ModelFlashStore{model, clock, 3u, 2u}.valid()));   // 16 KiB + 64 KiB
+  EXPECT_FALSE((ModelFlashStore{model, clock, 11u, 2u}.valid()));  // there is no sector 12
+  EXPECT_TRUE((ModelFlashStore{model, clock, 10u, 2u}.valid()));   // two 128 KiB sectors
+  ModelFlashStore invalid{model, clock, 0u, 2u};
   EXPECT_EQ(invalid.erase(0u), StoreStatus::out_of_range);
   EXPECT_EQ(model.erases(), 0u);
 }

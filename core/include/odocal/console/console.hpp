@@ -13,13 +13,13 @@
 
 #include "odocal/calib/lateral_session.hpp"
 #include "odocal/calib/umbmark_session.hpp"
+#include "odocal/concurrency/spsc_ring.hpp"
 #include "odocal/console/kept_trials.hpp"
 #include "odocal/console/line_editor.hpp"
 #include "odocal/console/output_queue.hpp"
 #include "odocal/console/reply.hpp"
 #include "odocal/console/reply_spec.hpp"
 #include "odocal/console/settings.hpp"
-#include "odocal/console/spsc_ring.hpp"
 #include "odocal/console/text.hpp"
 #include "odocal/drive/control_loop.hpp"
 #include "odocal/drive/trial.hpp"
@@ -407,7 +407,7 @@ class Console {
   LineEditor editor_;
   Settings settings_;
   OutputQueue out_;
-  SpscRing<rx_capacity> rx_;
+  concurrency::SpscRing<rx_capacity> rx_;
   calib::UmbmarkSession umbmark_;
   calib::LateralSession lateral_;
   KeptTrials trials_;

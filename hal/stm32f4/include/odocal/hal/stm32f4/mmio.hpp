@@ -68,4 +68,17 @@ struct Block {
   }
 };
 
+/// The MCU's register bus: 32-bit volatile loads and stores at the addresses given, inlined.
+/// Register-level routines that the host tests run on a fake or a model (`FlashStore`,
+/// `serve_encoder_edge`) take their bus as a template argument; this is the one the images use.
+class MemoryBus {
+ public:
+  [[nodiscard]] std::uint32_t read32(std::uintptr_t address) const {
+    return Register{address}.read();
+  }
+  void write32(std::uintptr_t address, std::uint32_t value) const {
+    Register{address}.write(value);
+  }
+};
+
 }  // namespace odocal::hal::stm32f4

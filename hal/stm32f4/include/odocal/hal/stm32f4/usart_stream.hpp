@@ -5,9 +5,9 @@
 #include <atomic>
 #include <cstdint>
 
+#include "odocal/concurrency/spsc_ring.hpp"
 #include "odocal/hal/byte_stream.hpp"
 #include "odocal/hal/stm32f4/mmio.hpp"
-#include "odocal/hal/stm32f4/spsc_ring.hpp"
 
 namespace odocal::hal::stm32f4 {
 
@@ -20,7 +20,7 @@ struct UsartConfig {
   std::uint8_t priority;  ///< interrupt priority (below the tick)
 };
 
-/// 8N1 USART with a 128-byte receive ring and a 128-byte transmit ring, both filled/drained by the
+/// 8N1 USART with a receive ring and a transmit ring (127 bytes each), both filled/drained by the
 /// USART interrupt. `read`/`write` are main-loop only and never block: `write` queues what fits.
 ///
 /// Transmission is started by pending the USART interrupt after queueing: the handler writes
@@ -53,8 +53,8 @@ class UsartStream final : public hal::ByteStream {
   // arrive at 115200 baud) and keeps its replies in its own output queue until tx has room; the
   // main loop runs at least every tick (1 ms), so 128 B of tx (11 ms of line time) keep the line
   // busy.
-  SpscRing<128> rx_;
-  SpscRing<128> tx_;
+  concurrency::SpscRing<128> rx_;
+  concurrency::SpscRing<128> tx_;
   std::atomic<std::uint32_t> rx_dropped_{0u};
 };
 

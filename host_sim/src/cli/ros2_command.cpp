@@ -73,7 +73,10 @@ double noise_key(const json& noise, const std::string& file, const char* key) {
 std::string yaml_list(const double (&values)[6]) {
   std::string out = "[";
   for (int i = 0; i < 6; ++i) {
-    out += (i > 0 ? ", " : "") + yaml_double(values[i]);
+    if (i > 0) {
+      out += ", ";
+    }
+    out += yaml_double(values[i]);
   }
   return out + "]";
 }

@@ -63,7 +63,7 @@ def e1(x, digits=1):
 
 fit_errors = []
 all_rms, ratios = {}, {}
-# The default robot (host_sim/src/sim/sim_robot.cpp): D_L 59.91, D_R 60.03, b 151.5 mm.
+# The default robot (host_sim/src/sim/robot_file.cpp): D_L 59.91, D_R 60.03, b 151.5 mm.
 true_left, true_right, true_b = 59.91, 60.03, 151.5
 mismatch_pct = 100 * (true_right / true_left - 1)
 bump_loss_fraction = None

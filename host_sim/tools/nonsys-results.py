@@ -5,9 +5,9 @@ Usage: host_sim/tools/nonsys-results.py [BIN_DIR]   (default build/host/bin)
 
 The extended UMBmark on the default robot and on robots of our own, beside the figure the
 physics of one wheel rolling over ten cables predicts; the per-wheel noise model's 95 % ellipse
-against simulated and real end points (the numbers the tests in tests/host_sim/odometry_noise_test.cpp
-and noise_june_test.cpp print); the noise `odocal fit` finds in the OptiOdom June logs and the ROS 2
-covariances it gives.
+against simulated and real end points (the numbers the tests in
+tests/host_sim/fit/odometry_noise_test.cpp and noise_june_test.cpp print); the noise `odocal fit`
+finds in the OptiOdom June logs and the ROS 2 covariances it gives.
 """
 import json
 import math

@@ -63,7 +63,7 @@ def e1(x, digits=1):
 
 fit_errors = []
 all_rms, ratios = {}, {}
-# The default robot (host_sim/src/sim/sim_robot.cpp): D_L 59.91, D_R 60.03, b 151.5 mm.
+# The default robot (host_sim/src/sim/robot_file.cpp): D_L 59.91, D_R 60.03, b 151.5 mm.
 true_left, true_right, true_b = 59.91, 60.03, 151.5
 mismatch_pct = 100 * (true_right / true_left - 1)
 bump_loss_fraction = None
@@ -158,7 +158,7 @@ print(reflow(f"""### Why CF and OR land where they do
 
 
 def coverage(env, robots=None):
-    """Runs FitCoverage (tests/host_sim/fit_coverage_test.cpp) and returns its printed figures:
+    """Runs FitCoverage (tests/host_sim/fit/fit_coverage_test.cpp) and returns its printed figures:
     per parameter (covered, n, mean half-width, RMS error, mean dof, median half-width), pooled."""
     run_env = dict(os.environ, **env)
     if robots is not None:
@@ -225,7 +225,7 @@ st_wider = all(ptp[k][0] >= pts[k][0] for k in PARAMS)
 print(reflow(f"""### The fit's intervals
 
 Test `FitCoverage.NinetyFivePercentIntervalsCoverTheTruthOfSimulatedRobots`
-(tests/host_sim/fit_coverage_test.cpp). Robot k (seeds k = 1 … N; simulator seed 1000003·k):
+(tests/host_sim/fit/fit_coverage_test.cpp). Robot k (seeds k = 1 … N; simulator seed 1000003·k):
 true diameters uniform within ±0.5 % of 60 mm, wheelbase within ±2 % of 150 mm, slip σ
 2.5e-4 … 1e-3, measurement σ 1 … 3 mm and 0.2 … 0.6°, smooth floor. Each robot drives 4 lines of
 1.5 m and 2 + 2 squares of 1 m, measured only where they stopped (8 runs: few runs, where a
@@ -276,7 +276,7 @@ clusters (slip makes the rows of one run dependent). The unrestricted wild boots
 known to be a little narrow with so few clusters (MacKinnon & Webb), hence the Student-t floor.
 """))
 
-# Separate data sets of one robot (tests/host_sim/fit_split_test.cpp).
+# Separate data sets of one robot (tests/host_sim/fit/fit_split_test.cpp).
 out = subprocess.run([os.path.join(bin_dir, "odocal_test_host_sim"), "--gtest_filter=FitSplit.*"],
                      capture_output=True, text=True).stdout
 split = {}
@@ -289,12 +289,13 @@ if len(split) != 3:
 worst_split = max(abs(v[3]) for v in split.values())
 print("""### Separate data sets of one robot
 
-Test `FitSplit.SeparateMotionCaptureDataSetsOfOneRobotAgree` (tests/host_sim/fit_split_test.cpp):
-the default robot (seed 4242) drives 6 lines of 2 m, 4 + 4 squares of 1.5 m and 2 unseen paths,
-logged as a motion-capture system would: its own frame (rotated 37°, shifted 1.3 m), UNIX time,
-0.5 mm and 0.2° scatter on every row, 3 % of the rows and one 2 s stretch per run without truth,
-the heading wrapped to ±180°, a second at rest before each run. The runs alternate between two
-halves of 8, fitted apart (each scored on the other as holdout):
+Test `FitSplit.SeparateMotionCaptureDataSetsOfOneRobotAgree`
+(tests/host_sim/fit/fit_split_test.cpp): the default robot (seed 4242) drives 6 lines of 2 m, 4 +
+4 squares of 1.5 m and 2 unseen paths, logged as a motion-capture system would: its own frame
+(rotated 37°, shifted 1.3 m), UNIX time, 0.5 mm and 0.2° scatter on every row, 3 % of the rows and
+one 2 s stretch per run without truth, the heading wrapped to ±180°, a second at rest before each
+run. The runs alternate between two halves of 8, fitted apart (each scored on the other as
+holdout):
 
 | | half A | half B | A/B − 1 | truth |
 | --- | --- | --- | --- | --- |""")

@@ -15,8 +15,10 @@
 #include <nlohmann/json.hpp>
 
 #include "odocal/host/csv.hpp"
-#include "odocal/host/robot_link.hpp"
+#include "odocal/host/robot_client.hpp"
+#include "odocal/host/serial_port.hpp"
 #include "odocal/host/session.hpp"
+#include "odocal/host/sim_process.hpp"
 #include "odocal/toolkit/cli_checks.hpp"
 
 namespace odocal::host {

@@ -19,7 +19,7 @@
 
 #include "odocal/host/calib_json.hpp"
 #include "odocal/host/csv.hpp"
-#include "odocal/host/robot_link.hpp"
+#include "odocal/host/robot_client.hpp"
 #include "odocal/host/sim_procedures.hpp"
 #include "odocal/toolkit/numbers.hpp"
 #include "session_internal.hpp"

@@ -1,6 +1,7 @@
 // `selftest` on the console (docs/console.md): refused while the robot moves, only `stop` is
 // taken while it runs (and ends it), and a robot whose wheels never count is told so. The
-// faults of a miswired robot are in tests/host_sim/odocal_sim_selftest_test.cpp (odocal-sim).
+// faults of a miswired robot are in tests/host_sim/odocal_sim/odocal_sim_selftest_test.cpp
+// (odocal-sim).
 
 #include <gtest/gtest.h>
 

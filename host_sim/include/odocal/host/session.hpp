@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "odocal/host/robot_link.hpp"
+#include "odocal/host/robot_client.hpp"
 
 namespace odocal::host {
 

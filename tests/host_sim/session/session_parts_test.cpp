@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "odocal/host/csv.hpp"
-#include "odocal/host/robot_link.hpp"
+#include "odocal/host/robot_client.hpp"
 #include "odocal/host/session.hpp"
 
 namespace {

@@ -16,7 +16,7 @@
 #include "odocal/host/fit.hpp"
 #include "odocal/host/sim_procedures.hpp"
 
-#include "../../host_sim/src/fit/fit_interval.hpp"  // internal: the Student-t quantile
+#include "../../../host_sim/src/fit/fit_interval.hpp"  // internal: the Student-t quantile
 
 namespace odocal::host {
 namespace {

@@ -1,0 +1,64 @@
+#pragma once
+/// @file
+/// The line-protocol client of the robot console (docs/console.md) on a robot link's channel:
+/// send one command line, collect the `#` lines apart, take exactly one `ok`/`err` reply within a
+/// timeout, and wait for `# done trial=N path=P`.
+
+#include <deque>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "odocal/host/robot_link.hpp"
+
+namespace odocal::host {
+
+/// One reply line, split: `ok k=v ...` or `err code message`.
+struct Reply {
+  bool ok = false;
+  std::string code;     ///< err code (empty for ok)
+  std::string message;  ///< err message
+  std::map<std::string, std::string> pairs;
+  std::string line;  ///< the whole line
+  /// The value of `key` as a number; throws LinkError naming the command and key.
+  [[nodiscard]] double number(const std::string& key) const;
+  [[nodiscard]] const std::string& text(const std::string& key) const;
+};
+
+/// Splits "ok a=1 b=2" / "err code text" (false when the line is neither).
+[[nodiscard]] bool parse_reply(const std::string& line, Reply& reply);
+
+/// The console client. Every command waits for its one reply; `#` lines seen meanwhile go to the
+/// async queue (`# done`, `# trial`) or to the tick handler (`# ticks`).
+class RobotClient {
+ public:
+  explicit RobotClient(LineChannel& channel) : channel_(channel) {}
+  /// Sends `line`, returns its reply (ok or err). Throws LinkError on timeout or a closed link.
+  /// `listing`, when given, receives the `#` lines printed before the reply (`params`, `help`).
+  Reply command(const std::string& line, int timeout_ms = 5000,
+                std::vector<std::string>* listing = nullptr);
+  /// Like command(), but an `err` reply throws LinkError("`line`: err ...").
+  Reply expect_ok(const std::string& line, int timeout_ms = 5000);
+  /// Waits for `# done trial=N path=P`; returns its pairs. Throws LinkError on timeout.
+  std::map<std::string, std::string> wait_done(int timeout_ms);
+  /// Waits at most `timeout_ms` for `# done`: its pairs, or an empty map when it has not come.
+  std::map<std::string, std::string> poll_done(int timeout_ms);
+  /// Receives every `# ticks ...` line (the whole line) as it arrives.
+  void on_ticks(std::function<void(const std::string&)> handler) { ticks_ = std::move(handler); }
+  /// Reads and routes one line within `timeout_ms`; false on timeout (for waiting on streams).
+  bool pump(int timeout_ms);
+  /// Discards queued async lines (e.g. a `# done` of a motion from before the session).
+  void drain(int quiet_ms);
+
+ private:
+  void route(const std::string& line);
+  LineChannel& channel_;
+  std::deque<std::string> async_;
+  std::function<void(const std::string&)> ticks_;
+};
+
+/// `key=value` pairs of a `#` line such as "# done trial=3 path=line".
+[[nodiscard]] std::map<std::string, std::string> hash_line_pairs(const std::string& line);
+
+}  // namespace odocal::host

@@ -1,0 +1,171 @@
+// The console's line protocol on top of a line channel: replies, `#` lines, `# done`.
+
+#include "odocal/host/robot_client.hpp"
+
+#include <chrono>
+
+#include "link_internal.hpp"
+#include "odocal/toolkit/numbers.hpp"
+
+namespace odocal::host {
+
+using link_detail::Clock;
+using link_detail::remaining_ms;
+
+bool parse_reply(const std::string& line, Reply& reply) {
+  reply = Reply{};
+  reply.line = line;
+  std::vector<std::string> words;
+  std::size_t at = 0;
+  while (at < line.size()) {
+    const std::size_t start = line.find_first_not_of(" \t", at);
+    if (start == std::string::npos) {
+      break;
+    }
+    const std::size_t end = line.find_first_of(" \t", start);
+    words.push_back(line.substr(start, end == std::string::npos ? end : end - start));
+    at = end == std::string::npos ? line.size() : end;
+  }
+  if (words.empty()) {
+    return false;
+  }
+  if (words[0] == "ok") {
+    reply.ok = true;
+    for (std::size_t i = 1; i < words.size(); ++i) {
+      const auto eq = words[i].find('=');
+      if (eq != std::string::npos) {
+        reply.pairs[words[i].substr(0, eq)] = words[i].substr(eq + 1);
+      }
+    }
+    return true;
+  }
+  if (words[0] == "err" && words.size() >= 2) {
+    reply.code = words[1];
+    const auto pos = line.find(words[1]) + words[1].size();
+    const auto text = line.find_first_not_of(" \t", pos);
+    reply.message = text == std::string::npos ? "" : line.substr(text);
+    return true;
+  }
+  return false;
+}
+
+const std::string& Reply::text(const std::string& key) const {
+  const auto it = pairs.find(key);
+  if (it == pairs.end()) {
+    throw LinkError("robot reply '" + line + "' has no " + key + "=");
+  }
+  return it->second;
+}
+
+double Reply::number(const std::string& key) const {
+  const std::string& value = text(key);
+  const auto parsed = toolkit::parse_real(value);
+  if (!parsed) {
+    throw LinkError("robot reply '" + line + "': " + key + "=" + value + " is not a number");
+  }
+  return *parsed;
+}
+
+std::map<std::string, std::string> hash_line_pairs(const std::string& line) {
+  Reply reply;
+  std::string rest = line.substr(line.rfind('#') == 0 ? 1 : 0);
+  static_cast<void>(parse_reply("ok " + rest, reply));
+  return reply.pairs;
+}
+
+void RobotClient::route(const std::string& line) {
+  if (line.rfind("# ticks", 0) == 0) {
+    if (ticks_) {
+      ticks_(line);
+    }
+    return;
+  }
+  if (line.rfind("# done", 0) == 0) {
+    async_.push_back(line);
+  }
+}
+
+Reply RobotClient::command(const std::string& line, int timeout_ms,
+                           std::vector<std::string>* listing) {
+  channel_.write_line(line);
+  const Clock::time_point deadline = Clock::now() + std::chrono::milliseconds(timeout_ms);
+  std::string received;
+  for (;;) {
+    if (!channel_.read_line(received, remaining_ms(deadline))) {
+      throw LinkError(channel_.name() + ": no reply to '" + line + "' within " +
+                      std::to_string(timeout_ms) + " ms (is it an odocal console at this baud?)");
+    }
+    if (received[0] == '#') {
+      route(received);
+      if (listing != nullptr) {
+        listing->push_back(received);
+      }
+      continue;
+    }
+    Reply reply;
+    if (parse_reply(received, reply)) {
+      return reply;
+    }
+    // Anything else (an echo of typed text, line noise at start-up) is not a reply.
+  }
+}
+
+Reply RobotClient::expect_ok(const std::string& line, int timeout_ms) {
+  Reply reply = command(line, timeout_ms);
+  if (!reply.ok) {
+    throw LinkError("robot refused '" + line + "': err " + reply.code + " " + reply.message);
+  }
+  return reply;
+}
+
+std::map<std::string, std::string> RobotClient::poll_done(int timeout_ms) {
+  const Clock::time_point deadline = Clock::now() + std::chrono::milliseconds(timeout_ms);
+  for (;;) {
+    if (!async_.empty()) {
+      const std::string line = async_.front();
+      async_.pop_front();
+      auto pairs = hash_line_pairs(line);
+      pairs.emplace("done", "1");  // never empty, even for a bare `# done`
+      return pairs;
+    }
+    std::string received;
+    if (!channel_.read_line(received, remaining_ms(deadline))) {
+      return {};
+    }
+    if (received[0] == '#') {
+      route(received);
+    }
+  }
+}
+
+std::map<std::string, std::string> RobotClient::wait_done(int timeout_ms) {
+  auto pairs = poll_done(timeout_ms);
+  if (pairs.empty()) {
+    throw LinkError(channel_.name() + ": the run did not end (no '# done') within " +
+                    std::to_string(timeout_ms / 1000) + " s");
+  }
+  return pairs;
+}
+
+bool RobotClient::pump(int timeout_ms) {
+  std::string received;
+  if (!channel_.read_line(received, timeout_ms)) {
+    return false;
+  }
+  if (received[0] == '#') {
+    route(received);
+  }
+  return true;
+}
+
+void RobotClient::drain(int quiet_ms) {
+  std::string received;
+  while (channel_.read_line(received, quiet_ms)) {
+    if (received[0] == '#') {
+      route(received);
+    }
+  }
+  async_.clear();
+}
+
+}  // namespace odocal::host

@@ -307,10 +307,7 @@ ValidateReport run_validate(const RobotSpec& robot_spec, std::uint64_t seed,
 
 nlohmann::json validate_report_json(const ValidateReport& r) {
   nlohmann::json j;
-  j["simulated_s"] = r.simulated_s;
-  j["seed"] = r.seed;
-  if (!r.ok) {
-    j["error"] = r.error;
+  if (!begin_report_json(r, j)) {
     return j;
   }
   j["wheelbase_told_mm"] = r.wheelbase_told_mm;

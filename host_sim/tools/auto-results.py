@@ -21,8 +21,6 @@ import sys
 import tempfile
 import time
 
-from results_text import wrap
-
 HERE = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 STUDY = os.path.join(HERE, "tests", "session", "auto_study.py")
 _spec = importlib.util.spec_from_file_location("auto_study", STUDY)
@@ -61,6 +59,19 @@ def test_seeds():
     if m is None:
         sys.exit("auto-results.py: odocal_auto_study's --seeds not found in tests/host_sim/session")
     return int(m.group(1))
+
+
+def wrap(text, indent=""):
+    """A paragraph (indent "") or a Markdown list item's continuation (indent "  ") at 98."""
+    lines, line = [], ""
+    for w in text.replace(" %", "\u00a0%").split(" "):
+        if line and len(line) + 1 + len(w) > 98:
+            lines.append(line)
+            line = indent + w
+        else:
+            line = w if not line else line + " " + w
+    lines.append(line)
+    return "\n".join(lines).replace("\u00a0", " ")
 
 
 def sci(x, digits=1, sign=False):

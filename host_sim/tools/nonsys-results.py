@@ -17,8 +17,6 @@ import subprocess
 import sys
 import tempfile
 
-from results_text import wrap
-
 bin_dir = sys.argv[1] if len(sys.argv) > 1 else "build/host/bin"
 here = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 odocal = os.path.join(bin_dir, "odocal")
@@ -26,6 +24,19 @@ odocal = os.path.join(bin_dir, "odocal")
 
 def run(args, **kw):
     return subprocess.run(args, check=True, capture_output=True, text=True, **kw).stdout
+
+
+def wrap(text, indent=""):
+    """A paragraph (indent "") or a Markdown list item's continuation (indent "  ") at 98."""
+    lines, line = [], ""
+    for w in text.replace(" %", "\u00a0%").split(" "):
+        if line and len(line) + 1 + len(w) > 98:
+            lines.append(line)
+            line = indent + w
+        else:
+            line = w if not line else line + " " + w
+    lines.append(line)
+    return "\n".join(lines).replace("\u00a0", " ")
 
 
 def inside(lines):

@@ -235,7 +235,10 @@ ExtendedReport run_extended(const RobotSpec& robot_spec, std::uint64_t seed,
 
 nlohmann::json extended_report_json(const ExtendedReport& r) {
   nlohmann::json j;
-  if (!begin_report_json(r, j)) {
+  j["simulated_s"] = r.simulated_s;
+  j["seed"] = r.seed;
+  if (!r.ok) {
+    j["error"] = r.error;
     return j;
   }
   const ExtendedFigure& f = r.figure;

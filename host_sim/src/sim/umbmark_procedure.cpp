@@ -141,7 +141,10 @@ UmbmarkReport run_umbmark(const RobotSpec& robot_spec, std::uint64_t seed,
 
 nlohmann::json umbmark_report_json(const UmbmarkReport& r) {
   nlohmann::json j;
-  if (!begin_report_json(r, j)) {
+  j["simulated_s"] = r.simulated_s;
+  j["seed"] = r.seed;
+  if (!r.ok) {
+    j["error"] = r.error;
     return j;
   }
   j["before"] = umbmark_to_json(r.passes.front().result);

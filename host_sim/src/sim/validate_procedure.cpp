@@ -307,7 +307,10 @@ ValidateReport run_validate(const RobotSpec& robot_spec, std::uint64_t seed,
 
 nlohmann::json validate_report_json(const ValidateReport& r) {
   nlohmann::json j;
-  if (!begin_report_json(r, j)) {
+  j["simulated_s"] = r.simulated_s;
+  j["seed"] = r.seed;
+  if (!r.ok) {
+    j["error"] = r.error;
     return j;
   }
   j["wheelbase_told_mm"] = r.wheelbase_told_mm;

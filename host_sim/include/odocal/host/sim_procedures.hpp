@@ -85,19 +85,6 @@ struct UmbmarkReport {
                                         const UmbmarkOptions& options,
                                         const ProgressFn& progress = {});
 
-/// Begins a procedure report's JSON: `simulated_s` and `seed`, and `error` when the procedure
-/// failed. @return whether it succeeded (its own keys follow only then).
-template <typename Report>
-bool begin_report_json(const Report& report, nlohmann::json& j) {
-  j["simulated_s"] = report.simulated_s;
-  j["seed"] = report.seed;
-  if (!report.ok) {
-    j["error"] = report.error;
-    return false;
-  }
-  return true;
-}
-
 [[nodiscard]] nlohmann::json umbmark_report_json(const UmbmarkReport& report);
 [[nodiscard]] std::string umbmark_report_text(const UmbmarkReport& report);
 [[nodiscard]] std::string umbmark_report_svg(const UmbmarkReport& report);

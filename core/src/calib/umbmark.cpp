@@ -7,6 +7,7 @@
 
 #include "norm.hpp"
 #include "odocal/drive/bounded_trig.hpp"
+#include "odocal/drive/robot_model.hpp"
 
 namespace odocal::calib {
 namespace {
@@ -79,20 +80,12 @@ Dual<Real> cos_of(Dual<Real> a) {
   return chain(a, cos_of(a.v), -sin_of(a.v));
 }
 
+// sin(u)/u and its slope, from the one model's stable form (robot_model.hpp).
 template <typename Real>
 Real scalar_sinc(Real u, Real& slope) {
-  // Series where the closed form's slope loses digits near 0 (its cancellation error grows as
-  // eps/u^2); the dropped terms (u^6/5040 in the value, u^5/840 in the slope) stay below the
-  // scalar's rounding up to the limit.
-  const Real series_limit = sizeof(Real) == sizeof(float) ? Real(0.25) : Real(1e-4);
-  if (std::fabs(u) < series_limit) {
-    const Real u2 = u * u;
-    slope = u * (Real(-1) / 3 + u2 / 30);
-    return 1 - u2 / 6 + u2 * u2 / 120;
-  }
-  const Real s = sin_of(u);
-  slope = (u * cos_of(u) - s) / (u * u);
-  return s / u;
+  const drive::model::HalfTurn<Real> half = drive::model::half_turn(u);
+  slope = half.sinc_slope;
+  return half.sinc;
 }
 template <typename Real>
 Real sinc(Real u) {
@@ -106,7 +99,7 @@ Dual<Real> sinc(Dual<Real> a) {
   return chain(a, value, slope);
 }
 
-/// Planar pose integrated by exact arcs.
+/// Planar pose integrated by exact arcs: model::advance (robot_model.hpp) in dual numbers.
 template <typename T, typename Real>
 struct ArcPose {
   T x{};

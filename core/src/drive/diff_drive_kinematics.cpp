@@ -3,20 +3,24 @@
 #include <cmath>
 #include <numbers>
 
+#include "odocal/drive/robot_model.hpp"
+
 namespace odocal::drive {
 namespace {
 constexpr float kPi = std::numbers::pi_v<float>;
 }
 
 void DiffDriveKinematics::configure(const DriveConfig& config) {
-  const float average_m = config.wheel_diameter_mm * 1e-3f;
-  // UMBmark eq. 6.35 (c_L, c_R on counts-to-distance) and Maddahi eq. 7 (F_lat on the left
-  // wheel, F_lon on both) folded into effective diameters.
-  left_diameter_m_ = average_m * config.c_l / (config.f_lat * config.f_lon);
-  right_diameter_m_ = average_m * config.c_r / config.f_lon;
-  wheelbase_m_ = config.wheelbase_mm * 1e-3f;
-  arc_gap_m_ =
-      config.wheelbase_arc_mm == 0.0f ? 0.0f : config.wheelbase_arc_mm * 1e-3f - wheelbase_m_;
+  // The one model's geometry in force (robot_model.hpp): UMBmark eq. 6.35 (c_L, c_R on
+  // counts-to-distance) and Maddahi eq. 7 (F_lat on the left wheel, F_lon on both) folded into
+  // effective diameters, the wheelbases scaled with them so that F_lat, F_lon keep turn angles.
+  const model::Geometry<float> g = model::geometry_in_force(model::Parameters<float>{
+      config.wheel_diameter_mm * 1e-3f, config.wheelbase_mm * 1e-3f,
+      config.wheelbase_arc_mm * 1e-3f, config.c_l, config.c_r, config.f_lat, config.f_lon});
+  left_diameter_m_ = g.left_diameter;
+  right_diameter_m_ = g.right_diameter;
+  wheelbase_m_ = g.wheelbase;
+  arc_gap_m_ = g.wheelbase_arc == 0.0f ? 0.0f : g.wheelbase_arc - wheelbase_m_;
   left_m_per_count_ = kPi * left_diameter_m_ / config.counts_per_rev;
   right_m_per_count_ = kPi * right_diameter_m_ / config.counts_per_rev;
 
@@ -29,10 +33,8 @@ void DiffDriveKinematics::configure(const DriveConfig& config) {
 }
 
 float DiffDriveKinematics::blend_rates_m(float left, float right) const {
-  const float forward = std::fabs(left + right);
-  const float sum = forward + std::fabs(right - left);
   // At rest the weight is 0 (as the fit takes it); nothing turns then anyway.
-  return sum > 0.0f ? wheelbase_m_ + arc_gap_m_ * (forward / sum) : wheelbase_m_;
+  return wheelbase_m_ + arc_gap_m_ * model::arc_weight(left, right);
 }
 
 float DiffDriveKinematics::blend_twist_m(const Twist& twist) const {

@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "odocal/drive/bounded_trig.hpp"
+#include "odocal/drive/robot_model.hpp"
 
 namespace odocal::drive {
 namespace {
@@ -16,25 +17,6 @@ void add_compensated(float& sum, float& compensation, float value) {
   const float t = sum + y;
   compensation = (t - sum) - y;
   sum = t;
-}
-
-struct HalfAngle {
-  float cos;
-  float sin;
-  float sinc;  ///< sin(h)/h
-};
-
-// cos, sin and sinc of a half-increment. Per-tick angles are small, where a short series is exact
-// to single precision and much cheaper even than the bounded sin_cos.
-HalfAngle half_angle(float h) {
-  const float h2 = h * h;
-  if (h2 < 4e-4f) {  // |h| < 0.02 rad: the next series terms are below 2^-24
-    const float sinc = 1.0f - h2 * (1.0f / 6.0f) * (1.0f - h2 * (1.0f / 20.0f));
-    const float c = 1.0f - h2 * 0.5f * (1.0f - h2 * (1.0f / 12.0f));
-    return HalfAngle{c, h * sinc, sinc};
-  }
-  const SinCos sc = sin_cos(h);
-  return HalfAngle{sc.cos, sc.sin, sc.sin / h};
 }
 
 }  // namespace
@@ -53,9 +35,11 @@ void Odometry::reset(const Pose& pose) {
 }
 
 void Odometry::update(float left_m, float right_m, float wheelbase_m) {
+  // The one model's exact-arc step (robot_model.hpp, model::advance), written here with the
+  // heading kept as a unit vector: the tick needs no sin/cos of large angles.
   const float ds = 0.5f * (left_m + right_m);
   const float dtheta = (right_m - left_m) / wheelbase_m;
-  const HalfAngle half = half_angle(0.5f * dtheta);
+  const model::HalfTurn<float> half = model::half_turn(0.5f * dtheta);
 
   // Heading at the middle of the arc: the chord of a circular arc points there.
   const float mid_cos = cos_ * half.cos - sin_ * half.sin;

@@ -12,6 +12,7 @@
 #include <numbers>
 #include <vector>
 
+#include "odocal/drive/robot_model.hpp"
 #include "odocal/host/fit.hpp"
 
 namespace odocal::host::fit_detail {
@@ -46,14 +47,10 @@ struct ModelSpec {
   double rate_per_count_s = 0.0;
 };
 
-/// The blend weight of a row of the arc-wheelbase model: forward over forward plus differential
-/// wheel travel, counted in encoder counts (as the firmware counts them): 0 for a turn in place,
-/// 1 for a straight line, R/(R + b/2) on an arc of radius R.
+/// The blend weight of a row of the arc-wheelbase model, counted in encoder counts (as the
+/// firmware counts them): the one model's (robot_model.hpp).
 inline double arc_weight(double count_l, double count_r) {
-  const double forward = std::fabs(count_l + count_r);
-  const double differential = std::fabs(count_r - count_l);
-  const double sum = forward + differential;
-  return sum > 0.0 ? forward / sum : 0.0;
+  return drive::model::arc_weight(count_l, count_r);
 }
 
 /// Pose (mm, rad) and its derivatives with respect to the parameters.
@@ -111,8 +108,9 @@ void integrate(const Unit& unit, const Params& p, const ModelSpec& spec, bool ja
     double b = p[2];
     double b_d2 = 1.0, b_d3 = 0.0;
     if (spec.kind == FitModelKind::arc_wheelbase) {
+      // The one model's wheelbase in force, b + w·(b_arc − b) (drive::model::wheelbase_for).
       const double w = arc_weight(count_l, count_r);
-      b = (1.0 - w) * p[2] + w * p[3];
+      b = drive::model::wheelbase_for(p[2], p[3], count_l, count_r);
       b_d2 = 1.0 - w;
       b_d3 = w;
     } else if (spec.kind == FitModelKind::turn_rate_wheelbase) {
@@ -123,19 +121,12 @@ void integrate(const Unit& unit, const Params& p, const ModelSpec& spec, bool ja
       b_d2 = 1.0 - rate;
       b_d3 = rate;
     }
+    // The one model's exact-arc step (drive::model::advance), carried with its derivatives.
     const double dtheta = (dr - dl) / b;
     const double h = 0.5 * dtheta;
-    // sinc(h) = sin(h)/h and its derivative; series where cancellation would cost digits.
-    double sinc = 0.0;
-    double sinc_dh = 0.0;
-    const double h2 = h * h;
-    if (h2 < 1e-6) {
-      sinc = 1.0 - h2 / 6.0 * (1.0 - h2 / 20.0);
-      sinc_dh = -h / 3.0 * (1.0 - h2 / 10.0);
-    } else {
-      sinc = std::sin(h) / h;
-      sinc_dh = (std::cos(h) - sinc) / h;
-    }
+    const drive::model::HalfTurn<double> half = drive::model::half_turn(h);
+    const double sinc = half.sinc;
+    const double sinc_dh = half.sinc_slope;
     const double mid = s.theta + h;
     const double cm = std::cos(mid);
     const double sm = std::sin(mid);

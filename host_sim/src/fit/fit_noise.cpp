@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "odocal/calib/quantile.hpp"
+#include "odocal/drive/robot_model.hpp"
 
 namespace odocal::host {
 namespace {
@@ -267,46 +268,43 @@ EndSensitivity end_sensitivity(const TickLog& log, std::size_t first, std::size_
   EndSensitivity s;
   const std::vector<TickRow>& rows = log.rows;
   const double mm_per_count = pi / nominal.counts_per_rev;
-  const double b = geometry.wheelbase_mm;
   if (full_truth(rows[first])) {
     s.start = Eigen::Vector3d(rows[first].x_mm, rows[first].y_mm, rows[first].theta_deg * pi / 180);
   }
-  // First pass: the odometry (exact arcs, as the fit and the firmware), keeping each increment's
-  // travel, mid heading and the pose after it.
+  // First pass: the odometry (the one model's exact arcs, drive::model::advance, with the arc
+  // wheelbase where the fit chose it), keeping each increment's travel, mid heading, wheelbase
+  // in force and the pose after it.
   struct Step {
-    double dl, dr, mid, x, y;
+    double dl, dr, mid, b, x, y;
   };
+  const double b_arc =
+      geometry.model == FitModelKind::arc_wheelbase ? geometry.second_wheelbase_mm : 0.0;
   std::vector<Step> steps;
   steps.reserve(last - first);
-  Eigen::Vector3d pose = s.start;
+  drive::model::PoseOf<double> pose{s.start[0], s.start[1], s.start[2]};
   for (std::size_t i = first + 1; i <= last; ++i) {
-    const double dl =
-        mm_per_count * (rows[i].count_l - rows[i - 1].count_l) * geometry.wheel_diameter_left_mm;
-    const double dr =
-        mm_per_count * (rows[i].count_r - rows[i - 1].count_r) * geometry.wheel_diameter_right_mm;
-    const double dtheta = (dr - dl) / b;
-    const double h = 0.5 * dtheta;
-    const double sinc = std::fabs(h) < 1e-4 ? 1.0 - h * h / 6.0 : std::sin(h) / h;
-    const double mid = pose[2] + h;
-    const double chord = 0.5 * (dl + dr) * sinc;
-    pose[0] += chord * std::cos(mid);
-    pose[1] += chord * std::sin(mid);
-    pose[2] += dtheta;
-    steps.push_back(Step{dl, dr, mid, pose[0], pose[1]});
+    const double count_l = rows[i].count_l - rows[i - 1].count_l;
+    const double count_r = rows[i].count_r - rows[i - 1].count_r;
+    const double dl = mm_per_count * count_l * geometry.wheel_diameter_left_mm;
+    const double dr = mm_per_count * count_r * geometry.wheel_diameter_right_mm;
+    const double b = drive::model::wheelbase_for(geometry.wheelbase_mm, b_arc, count_l, count_r);
+    const double mid = pose.theta + 0.5 * (dr - dl) / b;
+    drive::model::advance(pose, dl, dr, b);
+    steps.push_back(Step{dl, dr, mid, b, pose.x, pose.y});
     s.left_travel_mm += std::fabs(dl);
     s.right_travel_mm += std::fabs(dr);
   }
-  s.end = pose;
+  s.end = Eigen::Vector3d(pose.x, pose.y, pose.theta);
   // Second pass: an error ε in one increment's left travel moves that increment's end by
   // (ε/2)·(cos, sin) of its heading and turns the robot by −ε/b, which swings the rest of the path
   // about that point (right wheel: +ε/b). Variance k·|travel| per increment, independent.
   for (const Step& st : steps) {
     const double c = 0.5 * std::cos(st.mid);
     const double sn = 0.5 * std::sin(st.mid);
-    const double ex = (pose[0] - st.x) / b;
-    const double ey = (pose[1] - st.y) / b;
-    const Eigen::Vector3d g_left(c + ey, sn - ex, -1.0 / b);
-    const Eigen::Vector3d g_right(c - ey, sn + ex, 1.0 / b);
+    const double ex = (pose.x - st.x) / st.b;
+    const double ey = (pose.y - st.y) / st.b;
+    const Eigen::Vector3d g_left(c + ey, sn - ex, -1.0 / st.b);
+    const Eigen::Vector3d g_right(c - ey, sn + ex, 1.0 / st.b);
     s.left.noalias() += std::fabs(st.dl) * g_left * g_left.transpose();
     s.right.noalias() += std::fabs(st.dr) * g_right * g_right.transpose();
   }

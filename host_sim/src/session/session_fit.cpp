@@ -13,6 +13,7 @@
 
 #include <fmt/format.h>
 
+#include "model_in_force.hpp"
 #include "odocal/host/fit.hpp"
 #include "session_internal.hpp"
 
@@ -96,6 +97,9 @@ Outcome run_fit(Context& c) {
   // keeps it (a fit of a few runs must not replace a better UMBmark result by its noise).
   const Factors in_force = c.factors();
   const double d = nominal.wheel_diameter_mm;
+  // The geometry in force, as the robot's odometry has it (the one model: F_lat and F_lon fold
+  // into the diameters and scale the wheelbases).
+  const drive::model::Geometry<double> now = geometry_in_force(in_force, d);
   struct Choice {
     const char* name;
     double fitted;
@@ -103,12 +107,11 @@ Outcome run_fit(Context& c) {
     const std::optional<FitInterval>& ci;
   };
   const Choice choices[] = {
-      // The effective diameters in force: F_lat and F_lon fold into them (odometry and eq. 7).
-      {"wheel_diameter_left_mm", result.geometry.wheel_diameter_left_mm,
-       d * in_force.c_l / (in_force.f_lat * in_force.f_lon), result.ci_left_mm},
-      {"wheel_diameter_right_mm", result.geometry.wheel_diameter_right_mm,
-       d * in_force.c_r / in_force.f_lon, result.ci_right_mm},
-      {"wheelbase_mm", result.geometry.wheelbase_mm, in_force.wheelbase_mm, result.ci_wheelbase_mm},
+      {"wheel_diameter_left_mm", result.geometry.wheel_diameter_left_mm, now.left_diameter,
+       result.ci_left_mm},
+      {"wheel_diameter_right_mm", result.geometry.wheel_diameter_right_mm, now.right_diameter,
+       result.ci_right_mm},
+      {"wheelbase_mm", result.geometry.wheelbase_mm, now.wheelbase, result.ci_wheelbase_mm},
   };
   double chosen[3];
   nlohmann::json shown = nlohmann::json::object();
@@ -125,17 +128,16 @@ Outcome run_fit(Context& c) {
                         is_shown ? "changed (outside the interval)" : "kept (inside the interval)");
   }
   outcome.result["shown"] = shown;
-  const double c_l = chosen[0] / d;
-  const double c_r = chosen[1] / d;
-  const double wheelbase = chosen[2];
-  const auto outside = [](double v, double lo, double hi) { return !(v >= lo && v <= hi); };
-  if (outside(c_l, 0.95, 1.05) || outside(c_r, 0.95, 1.05) ||
-      outside(wheelbase, 0.9 * c.initial.wheelbase_mm, 1.1 * c.initial.wheelbase_mm)) {
-    throw std::runtime_error(fmt::format(
-        "fit: c_l {:.6f}, c_r {:.6f}, wheelbase {:.3f} mm: outside the plausible range (c within "
-        "0.95 .. 1.05, wheelbase within 10 % of {:.3f} mm; docs/calibration.md). Nothing "
-        "applied: check the wiring (docs/wiring.md) and the measurements.",
-        c_l, c_r, wheelbase, c.initial.wheelbase_mm));
+  const bool arc_model = result.geometry.model == FitModelKind::arc_wheelbase;
+  const Factors next = factors_for_fit(
+      drive::model::Geometry<double>{chosen[0], chosen[1], chosen[2],
+                                     arc_model ? result.geometry.second_wheelbase_mm : 0.0},
+      d);
+  const std::string refusal = implausible_factors(next, c.initial.wheelbase_mm);
+  if (!refusal.empty()) {
+    throw std::runtime_error(
+        "fit: " + refusal +
+        ". Nothing applied: check the wiring (docs/wiring.md) and the measurements.");
   }
   if (result.geometry.model == FitModelKind::arc_wheelbase) {
     any = true;  // the data chose a second wheelbase (held-out prediction): it goes in force
@@ -148,23 +150,7 @@ Outcome run_fit(Context& c) {
   }
   // `fit apply` puts the three in force at once with provenance `fit` (docs/console.md), the
   // session's date and its runs.
-  char line[192];
-  std::snprintf(line, sizeof line, "fit apply %.6f %.6f %.4f %llu %zu", c_l, c_r, wheelbase,
-                static_cast<unsigned long long>(c.date()), c.runs.size());
-  if (result.geometry.model == FitModelKind::arc_wheelbase) {
-    // The arc-wheelbase model: its second wheelbase goes in force too (docs/parameters.md).
-    std::snprintf(line + std::strlen(line), sizeof line - std::strlen(line), " arc %.4f",
-                  result.geometry.second_wheelbase_mm);
-  }
-  static_cast<void>(c.robot.expect_ok(line));
-  // The diameters applied already hold what F_lat, F_lon did (the kept ones are the effective
-  // diameters in force): with the fitted geometry eq. 7 needs no Maddahi correction.
-  if (in_force.f_lat != 1.0 || in_force.f_lon != 1.0) {
-    c.set("f_lat", 1.0);
-    c.set("f_lon", 1.0);
-    text << fmt::format(
-        "f_lat, f_lon reset to 1 (were {:.6f}, {:.6f}): the fitted geometry replaces them.\n",
-        in_force.f_lat, in_force.f_lon);
+  if (apply_fit(c, next, text)) {
     outcome.result["f_reset"] = true;
   }
   c.log << text.str();

@@ -13,8 +13,10 @@
 
 #include <fmt/format.h>
 
+#include "model_in_force.hpp"
 #include "odocal/calib/bootstrap.hpp"
 #include "odocal/calib/lateral.hpp"
+#include "odocal/drive/robot_model.hpp"
 #include "odocal/host/calib_json.hpp"
 #include "session_internal.hpp"
 
@@ -44,7 +46,7 @@ calib::TrainingRow training_row(const RunRecord& r, double counts_per_rev) {
   const double y = r.measured.y_mm / 1000.0;
   const double chord = std::hypot(x, y);
   const double half = 0.5 * phi;
-  const double arc = std::fabs(half) > 1e-9 ? chord * half / std::sin(half) : chord;
+  const double arc = chord / drive::model::half_turn(half).sinc;  // the chord is arc·sinc(φ/2)
   const double lean = std::atan2(y, x) - half;
   const double per_count = 2.0 * pi / counts_per_rev;
   return {arc / t, chord * std::sin(lean) / t, phi / t,
@@ -55,10 +57,6 @@ calib::TrainingRow training_row(const RunRecord& r, double counts_per_rev) {
 bool in_range(const calib::LateralResult& f) {
   return f.f_lat >= 0.5 && f.f_lat <= 2.0 && f.f_lon >= 0.5 && f.f_lon <= 2.0;
 }
-
-/// Plausible Maddahi factors for a real robot (docs/calibration.md): a few percent from 1, as
-/// the wheel diameters and the wheelbase they stand in for.
-constexpr double plausible_f[2] = {0.9, 1.1};
 
 /// Whether the straight trials show each correction: eq. 4-5 solved trial by trial, the mean and
 /// a Student-t 95 % interval of the corrections.
@@ -338,13 +336,18 @@ Outcome run_lateral(Context& c) {
       outcome.result["applied_from"] = nullptr;
     }
   }
-  if (chosen && !(chosen->f_lat >= plausible_f[0] && chosen->f_lat <= plausible_f[1] &&
-                  chosen->f_lon >= plausible_f[0] && chosen->f_lon <= plausible_f[1])) {
-    throw std::runtime_error(fmt::format(
-        "lateral: f_lat {:.6f}, f_lon {:.6f}: outside the plausible range {:.2f} .. {:.2f} for a "
-        "real robot (docs/calibration.md). Nothing applied: check the wiring (docs/wiring.md), "
-        "that each trial started on the mark, and the measurements.",
-        chosen->f_lat, chosen->f_lon, plausible_f[0], plausible_f[1]));
+  if (chosen) {
+    // The one table of plausible results (model_in_force.hpp).
+    using plausible::maddahi;
+    const PlausibleCheck checks[] = {{{"f_lat", maddahi[0], maddahi[1]}, chosen->f_lat},
+                                     {{"f_lon", maddahi[0], maddahi[1]}, chosen->f_lon}};
+    const std::string refusal = first_implausible(checks);
+    if (!refusal.empty()) {
+      throw std::runtime_error(
+          "lateral: " + refusal +
+          ". Nothing applied: check the wiring (docs/wiring.md), that each trial started on the "
+          "mark, and the measurements.");
+    }
   }
   if (!chosen) {
     if (!outcome.result.contains("applied_from")) {

@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "odocal/drive/motion_executor.hpp"
+#include "odocal/drive/robot_model.hpp"
 #include "odocal/host/sim_procedures.hpp"
 #include "odocal/host/sim_svg.hpp"
 #include "session_internal.hpp"
@@ -68,32 +69,19 @@ std::string inline_svg(std::string svg, const std::string& label, double min_wid
   return svg;
 }
 
-/// Poses along a run from its tick log, integrated with `g` (exact arcs per row).
+/// Poses along a run from its tick log, integrated with the geometry (D_L, D_R, b, b_arc; mm) by
+/// the one model's exact arcs (drive::model::advance), the wheelbase in force per row.
 std::vector<PathPoint> trace_of(const RunRecord& r, double d_l, double d_r, double b, double cpr,
                                 double b_arc = 0.0) {
   std::vector<PathPoint> out;
-  double x = 0.0, y = 0.0, th = 0.0;
+  drive::model::PoseOf<double> pose;
   out.push_back(PathPoint{0.0, 0.0});
   for (std::size_t i = 1; i < r.ticks.size(); ++i) {
-    const double s_l =
-        static_cast<double>(r.ticks[i].count_l - r.ticks[i - 1].count_l) * kPi * d_l / cpr;
-    const double s_r =
-        static_cast<double>(r.ticks[i].count_r - r.ticks[i - 1].count_r) * kPi * d_r / cpr;
-    const double ds = 0.5 * (s_l + s_r);
-    // The arc-wheelbase model: b + w·(b_arc − b), w the forward share of the wheels' travel.
-    const double sum = std::fabs(s_l + s_r);
-    const double diff = std::fabs(s_r - s_l);
-    const double w = b_arc > 0.0 && sum + diff > 0.0 ? sum / (sum + diff) : 0.0;
-    const double dth = (s_r - s_l) / (b + w * (b_arc - b));
-    if (std::fabs(dth) < 1e-12) {
-      x += ds * std::cos(th);
-      y += ds * std::sin(th);
-    } else {
-      x += ds / dth * (std::sin(th + dth) - std::sin(th));
-      y -= ds / dth * (std::cos(th + dth) - std::cos(th));
-    }
-    th += dth;
-    out.push_back(PathPoint{x, y});
+    const auto count_l = static_cast<double>(r.ticks[i].count_l - r.ticks[i - 1].count_l);
+    const auto count_r = static_cast<double>(r.ticks[i].count_r - r.ticks[i - 1].count_r);
+    drive::model::advance(pose, count_l * kPi * d_l / cpr, count_r * kPi * d_r / cpr,
+                          drive::model::wheelbase_for(b, b_arc, count_l, count_r));
+    out.push_back(PathPoint{pose.x, pose.y});
   }
   return out;
 }
@@ -123,22 +111,15 @@ std::vector<PathPoint> commanded_path(const RunRecord& r, double side_m) {
         path.push(drive::Segment{static_cast<float>(v * t), static_cast<float>(w * t)}));
   }
   std::vector<PathPoint> out{PathPoint{0.0, 0.0}};
-  double x = 0.0, y = 0.0, th = 0.0;
+  drive::model::PoseOf<double> pose;
   for (std::uint8_t i = 0; i < path.count; ++i) {
     const double d = static_cast<double>(path.segments[i].distance_m) * 1e3;
     const double a = static_cast<double>(path.segments[i].angle_rad);
+    // Arcs in 24 pieces, so that the drawn polyline follows the curve.
     const int steps = a == 0.0 || d == 0.0 ? 1 : 24;
     for (int k = 0; k < steps; ++k) {
-      const double dd = d / steps, da = a / steps;
-      if (da == 0.0 || dd == 0.0) {
-        x += dd * std::cos(th);
-        y += dd * std::sin(th);
-      } else {
-        x += dd / da * (std::sin(th + da) - std::sin(th));
-        y -= dd / da * (std::cos(th + da) - std::cos(th));
-      }
-      th += da;
-      out.push_back(PathPoint{x, y});
+      drive::model::advance_arc(pose, d / steps, a / steps);
+      out.push_back(PathPoint{pose.x, pose.y});
     }
   }
   return out;

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "model_in_force.hpp"
 #include "odocal/calib/umbmark.hpp"
 #include "odocal/host/calib_json.hpp"
 #include "session_internal.hpp"
@@ -23,13 +24,6 @@ using std::numbers::pi;
 /// Two-sided 95 % normal quantile.
 constexpr double z95 = 1.959963984540054;
 
-/// Plausible results (docs/calibration.md): wheels of one make differ by a few percent at most
-/// (tyre wear, pressure, tolerance), and the effective wheelbase (where the tyres bear) lies
-/// within their width of the drawing's, which is within 10 % on any robot this serves.
-constexpr double e_d_range[2] = {0.95, 1.05};
-constexpr double e_b_range[2] = {0.90, 1.10};
-constexpr double c_range[2] = {0.95, 1.05};
-constexpr double wheelbase_share[2] = {0.90, 1.10};
 /// Largest curve of a leg (beta) or turn error (alpha) the square formulas are trusted with.
 constexpr double max_leg_curve_deg = 20.0;
 
@@ -199,29 +193,24 @@ std::string implausible(const calib::UmbmarkResult& r, const Solved& solved,
                   solved.model_residual_mm, residual_limit, smaller_m);
     return text;
   }
-  struct Check {
-    const char* name;
-    double value;
-    double lo;
-    double hi;
+  // The one table of plausible results (model_in_force.hpp).
+  using namespace plausible;
+  const double b_lo = wheelbase_at_start * wheelbase_share[0];
+  const double b_hi = wheelbase_at_start * wheelbase_share[1];
+  const PlausibleCheck checks[] = {
+      {{"E_d", wheel_ratio[0], wheel_ratio[1]}, r.e_d},
+      {{"E_b", wheelbase_share[0], wheelbase_share[1]}, r.e_b},
+      {{"c_l", wheel_ratio[0], wheel_ratio[1]}, next.c_l},
+      {{"c_r", wheel_ratio[0], wheel_ratio[1]}, next.c_r},
+      {{"wheelbase_mm", b_lo, b_hi}, next.wheelbase_mm},
   };
-  const Check checks[] = {
-      {"E_d", r.e_d, e_d_range[0], e_d_range[1]},
-      {"E_b", r.e_b, e_b_range[0], e_b_range[1]},
-      {"c_l", next.c_l, c_range[0], c_range[1]},
-      {"c_r", next.c_r, c_range[0], c_range[1]},
-      {"wheelbase_mm", next.wheelbase_mm, wheelbase_at_start * wheelbase_share[0],
-       wheelbase_at_start * wheelbase_share[1]},
-  };
-  for (const Check& check : checks) {
-    if (!(check.value >= check.lo && check.value <= check.hi)) {
-      std::snprintf(text, sizeof text,
-                    "%s = %.6g is outside the plausible range %.6g .. %.6g for a real robot "
-                    "(docs/calibration.md). Check the wiring (docs/wiring.md) and the "
-                    "measurements, or use a smaller square, e.g. --side-m %.1f.",
-                    check.name, check.value, check.lo, check.hi, smaller_m);
-      return text;
-    }
+  const std::string refusal = first_implausible(checks);
+  if (!refusal.empty()) {
+    std::snprintf(text, sizeof text,
+                  "%s. Check the wiring (docs/wiring.md) and the measurements, or use a smaller "
+                  "square, e.g. --side-m %.1f.",
+                  refusal.c_str(), smaller_m);
+    return text;
   }
   return std::string();
 }

@@ -6,28 +6,20 @@
 
 #include <fmt/format.h>
 
+#include "odocal/drive/robot_model.hpp"
 #include "odocal/host/sim_procedures.hpp"
 #include "odocal/host/sim_svg.hpp"
 
 namespace odocal::host {
 
 sim::WorldPose path_end(const drive::Path& path) {
-  sim::WorldPose p;
+  // Each segment an exact arc of the one model (drive::model::advance_arc).
+  drive::model::PoseOf<double> p;
   for (std::uint8_t i = 0; i < path.count; ++i) {
-    const double d = static_cast<double>(path.segments[i].distance_m);
-    const double a = static_cast<double>(path.segments[i].angle_rad);
-    if (a == 0.0) {
-      p.x_m += d * std::cos(p.theta_rad);
-      p.y_m += d * std::sin(p.theta_rad);
-    } else if (d != 0.0) {
-      // Arc of radius d/a: chord 2R·sin(a/2) along the mid heading.
-      const double chord = 2.0 * (d / a) * std::sin(0.5 * a);
-      p.x_m += chord * std::cos(p.theta_rad + 0.5 * a);
-      p.y_m += chord * std::sin(p.theta_rad + 0.5 * a);
-    }
-    p.theta_rad += a;
+    drive::model::advance_arc(p, static_cast<double>(path.segments[i].distance_m),
+                              static_cast<double>(path.segments[i].angle_rad));
   }
-  return p;
+  return sim::WorldPose{p.x, p.y, p.theta};
 }
 
 namespace {

@@ -55,17 +55,27 @@ TEST(DiffDriveKinematics, EachFactorScalesWhatTheEquationsSay) {
   EXPECT_NEAR(k.inverse(Twist{0.2f, 0.5f}).left_radps, base.left_radps / 1.02f, 1e-5f);
   EXPECT_NEAR(k.inverse(Twist{0.2f, 0.5f}).right_radps, base.right_radps, 1e-5f);
 
+  // Maddahi eq. 7 on a straight command: F_lat multiplies the left row only, F_lon both rows.
+  // On turns the one model's rule (robot_model.hpp, geometry_in_force) keeps the angle a turn
+  // in place turns per wheel rotation: the wheelbases scale with the mean diameter.
+  const Twist line{0.2f, 0.0f};
+  const WheelRates straight = nominal.inverse(line);
+  const WheelRates spin_wheels{-1.0f, 1.0f};
+  const float spin_rate = nominal.forward(spin_wheels).w_radps;
   c = DriveConfig{};
-  c.f_lat = 1.05f;  // Maddahi eq. 7: F_lat multiplies the left row only
+  c.f_lat = 1.05f;
   k.configure(c);
-  EXPECT_NEAR(k.inverse(Twist{0.2f, 0.5f}).left_radps, 1.05f * base.left_radps, 1e-5f);
-  EXPECT_NEAR(k.inverse(Twist{0.2f, 0.5f}).right_radps, base.right_radps, 1e-5f);
+  EXPECT_NEAR(k.inverse(line).left_radps, 1.05f * straight.left_radps, 1e-5f);
+  EXPECT_NEAR(k.inverse(line).right_radps, straight.right_radps, 1e-5f);
+  EXPECT_NEAR(k.forward(spin_wheels).w_radps, spin_rate, 1e-6f);
 
   c = DriveConfig{};
-  c.f_lon = 1.1f;  // Maddahi eq. 7: F_lon multiplies both rows
+  c.f_lon = 1.1f;
   k.configure(c);
-  EXPECT_NEAR(k.inverse(Twist{0.2f, 0.5f}).left_radps, 1.1f * base.left_radps, 1e-5f);
-  EXPECT_NEAR(k.inverse(Twist{0.2f, 0.5f}).right_radps, 1.1f * base.right_radps, 1e-5f);
+  EXPECT_NEAR(k.inverse(line).left_radps, 1.1f * straight.left_radps, 1e-5f);
+  EXPECT_NEAR(k.inverse(line).right_radps, 1.1f * straight.right_radps, 1e-5f);
+  EXPECT_NEAR(k.forward(spin_wheels).w_radps, spin_rate, 1e-6f);
+  EXPECT_NEAR(k.wheelbase_m(), 0.15f / 1.1f, 1e-7f);  // b scaled with the diameters
 
   c = DriveConfig{};
   c.wheelbase_mm = 160.0f;  // the corrected wheelbase sets the turn term

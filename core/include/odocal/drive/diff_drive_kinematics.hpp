@@ -39,15 +39,19 @@ inline bool limit_wheel_speeds(WheelRates& rates, float max_radps, float& scale)
 
 /// Maps between wheel rotation and body motion.
 ///
-/// The calibrated robot is described by effective wheel diameters and a wheelbase:
-///   D_L,eff = D_a · c_L / (F_lat · F_lon),  D_R,eff = D_a · c_R / F_lon,  b = wheelbase_mm.
+/// The calibrated robot is the one model in force (robot_model.hpp, `geometry_in_force`):
+///   D_L,eff = D_a·c_L/(F_lat·F_lon),  D_R,eff = D_a·c_R/F_lon,  b_eff = s·wheelbase_mm,
+///   s = (c_L/(F_lat·F_lon) + c_R/F_lon)/(c_L + c_R)   (1 when F_lat = F_lon = 1).
 /// c_L and c_R scale each wheel's counts-to-distance (UMBmark eq. 6.35); `wheelbase_mm` is the
 /// corrected wheelbase (UMBmark eq. 6.33, b_new = E_b · b). The inverse map is Maddahi eq. 7
-/// read as DESIGN says:
-///   θ̇_L = F_lon·F_lat·(2/D_L)·v − F_lon·F_lat·(b/D_L)·ω,   θ̇_R = F_lon·(2/D_R)·v + F_lon·(b/D_R)·ω
-/// with D_L = D_a·c_L, D_R = D_a·c_R. The forward map (odometry) uses the same effective
-/// diameters, so forward and inverse are exact inverses for any factors: the robot's belief
-/// about where it went matches what it commanded.
+/// read as DESIGN says, with the wheelbase in force:
+///   θ̇_L = F_lon·F_lat·(2/D_L)·v − F_lon·F_lat·(b_eff/D_L)·ω,
+///   θ̇_R = F_lon·(2/D_R)·v + F_lon·(b_eff/D_R)·ω,   D_L = D_a·c_L, D_R = D_a·c_R.
+/// The paper's eq. 7 has b where this has b_eff: there F_lon scales turn rates too, so a factor
+/// fitted on straight lines would turn every turn by F_lon's error; b_eff keeps turn angles
+/// (docs/architecture.md, "One model"). The forward map (odometry) uses the same effective
+/// geometry, so forward and inverse are exact inverses for any factors: the robot's belief about
+/// where it went matches what it commanded.
 ///
 /// Arc wheelbase (`wheelbase_arc_mm` ≠ 0, `odocal fit`'s arc-wheelbase model): the wheelbase in
 /// force is b_w = b + w·(b_arc − b) with the blend weight w = |θ̇_L + θ̇_R| / (|θ̇_L + θ̇_R| +

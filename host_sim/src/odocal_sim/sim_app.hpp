@@ -1,0 +1,141 @@
+#pragma once
+// Internal to odocal-sim: the pieces its main loop wires together (console streams, scripted
+// input, pacing, the simulator's own `measure` command, the robot file's firmware defaults).
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "odocal/console/console.hpp"
+#include "odocal/hal/byte_stream.hpp"
+#include "odocal/host/sim_robot.hpp"
+#include "odocal/params/param_table.hpp"
+#include "odocal/posix/fd_byte_stream.hpp"
+
+namespace odocal::sim_app {
+
+/// Set by SIGINT and SIGTERM: the main loop ends, scripted input stops being read.
+[[nodiscard]] bool stop_requested();
+/// Installs the SIGINT and SIGTERM handlers that set it.
+void install_stop_handlers();
+
+/// The console's view of a stream whose input the program feeds itself (scripted stdin): it
+/// writes through, and reads nothing.
+class OutputOnly final : public hal::ByteStream {
+ public:
+  explicit OutputOnly(hal::ByteStream& inner) : inner_(inner) {}
+
+ private:
+  std::size_t do_read(std::uint8_t*, std::size_t) override { return 0u; }
+  std::size_t do_write(const std::uint8_t* data, std::size_t size) override {
+    return inner_.write(data, size);
+  }
+  hal::ByteStream& inner_;
+};
+
+/// The console's view of the pty in lockstep: passes bytes through and counts the input lines
+/// the console has read (a CR, or a LF not right after a CR), so that the simulation can give
+/// each line the same quantum of robot time whatever the host's timing.
+class LineCountingStream final : public hal::ByteStream {
+ public:
+  explicit LineCountingStream(hal::ByteStream& inner) : inner_(inner) {}
+  [[nodiscard]] std::uint64_t lines() const { return lines_; }
+  /// While false, nothing is read: input waits in the pty until the robot time a line is given
+  /// has passed, whenever the host sent it.
+  void accept_input(bool accept) { accepting_ = accept; }
+
+ private:
+  std::size_t do_read(std::uint8_t* out, std::size_t capacity) override;
+  std::size_t do_write(const std::uint8_t* data, std::size_t size) override {
+    return inner_.write(data, size);
+  }
+  hal::ByteStream& inner_;
+  std::uint64_t lines_ = 0u;
+  bool after_cr_ = false;
+  bool accepting_ = true;
+};
+
+/// Reads scripted input from a non-blocking stream (waiting with poll) in pieces: each piece is
+/// the rest of a line up to and including its end (CR, LF or CRLF), or, while no line end has
+/// come, the bytes read so far. Pieces go to the console as they come, and its line editor takes
+/// them exactly as from a terminal: a line longer than it keeps is refused whole, however long.
+/// Every byte is looked at once and the memory is one fixed buffer, so a long line or endless
+/// input without a line end (/dev/zero) costs linear time and constant memory.
+class LineReader {
+ public:
+  explicit LineReader(posix::FdByteStream& stream) : stream_(stream) {}
+  /// Next piece; `line_end` says whether it ends a line. False at end of input (a last
+  /// unterminated line is ended with a LF).
+  bool next(std::string& piece, bool& line_end);
+
+ private:
+  posix::FdByteStream& stream_;
+  std::uint8_t chunk_[512] = {};
+  std::size_t begin_ = 0u;
+  std::size_t end_ = 0u;
+  bool in_line_ = false;  ///< bytes of an unterminated line were handed out
+};
+
+/// Paces simulated time against the wall clock (speed X), or not at all (speed 0).
+class Pacer {
+ public:
+  explicit Pacer(double speed) : speed_(speed), start_(std::chrono::steady_clock::now()) {}
+  void rebase(double simulated_s) {
+    start_ = std::chrono::steady_clock::now();
+    base_s_ = simulated_s;
+  }
+  void wait_for(double simulated_s) const;
+
+ private:
+  double speed_;
+  std::chrono::steady_clock::time_point start_;
+  double base_s_ = 0.0;
+};
+
+/// The firmware's parameter defaults on this simulated robot: the built-in ones, with the robot
+/// file's nominal keys (wheel_diameter_mm, wheelbase_mm, counts_per_rev) as if the firmware had
+/// been built for that robot. They are in force when the store holds no usable saved set, and
+/// `defaults` restores them. @return false, with `error`, when the firmware would refuse them.
+bool robot_defaults(const host::RobotSpec& spec, params::ParamSet& set, std::string& error);
+
+/// The simulator's own console command, in the console's one target slot (`measure`): the tape
+/// measure, and the floor the extended UMBmark needs (docs/simulation.md, "odocal-sim"). Real
+/// targets have neither: they answer `err unknown_command`.
+class SimCommand {
+ public:
+  /// @param default_cable_height_m the height `measure cables` lays when it is not given.
+  SimCommand(host::SimulatedRobot& robot, double default_cable_height_m)
+      : robot_(robot), default_cable_height_m_(default_cable_height_m) {}
+
+  static void handle(void* context, const console::Token* words, std::size_t count,
+                     console::Reply& reply);
+
+  /// Call after each tick: at every odometry reset (a new run from the start mark) laid cables
+  /// lie ahead of the robot again, as they do on a real floor for a robot put back on its mark.
+  void follow_resets();
+
+  static constexpr const char* usage =
+      "measure [cables off | cables FIRST_MM SPACING_MM COUNT left|right [HEIGHT_MM]] (sim only)";
+
+ private:
+  void measure(console::Reply& reply);
+  void cables(const console::Token* words, std::size_t count, console::Reply& reply);
+  void lay() { robot_.plant().lay_cables(right_, height_m_, first_m_, spacing_m_, count_); }
+
+  host::SimulatedRobot& robot_;
+  double default_cable_height_m_;
+  bool laid_ = false;
+  bool right_ = true;
+  double height_m_ = 0.0;
+  double first_m_ = 0.0;
+  double spacing_m_ = 0.0;
+  std::uint32_t count_ = 0u;
+  std::uint32_t resets_seen_ = 0u;
+};
+
+/// Whether the robot is busy: a motion, its trial not yet closed, or the self-test. Scripted
+/// input waits for it (so `# done` comes first).
+[[nodiscard]] bool busy(const drive::LoopStatus& status, const console::Console& console);
+
+}  // namespace odocal::sim_app

@@ -1,0 +1,102 @@
+// odocal-sim: the console's streams, scripted input, pacing and the stop signal.
+
+#include <poll.h>
+
+#include <atomic>
+#include <csignal>
+#include <thread>
+
+#include "sim_app.hpp"
+
+namespace odocal::sim_app {
+namespace {
+
+std::atomic<bool> stop_flag{false};
+
+void on_signal(int) {
+  stop_flag.store(true);
+}
+
+}  // namespace
+
+bool stop_requested() {
+  return stop_flag.load();
+}
+
+void install_stop_handlers() {
+  struct sigaction action {};
+  action.sa_handler = on_signal;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+std::size_t LineCountingStream::do_read(std::uint8_t* out, std::size_t /*capacity*/) {
+  if (!accepting_) {
+    return 0u;
+  }
+  // One line at a time: the bytes after a line end stay in the pty until its quantum is over.
+  const std::size_t n = inner_.read(out, 1u);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (out[i] == '\r' || (out[i] == '\n' && !after_cr_)) {
+      ++lines_;
+      accepting_ = false;
+    }
+    after_cr_ = out[i] == '\r';
+  }
+  return n;
+}
+
+bool LineReader::next(std::string& piece, bool& line_end) {
+  for (;;) {
+    if (begin_ < end_) {
+      std::size_t stop = begin_;
+      while (stop < end_ && chunk_[stop] != '\r' && chunk_[stop] != '\n') {
+        ++stop;
+      }
+      line_end = stop < end_;
+      if (line_end) {
+        // A CRLF split over two reads gives a lone LF next: the console takes it as the end of
+        // the same line.
+        ++stop;
+      }
+      piece.assign(reinterpret_cast<const char*>(chunk_ + begin_), stop - begin_);
+      begin_ = stop;
+      in_line_ = !line_end;
+      return true;
+    }
+    if (stream_.end_of_input() || stop_requested()) {
+      if (!in_line_) {
+        return false;
+      }
+      piece = "\n";
+      line_end = true;
+      in_line_ = false;
+      return true;
+    }
+    begin_ = 0u;
+    end_ = stream_.read(chunk_, sizeof chunk_);
+    if (end_ == 0u && !stream_.end_of_input()) {
+      pollfd wait{stream_.input_fd(), POLLIN, 0};
+      static_cast<void>(::poll(&wait, 1, 20));
+    }
+  }
+}
+
+void Pacer::wait_for(double simulated_s) const {
+  if (!(speed_ > 0.0)) {
+    return;
+  }
+  const double due_wall_s = (simulated_s - base_s_) / speed_;
+  const auto due = start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                std::chrono::duration<double>(due_wall_s));
+  if (due > std::chrono::steady_clock::now()) {
+    std::this_thread::sleep_until(due);
+  }
+}
+
+bool busy(const drive::LoopStatus& status, const console::Console& console) {
+  return status.mode == drive::Mode::path || status.mode == drive::Mode::drive ||
+         status.trial_open || console.selftest_running();
+}
+
+}  // namespace odocal::sim_app

@@ -160,55 +160,92 @@ BLOCKS = {
 TICK_BLOCKS = {"images"}  # the blocks that quote the control tick
 
 
+def expected(name, old, build, where):
+    """The block `name` as the build has it; the doc's tick figures (in `old`) are kept when they
+    are within the tolerance, so that only they may differ from the measurement."""
+    tick = None
+    if name in TICK_BLOCKS:
+        tick = build.tick()
+        found = TICK.search(old)
+        if found:
+            doc_max, doc_avg = (int(g.replace(",", "")) for g in found.groups())
+            ok = (abs(doc_max - tick[0]) <= TICK_MAX_TOLERANCE * tick[0] and
+                  abs(doc_avg - tick[1]) <= TICK_AVG_TOLERANCE * tick[1])
+            print(f"{where}: tick {doc_max}/{doc_avg} in the doc, measured {tick[0]}/{tick[1]}: "
+                  + ("within" if ok else "OUTSIDE") + " the tolerance")
+            if ok:
+                tick = (doc_max, doc_avg)
+    return BLOCKS[name](build, tick)
+
+
+def self_test(build):
+    """The check itself: a fresh block passes, a changed figure fails, the tick's tolerance holds."""
+    failures = 0
+
+    def case(what, doc_block, name, should_match):
+        nonlocal failures
+        matches = expected(name, doc_block, build, f"self-test {what}") == doc_block
+        print(("PASS " if matches == should_match else "FAIL ") + what)
+        failures += matches != should_match
+
+    for name in BLOCKS:
+        fresh = expected(name, "", build, name)
+        case(f"[{name}] as generated matches", fresh, name, True)
+        first = re.search(r"\d", fresh.split("\n", 2)[2])  # a figure in the first table row
+        offset = len("\n".join(fresh.split("\n", 2)[:2])) + 1 + first.start()
+        changed = fresh[:offset] + str((int(fresh[offset]) + 1) % 10) + fresh[offset + 1:]
+        case(f"[{name}] with a figure changed fails", changed, name, False)
+    fresh = expected("images", "", build, "images")
+    tick_max, tick_avg = build.tick()
+    for factor, should_match in ((1.04, True), (0.96, True), (1.06, False), (0.94, False)):
+        moved = TICK.sub(f"{n(round(tick_max * factor))} instructions max, {n(tick_avg)} average",
+                         fresh)
+        case(f"[images] tick max x{factor} " + ("passes" if should_match else "fails"), moved,
+             "images", should_match)
+    for factor, should_match in ((1.14, True), (0.86, True), (1.16, False), (0.84, False)):
+        moved = TICK.sub(f"{n(tick_max)} instructions max, {n(round(tick_avg * factor))} average",
+                         fresh)
+        case(f"[images] tick average x{factor} " + ("passes" if should_match else "fails"), moved,
+             "images", should_match)
+    print(f"{failures} failure(s)")
+    return 1 if failures else 0
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--build-dir", default=str(ROOT / "build" / "stm32f4"))
     parser.add_argument("--write", action="store_true", help="rewrite the blocks")
+    parser.add_argument("--self-test", action="store_true", help="test the check itself")
     parser.add_argument("docs", nargs="*", help="default: README.md and docs/*.md")
     args = parser.parse_args()
     build = Build(args.build_dir)
+    if args.self_test:
+        return self_test(build)
     docs = [pathlib.Path(d) for d in args.docs] or [ROOT / "README.md",
                                                     *sorted((ROOT / "docs").glob("*.md"))]
     stale = 0
     for doc in docs:
         text = doc.read_text()
-        blocks = list(BLOCK.finditer(text))
-        if not blocks:
-            continue
         out, last = [], 0
-        for m in blocks:
+        for m in BLOCK.finditer(text):
             name, old = m.group(2), m.group(3)
             if name not in BLOCKS:
                 sys.exit(f"doc_figures: {doc.name}: unknown block {name} (known: {list(BLOCKS)})")
-            tick = None
-            if name in TICK_BLOCKS:
-                tick = build.tick()
-                found = TICK.search(old)
-                if found:  # --write too keeps the doc's tick when within the tolerance
-                    doc_max, doc_avg = (int(g.replace(",", "")) for g in found.groups())
-                    ok = (abs(doc_max - tick[0]) <= TICK_MAX_TOLERANCE * tick[0] and
-                          abs(doc_avg - tick[1]) <= TICK_AVG_TOLERANCE * tick[1])
-                    print(f"{doc.name} [{name}]: tick {doc_max}/{doc_avg} in the doc, measured "
-                          f"{tick[0]}/{tick[1]}: " + ("within" if ok else "OUTSIDE") +
-                          " the tolerance")
-                    if ok:
-                        tick = (doc_max, doc_avg)  # compare the rest of the block exactly
-            new = BLOCKS[name](build, tick)
-            if new != old:
-                if not args.write:
-                    stale += 1
-                    print(f"{doc.name} [{name}]: differs from the build:")
-                    sys.stdout.writelines(difflib.unified_diff(
-                        old.splitlines(True), new.splitlines(True), "doc", "build"))
-                else:
-                    print(f"{doc.name} [{name}]: rewritten")
-            else:
+            new = expected(name, old, build, f"{doc.name} [{name}]")
+            if new == old:
                 print(f"{doc.name} [{name}]: matches the build")
+            elif args.write:
+                print(f"{doc.name} [{name}]: rewritten")
+            else:
+                stale += 1
+                print(f"{doc.name} [{name}]: differs from the build:")
+                sys.stdout.writelines(difflib.unified_diff(
+                    old.splitlines(True), new.splitlines(True), "doc", "build"))
             out += [text[last:m.start(3)], new]
             last = m.end(3)
         out.append(text[last:])
-        if args.write:
+        if args.write and last:
             doc.write_text("".join(out))
     if stale:
         print(f"{stale} block(s) stale: regenerate with `{REGENERATE}` "

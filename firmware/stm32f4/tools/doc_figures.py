@@ -3,7 +3,8 @@
 a block between `<!-- figures:begin NAME -->` and `<!-- figures:end -->` in README.md or
 docs/*.md, and this script writes (--write) or checks (the default) every such block.
 
-  python3 firmware/stm32f4/tools/doc_figures.py [--build-dir build/stm32f4] [--write]
+  python3 firmware/stm32f4/tools/doc_figures.py [--build-dir build/stm32f4] [--write] [DOC...]
+  python3 firmware/stm32f4/tools/doc_figures.py --self-test   # the check itself
 
 Sources, all in the stm32f4 build directory: the budgets are its CMake cache variables
 (ODOCAL_FW_*); flash and RAM are what check_image.cmake (the build's own size check) prints;
@@ -62,9 +63,11 @@ class Build:
     def sizes(self, image):
         """flash, static RAM, reserved stack: check_image.cmake's own figures."""
         c = self.cache
+        prefix = "ODOCAL_FW_QEMU_" if image.endswith("qemu") else "ODOCAL_FW_"
         out = subprocess.run(
             [c["CMAKE_COMMAND"], f"-DELF={self.bin / image}.elf", f"-DNM={c['CMAKE_NM']}",
-             f"-DSIZE={c['ODOCAL_ARM_SIZE']}", "-DFLASH_BUDGET=0", "-DRAM_BUDGET=0",
+             f"-DSIZE={c['ODOCAL_ARM_SIZE']}", f"-DFLASH_BUDGET={c[prefix + 'FLASH_BUDGET']}",
+             f"-DRAM_BUDGET={c[prefix + 'RAM_BUDGET']}",
              "-P", str(TOOLS.parent / "check_image.cmake")],
             capture_output=True, text=True)
         out = out.stdout + out.stderr

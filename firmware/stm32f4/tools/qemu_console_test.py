@@ -6,6 +6,8 @@ The guest ends the session itself (Ctrl-D -> semihosting exit), and its exit sta
 """
 
 import argparse
+import hashlib
+import json
 import math
 import os
 import re
@@ -109,6 +111,8 @@ def main():
     parser.add_argument("--no-icount", action="store_true", help="real-time virtual clock")
     parser.add_argument("--tick-budget", type=int, default=1500,
                         help="max instructions of the control tick (with -icount)")
+    parser.add_argument("--figures-out", help="write the tick's max/avg instructions here (JSON, "
+                        "for doc_figures.py)")
     args = parser.parse_args()
     if not os.path.exists(args.elf):
         print(f"no image {args.elf}")
@@ -221,6 +225,12 @@ def main():
               f"(avg {float(second.get('tick_us_avg', 'nan')) * 1000.0:.0f})")
         checks.check(instructions <= args.tick_budget,
                      f"control tick <= {args.tick_budget} instructions", f"{instructions:.0f}")
+        if args.figures_out and math.isfinite(instructions):
+            os.makedirs(os.path.dirname(os.path.abspath(args.figures_out)), exist_ok=True)
+            with open(args.elf, "rb") as elf, open(args.figures_out, "w") as out:
+                json.dump({"tick_max": round(instructions),
+                           "tick_avg": round(float(second.get("tick_us_avg", "nan")) * 1000.0),
+                           "elf_sha256": hashlib.sha256(elf.read()).hexdigest()}, out)
 
     guest.send("\x04")  # Ctrl-D: the guest exits through semihosting with status 0
     try:

@@ -112,21 +112,27 @@ LateralStatus factors_from_wheel_rates(const WheelRateSample& sample, const Whee
   const double speed = std::hypot(sample.xdot_mps, sample.ydot_mps);
   const double v = sample.xdot_mps < 0.0 ? -speed : speed;
   const double w = sample.thetadot_radps;
-  // Maddahi eq. 7 (left row read with −F_lat·l/D_L):
-  //   θ̇_R = F_lon·(2v + lω)/D_R,   θ̇_L = F_lon·F_lat·(2v − lω)/D_L.
-  const double right_term = 2.0 * v + l * w;
-  const double left_term = 2.0 * v - l * w;
+  // Maddahi eq. 7 (left row read with −F_lat·l/D_L) with the one model's wheelbase in force
+  // (drive::model::geometry_in_force: the wheelbase scales with the mean effective diameter,
+  // b_eff = s·l, F_lon·s = q = (D_L/F_lat + D_R)/Σ, Σ = D_L + D_R):
+  //   θ̇_R·D_R = 2·F_lon·v + q·l·ω,   θ̇_L·D_L = F_lat·(2·F_lon·v − q·l·ω).
+  // Eliminating F_lon (F_lat·q = (D_L + F_lat·D_R)/Σ), with k = 2lω/Σ:
+  //   F_lat = D_L·(θ̇_L + k) / (D_R·(θ̇_R − k)),   F_lon = (θ̇_R·D_R − q·l·ω) / (2v).
+  // F_lon needs forward motion: a turn in place keeps its angle whatever F_lon is.
+  const double k = 2.0 * l * w / (d_l + d_r);
   const double scale = std::fabs(2.0 * v) + std::fabs(l * w);
-  if (!(scale > 0.0) || std::fabs(right_term) <= 1e-9 * scale ||
-      std::fabs(left_term) <= 1e-9 * scale) {
+  const double right = sample.omega_r_radps - k;
+  if (!(scale > 0.0) || std::fabs(2.0 * v) <= 1e-9 * scale ||
+      std::fabs(right) * d_r <= 1e-9 * scale) {
     return LateralStatus::degenerate;
   }
-  const double f_lon = sample.omega_r_radps * d_r / right_term;
-  if (!positive(f_lon)) {
-    return LateralStatus::degenerate;
-  }
-  const double f_lat = sample.omega_l_radps * d_l / (f_lon * left_term);
+  const double f_lat = d_l * (sample.omega_l_radps + k) / (d_r * right);
   if (!positive(f_lat)) {
+    return LateralStatus::degenerate;
+  }
+  const double q = (d_l / f_lat + d_r) / (d_l + d_r);
+  const double f_lon = (sample.omega_r_radps * d_r - q * l * w) / (2.0 * v);
+  if (!positive(f_lon)) {
     return LateralStatus::degenerate;
   }
   result = LateralResult{f_lat, f_lon, 0.0};

@@ -84,7 +84,7 @@ Dual<Real> cos_of(Dual<Real> a) {
 template <typename Real>
 Real scalar_sinc(Real u, Real& slope) {
   const drive::model::HalfTurn<Real> half = drive::model::half_turn(u);
-  slope = half.sinc_slope;
+  slope = drive::model::sinc_slope(u, half);
   return half.sinc;
 }
 template <typename Real>

@@ -126,7 +126,7 @@ void integrate(const Unit& unit, const Params& p, const ModelSpec& spec, bool ja
     const double h = 0.5 * dtheta;
     const drive::model::HalfTurn<double> half = drive::model::half_turn(h);
     const double sinc = half.sinc;
-    const double sinc_dh = half.sinc_slope;
+    const double sinc_dh = drive::model::sinc_slope(h, half);
     const double mid = s.theta + h;
     const double cm = std::cos(mid);
     const double sm = std::sin(mid);

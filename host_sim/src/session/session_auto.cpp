@@ -27,7 +27,7 @@
 #include "odocal/drive/motion_executor.hpp"
 #include "odocal/host/fit.hpp"
 #include "odocal/host/fit_noise.hpp"
-#include "odocal/host/sim_procedures.hpp"
+#include "odocal/host/path_geometry.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
@@ -624,7 +624,7 @@ Outcome run_auto(Context& c) {
 
   // 3. Verification on the unseen path with the factors in force.
   const drive::Path unseen = drive::make_unseen_path();
-  const sim::WorldPose goal = path_end(unseen);
+  const PathEnd goal = path_end(unseen);
   double length_m = 0.0, turn_rad = 0.0;
   for (std::uint8_t i = 0; i < unseen.count; ++i) {
     length_m += std::fabs(static_cast<double>(unseen.segments[i].distance_m));

@@ -14,8 +14,8 @@
 
 #include "odocal/drive/motion_executor.hpp"
 #include "odocal/drive/robot_model.hpp"
-#include "odocal/host/sim_procedures.hpp"
-#include "odocal/host/sim_svg.hpp"
+#include "odocal/host/path_geometry.hpp"
+#include "odocal/host/svg_plot.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
@@ -176,38 +176,39 @@ std::string date_text(std::uint64_t unix_s) {
   return text;
 }
 
-}  // namespace
-
-std::string report_html(const ReportInput& in) {
-  const std::vector<RunRecord>& runs = in.runs;
-  std::map<std::string, std::string> colours;
-  for (const RunRecord& r : runs) {
-    if (colours.count(r.label) == 0u) {
-      colours[r.label] = kPalette[colours.size() % (sizeof kPalette / sizeof *kPalette)];
-    }
-  }
+/// What every section of the page shares: the runs' labels in order and a colour for each,
+/// and the fitted geometry where the session fitted one (fit, auto).
+struct ReportParts {
   std::vector<std::string> labels;
-  for (const RunRecord& r : runs) {
-    if (std::find(labels.begin(), labels.end(), r.label) == labels.end()) {
-      labels.push_back(r.label);
+  std::map<std::string, std::string> colours;
+  const nlohmann::json* fit = nullptr;
+};
+
+ReportParts parts_of(const ReportInput& in) {
+  ReportParts p;
+  for (const RunRecord& r : in.runs) {
+    if (p.colours.count(r.label) == 0u) {
+      p.colours[r.label] = kPalette[p.colours.size() % (sizeof kPalette / sizeof *kPalette)];
+      p.labels.push_back(r.label);
     }
   }
-  // The fitted geometry, where the session fitted one (fit, auto).
-  const nlohmann::json* fit = nullptr;
   if (in.result.contains("wheel_diameter_left_mm")) {
-    fit = &in.result;
+    p.fit = &in.result;
   } else if (in.result.contains("fit") && in.result["fit"].is_object()) {
-    fit = &in.result["fit"];
+    p.fit = &in.result["fit"];
   }
+  return p;
+}
 
-  std::ostringstream body;
-  // 1. Each run's path: the odometry (from the tick log, or the path the run was told to drive)
-  //    and where it stopped by odometry (+) and as measured (x).
+/// 1. Each run's path: the odometry (from the tick log, or the path the run was told to drive)
+///    and where it stopped by odometry (+) and as measured (x).
+std::string paths_figure(const ReportInput& in, ReportParts& p) {
+  const std::vector<RunRecord>& runs = in.runs;
   Rows paths;
-  for (const std::string& label : labels) {
+  for (const std::string& label : p.labels) {
     SvgPanel& panel =
         paths.panel(label + ": path (+ odometry end, x measured)", "x, ahead (mm)", "y, left (mm)");
-    const std::string& colour = colours[label];
+    const std::string& colour = p.colours[label];
     std::size_t n = 0;
     for (const RunRecord& r : runs) {
       if (r.label != label) {
@@ -227,75 +228,85 @@ std::string report_html(const ReportInput& in) {
                   {colour, fmt::format("{} ({}): + odometry end, x measured", label, n)},
                   {"#000000", "start"}});
   }
-  if (!paths.empty()) {
-    body << figure("Each run's path and stop point", paths.html("paths"),
-                   "Grey: the path by odometry (tick log, or the path the run was told to drive); "
-                   "+ where odometry says it stopped; x where it was measured; square: the start "
-                   "mark. Axes in millimetres from the start mark, x ahead, y to the left.");
+  if (paths.empty()) {
+    return std::string();
   }
+  return figure("Each run's path and stop point", paths.html("paths"),
+                "Grey: the path by odometry (tick log, or the path the run was told to drive); "
+                "+ where odometry says it stopped; x where it was measured; square: the start "
+                "mark. Axes in millimetres from the start mark, x ahead, y to the left.");
+}
 
-  // 2. Errors per group at their own scale: UMBmark's clusters with their centres of gravity
-  //    before and after each pass, lateral drift, verification (runs.svg).
+/// 2. Errors per group at their own scale: UMBmark's clusters with their centres of gravity
+///    before and after each pass, lateral drift, verification (runs.svg).
+std::string errors_figure(const ReportInput& in) {
   std::string errors;
-  for (const std::string& svg : runs_svg_rows(runs, in.title, 3)) {
+  for (const std::string& svg : runs_svg_rows(in.runs, in.title, 3)) {
     errors += inline_svg(svg, "errors");
   }
-  body << figure("Stop errors, measured minus odometry, per pass and group", errors,
-                 "Each panel at the scale of its own errors, so that millimetres show: x a run's "
-                 "error, o the centre of gravity of its kind (UMBmark: cw and ccw clusters of a "
-                 "pass; the next pass shows them after the correction), square: no error.");
+  return figure("Stop errors, measured minus odometry, per pass and group", errors,
+                "Each panel at the scale of its own errors, so that millimetres show: x a run's "
+                "error, o the centre of gravity of its kind (UMBmark: cw and ccw clusters of a "
+                "pass; the next pass shows them after the correction), square: no error.");
+}
 
-  // 3. Fit: the logged runs' paths with the nominal geometry (before) and the fitted one (after).
-  if (fit != nullptr) {
-    const double d_l = (*fit)["wheel_diameter_left_mm"].get<double>();
-    const double d_r = (*fit)["wheel_diameter_right_mm"].get<double>();
-    const double b = (*fit)["wheelbase_mm"].get<double>();
-    const double b_arc = fit->contains("wheelbase_arc_mm") && (*fit)["wheelbase_arc_mm"].is_number()
-                             ? (*fit)["wheelbase_arc_mm"].get<double>()
-                             : 0.0;
-    Rows fitted;
-    for (const std::string& label : labels) {
-      bool any = false;
-      for (const RunRecord& r : runs) {
-        any = any || (r.label == label && r.ticks.size() >= 2);
-      }
-      if (!any) {
+/// 3. Fit: the logged runs' paths with the nominal geometry (before) and the fitted one (after).
+std::string fit_figure(const ReportInput& in, ReportParts& p) {
+  if (p.fit == nullptr) {
+    return std::string();
+  }
+  const nlohmann::json& fit = *p.fit;
+  const double d_l = fit["wheel_diameter_left_mm"].get<double>();
+  const double d_r = fit["wheel_diameter_right_mm"].get<double>();
+  const double b = fit["wheelbase_mm"].get<double>();
+  const double b_arc = fit.contains("wheelbase_arc_mm") && fit["wheelbase_arc_mm"].is_number()
+                           ? fit["wheelbase_arc_mm"].get<double>()
+                           : 0.0;
+  Rows fitted;
+  for (const std::string& label : p.labels) {
+    bool any = false;
+    for (const RunRecord& r : in.runs) {
+      any = any || (r.label == label && r.ticks.size() >= 2);
+    }
+    if (!any) {
+      continue;
+    }
+    SvgPanel& panel =
+        fitted.panel(label + ": before and after the fit", "x, ahead (mm)", "y, left (mm)");
+    for (const RunRecord& r : in.runs) {
+      if (r.label != label || r.ticks.size() < 2) {
         continue;
       }
-      SvgPanel& panel =
-          fitted.panel(label + ": before and after the fit", "x, ahead (mm)", "y, left (mm)");
-      for (const RunRecord& r : runs) {
-        if (r.label != label || r.ticks.size() < 2) {
-          continue;
-        }
-        panel.add_line(trace_of(r, in.wheel_diameter_mm, in.wheel_diameter_mm, in.wheelbase_mm,
-                                in.counts_per_rev),
-                       "#bbbbbb");
-        const std::vector<PathPoint> after = trace_of(r, d_l, d_r, b, in.counts_per_rev, b_arc);
-        panel.add_line(after, colours[label]);
-        panel.add_marker(r.measured.x_mm, r.measured.y_mm, "#000000", 'x');
-      }
-      panel.legend({{"#bbbbbb", "nominal geometry (before)"},
-                    {colours[label], "fitted geometry (after)"},
-                    {"#000000", "x measured stop"}});
+      panel.add_line(trace_of(r, in.wheel_diameter_mm, in.wheel_diameter_mm, in.wheelbase_mm,
+                              in.counts_per_rev),
+                     "#bbbbbb");
+      const std::vector<PathPoint> after = trace_of(r, d_l, d_r, b, in.counts_per_rev, b_arc);
+      panel.add_line(after, p.colours[label]);
+      panel.add_marker(r.measured.x_mm, r.measured.y_mm, "#000000", 'x');
     }
-    if (!fitted.empty()) {
-      body << figure("Fit: paths before and after", fitted.html("fit"),
-                     fmt::format("The runs' encoder counts integrated with the nominal geometry "
-                                 "(grey) and with the fitted one (D_L {:.3f} mm, D_R {:.3f} mm, "
-                                 "b {:.3f} mm): after the fit each path should end at its "
-                                 "measured stop (x). Millimetres.",
-                                 d_l, d_r, b));
-    }
+    panel.legend({{"#bbbbbb", "nominal geometry (before)"},
+                  {p.colours[label], "fitted geometry (after)"},
+                  {"#000000", "x measured stop"}});
   }
+  if (fitted.empty()) {
+    return std::string();
+  }
+  return figure("Fit: paths before and after", fitted.html("fit"),
+                fmt::format("The runs' encoder counts integrated with the nominal geometry "
+                            "(grey) and with the fitted one (D_L {:.3f} mm, D_R {:.3f} mm, "
+                            "b {:.3f} mm): after the fit each path should end at its "
+                            "measured stop (x). Millimetres.",
+                            d_l, d_r, b));
+}
 
-  // 4. Verification: the unseen path's target and where the runs stopped.
-  const sim::WorldPose goal = path_end(drive::make_unseen_path());
+/// 4. Verification: the unseen path's target and where the runs stopped.
+std::string verify_figure(const ReportInput& in, ReportParts& p) {
+  const PathEnd goal = path_end(drive::make_unseen_path());
   Rows verify;
   SvgPanel* target = nullptr;
   std::vector<std::pair<std::string, std::string>> verify_legend;
-  for (const std::string& label : labels) {
-    for (const RunRecord& r : runs) {
+  for (const std::string& label : p.labels) {
+    for (const RunRecord& r : in.runs) {
       if (r.label != label || r.command != "run unseen") {
         continue;
       }
@@ -304,94 +315,117 @@ std::string report_html(const ReportInput& in) {
                                "y error, left (mm)");
       }
       target->add_marker(r.measured.x_mm - goal.x_m * 1e3, r.measured.y_mm - goal.y_m * 1e3,
-                         colours[label], 'x');
+                         p.colours[label], 'x');
       const std::string entry = label + ": x measured stop";
       if (std::find_if(verify_legend.begin(), verify_legend.end(),
                        [&](const auto& e) { return e.second == entry; }) == verify_legend.end()) {
-        verify_legend.emplace_back(colours[label], entry);
+        verify_legend.emplace_back(p.colours[label], entry);
       }
     }
   }
-  if (target != nullptr) {
-    target->add_marker(0.0, 0.0, "#000000", 's');
-    verify_legend.emplace_back("#000000", "target (where the path should end)");
-    target->legend(verify_legend);
-    body << figure("Verification on the unseen path", verify.html("verification"),
-                   fmt::format("The unseen path (100 cm square, 100 cm triangle, 80 cm "
-                               "semicircle) should end {:.0f} mm ahead and {:.0f} mm to the left "
-                               "of the start: each x is a measured stop minus that target, in "
-                               "millimetres.",
-                               plain(goal.x_m * 1e3, 0), plain(goal.y_m * 1e3, 0)));
+  if (target == nullptr) {
+    return std::string();
   }
+  target->add_marker(0.0, 0.0, "#000000", 's');
+  verify_legend.emplace_back("#000000", "target (where the path should end)");
+  target->legend(verify_legend);
+  return figure("Verification on the unseen path", verify.html("verification"),
+                fmt::format("The unseen path (100 cm square, 100 cm triangle, 80 cm "
+                            "semicircle) should end {:.0f} mm ahead and {:.0f} mm to the left "
+                            "of the start: each x is a measured stop minus that target, in "
+                            "millimetres.",
+                            plain(goal.x_m * 1e3, 0), plain(goal.y_m * 1e3, 0)));
+}
 
-  // 5. The factors in force, with intervals and provenance.
-  std::ostringstream table;
-  table << "<table>\n<tr><th>factor</th><th>in force</th><th>95 % interval</th>"
-           "<th>provenance</th></tr>\n";
-  const auto provenance = [&](const char* group) {
-    const auto get = [&](const std::string& key) {
-      const auto at = in.provenance.find(std::string(group) + "_" + key);
-      return at == in.provenance.end() ? std::string("?") : at->second;
-    };
-    if (in.provenance.empty()) {
-      return std::string("not reported");
-    }
-    const std::string date = get("date");
-    const bool digits =
-        !date.empty() && date.size() < 20 &&
-        std::all_of(date.begin(), date.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
-    return fmt::format("{}, {} runs, {}", get("method"), get("runs"),
-                       digits ? date_text(std::stoull(date)) : std::string("unknown"));
+/// "METHOD, N runs, DATE" of a factor group's provenance (`wheel`, `lateral`).
+std::string provenance_text(const ReportInput& in, const char* group) {
+  const auto get = [&](const std::string& key) {
+    const auto at = in.provenance.find(std::string(group) + "_" + key);
+    return at == in.provenance.end() ? std::string("?") : at->second;
   };
-  const auto row = [&](const char* name, double value, const std::string& ci, const char* group) {
-    table << fmt::format("<tr><td>{}</td><td>{:.6f}</td><td>{}</td><td>{}</td></tr>\n", name, value,
-                         ci.empty() ? "&ndash;" : ci, escape(provenance(group)));
-  };
-  const nlohmann::json none;
-  const nlohmann::json& f = fit != nullptr ? *fit : none;
-  // Intervals: the fit's for the geometry; UMBmark's last pass's correction (the factor in force
-  // when the robot started from the nominal factors, composed with them otherwise); the
-  // lateral bootstrap's for F_lat, F_lon.
-  nlohmann::json wheel_ci = nlohmann::json::object();
+  if (in.provenance.empty()) {
+    return std::string("not reported");
+  }
+  const std::string date = get("date");
+  const bool digits =
+      !date.empty() && date.size() < 20 &&
+      std::all_of(date.begin(), date.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
+  return fmt::format("{}, {} runs, {}", get("method"), get("runs"),
+                     digits ? date_text(std::stoull(date)) : std::string("unknown"));
+}
+
+/// The intervals of the factors in force: the fit's for the geometry; UMBmark's last pass's
+/// correction (the factor in force when the robot started from the nominal factors, composed
+/// with them otherwise); the lateral bootstrap's for F_lat, F_lon. `note` says which.
+struct FactorIntervals {
+  nlohmann::json wheel;
+  nlohmann::json lateral;
   std::string note;
-  if (fit != nullptr && f.contains("ci")) {
-    wheel_ci = f["ci"];
+};
+
+FactorIntervals intervals_of(const ReportInput& in, const nlohmann::json* fit) {
+  nlohmann::json wheel_ci = nlohmann::json::object();
+  FactorIntervals out;
+  if (fit != nullptr && fit->contains("ci")) {
+    wheel_ci = (*fit)["ci"];
   } else if (in.result.contains("passes") && in.result["passes"].is_array() &&
              !in.result["passes"].empty() && in.result["passes"].back().contains("intervals")) {
     const nlohmann::json& last = in.result["passes"].back()["intervals"];
     wheel_ci["c_l"] = last.value("c_l", nlohmann::json());
     wheel_ci["c_r"] = last.value("c_r", nlohmann::json());
     wheel_ci["wheelbase_mm"] = last.value("wheelbase_new_mm", nlohmann::json());
-    note = "UMBmark's intervals are those of its last pass's correction.";
+    out.note = "UMBmark's intervals are those of its last pass's correction.";
   }
   nlohmann::json lateral_ci = nlohmann::json::object();
   if (in.result.contains("bootstrap") && in.result["bootstrap"].is_object()) {
     lateral_ci["f_lat"] = in.result["bootstrap"].value("ci_f_lat", nlohmann::json());
     lateral_ci["f_lon"] = in.result["bootstrap"].value("ci_f_lon", nlohmann::json());
   }
-  const nlohmann::json wheel{{"ci", wheel_ci}};
-  const nlohmann::json lateral{{"ci", lateral_ci}};
-  row("c_l", in.factors.c_l, interval(wheel, "c_l"), "wheel");
-  row("c_r", in.factors.c_r, interval(wheel, "c_r"), "wheel");
-  row("wheelbase_mm", in.factors.wheelbase_mm, interval(wheel, "wheelbase_mm"), "wheel");
+  out.wheel = nlohmann::json{{"ci", wheel_ci}};
+  out.lateral = nlohmann::json{{"ci", lateral_ci}};
+  return out;
+}
+
+/// 5. The factors in force, with intervals and provenance.
+std::string factors_table(const ReportInput& in, const nlohmann::json* fit) {
+  std::ostringstream table;
+  table << "<table>\n<tr><th>factor</th><th>in force</th><th>95 % interval</th>"
+           "<th>provenance</th></tr>\n";
+  const auto row = [&](const char* name, double value, const std::string& ci, const char* group) {
+    table << fmt::format("<tr><td>{}</td><td>{:.6f}</td><td>{}</td><td>{}</td></tr>\n", name, value,
+                         ci.empty() ? "&ndash;" : ci, escape(provenance_text(in, group)));
+  };
+  const FactorIntervals ci = intervals_of(in, fit);
+  row("c_l", in.factors.c_l, interval(ci.wheel, "c_l"), "wheel");
+  row("c_r", in.factors.c_r, interval(ci.wheel, "c_r"), "wheel");
+  row("wheelbase_mm", in.factors.wheelbase_mm, interval(ci.wheel, "wheelbase_mm"), "wheel");
   if (in.factors.wheelbase_arc_mm != 0.0) {
-    row("wheelbase_arc_mm", in.factors.wheelbase_arc_mm, interval(wheel, "wheelbase_arc_mm"),
+    row("wheelbase_arc_mm", in.factors.wheelbase_arc_mm, interval(ci.wheel, "wheelbase_arc_mm"),
         "wheel");
   }
-  row("f_lat", in.factors.f_lat, interval(lateral, "f_lat"), "lateral");
-  row("f_lon", in.factors.f_lon, interval(lateral, "f_lon"), "lateral");
+  row("f_lat", in.factors.f_lat, interval(ci.lateral, "f_lat"), "lateral");
+  row("f_lon", in.factors.f_lon, interval(ci.lateral, "f_lon"), "lateral");
   table << "</table>\n";
-  if (!note.empty()) {
-    table << "<p>" << escape(note) << "</p>\n";
+  if (!ci.note.empty()) {
+    table << "<p>" << escape(ci.note) << "</p>\n";
   }
-  if (f.is_object() && f.contains("noise") && f["noise"].is_object() &&
-      f["noise"].contains("k_l")) {
+  if (fit != nullptr && fit->is_object() && fit->contains("noise") && (*fit)["noise"].is_object() &&
+      (*fit)["noise"].contains("k_l")) {
     table << fmt::format(
         "<p>Random error growth (odometry covariance, Chong &amp; Kleeman): k_l = {:.3g} "
         "mm&sup2;/mm, k_r = {:.3g} mm&sup2;/mm.</p>\n",
-        f["noise"]["k_l"].get<double>(), f["noise"]["k_r"].get<double>());
+        (*fit)["noise"]["k_l"].get<double>(), (*fit)["noise"]["k_r"].get<double>());
   }
+  return table.str();
+}
 
+}  // namespace
+
+std::string report_html(const ReportInput& in) {
+  ReportParts p = parts_of(in);
+  std::ostringstream body;
+  body << paths_figure(in, p) << errors_figure(in) << fit_figure(in, p) << verify_figure(in, p);
+  const std::string table = factors_table(in, p.fit);
   std::ostringstream page;
   page << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
           "<title>"
@@ -412,7 +446,7 @@ std::string report_html(const ReportInput& in) {
   if (!in.summary.empty()) {
     page << "<pre>" << escape(in.summary) << "</pre>\n";
   }
-  page << "<h2>Factors in force</h2>\n" << table.str() << body.str() << "</body>\n</html>\n";
+  page << "<h2>Factors in force</h2>\n" << table << body.str() << "</body>\n</html>\n";
   return page.str();
 }
 

@@ -4,7 +4,7 @@
 #include <deque>
 #include <map>
 
-#include "odocal/host/sim_svg.hpp"
+#include "odocal/host/svg_plot.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {

@@ -215,6 +215,62 @@ std::string implausible(const calib::UmbmarkResult& r, const Solved& solved,
   return std::string();
 }
 
+/// Drives one pass: `n` clockwise squares, then `n` counter-clockwise; their return errors
+/// (measured minus odometry) into errors[0] (cw) and errors[1] (ccw).
+void drive_pass(Context& c, std::size_t pass, std::size_t n, const char* side_text,
+                double expected_s, std::vector<calib::ReturnError> (&errors)[2]) {
+  for (int direction = 0; direction < 2; ++direction) {
+    const std::string name = direction == 0 ? "cw" : "ccw";
+    for (std::size_t i = 0; i < n; ++i) {
+      const RunRecord r = c.run(pass == 1 ? name : "pass" + std::to_string(pass) + "-" + name,
+                                "run umbmark-" + name + " " + side_text, expected_s);
+      errors[direction].push_back({r.measured.x_mm - r.odom.x_mm, r.measured.y_mm - r.odom.y_mm});
+    }
+  }
+}
+
+/// A pass's `result.passes` entry: `odocal umbmark`'s keys with provenance, the intervals and
+/// which solver (and why).
+nlohmann::json pass_json(const Solved& solved, const nlohmann::json& ci, std::size_t runs_so_far,
+                         double side_mm, double b, std::size_t pass) {
+  const calib::UmbmarkResult& result = solved.result;
+  Provenance p;
+  p.method = result.exact ? "umbmark-exact" : "umbmark";
+  p.runs = runs_so_far;
+  p.date = today_utc();
+  p.interval = "normal";
+  p.level = 0.95;
+  p.extra = {{"side_mm", side_mm}, {"wheelbase_mm", b}, {"pass", pass}};
+  nlohmann::json object = with_provenance(umbmark_to_json(result), p);
+  object["intervals"] = ci;
+  object["solver"] = result.exact ? "exact" : "small-angle";
+  object["solver_reason"] = solved.reason;
+  return object;
+}
+
+/// Applies the pass on the robot with its own solver, so that its provenance reads umbmark (or
+/// umbmark-exact) with every run of every pass and the session's date; the robot composes it
+/// with the factors in force (`umbmark apply`).
+void apply_on_robot(Context& c, const std::vector<calib::ReturnError> (&errors)[2],
+                    const char* side_text, bool exact, std::size_t runs_so_far) {
+  c.robot.expect_ok("umbmark clear");
+  c.robot.expect_ok(std::string("umbmark side ") + side_text);
+  for (int direction = 0; direction < 2; ++direction) {
+    for (const auto& e : errors[direction]) {
+      char line[128];
+      std::snprintf(line, sizeof line, "umbmark add %s %.3f %.3f", direction == 0 ? "cw" : "ccw",
+                    e.x_mm, e.y_mm);
+      c.robot.expect_ok(line);
+    }
+  }
+  c.robot.expect_ok(exact ? "umbmark solve exact" : "umbmark solve");
+  const Reply applied = c.robot.expect_ok("umbmark apply " + std::to_string(c.date()) + " " +
+                                          std::to_string(runs_so_far));
+  c.log << "Applied on the robot: c_l=" << applied.pairs.at("c_l")
+        << " c_r=" << applied.pairs.at("c_r")
+        << " wheelbase_mm=" << applied.pairs.at("wheelbase_mm") << "\n";
+}
+
 }  // namespace
 
 Outcome run_umbmark(Context& c) {
@@ -237,14 +293,7 @@ Outcome run_umbmark(Context& c) {
           << n << " counter-clockwise, around a " << side_text << " m square.\n"
           << "Place the robot on the start mark, aligned with the first leg, before each run.\n";
     std::vector<calib::ReturnError> errors[2];
-    for (int direction = 0; direction < 2; ++direction) {
-      const std::string name = direction == 0 ? "cw" : "ccw";
-      for (std::size_t i = 0; i < n; ++i) {
-        const RunRecord r = c.run(pass == 1 ? name : "pass" + std::to_string(pass) + "-" + name,
-                                  "run umbmark-" + name + " " + side_text, expected_s);
-        errors[direction].push_back({r.measured.x_mm - r.odom.x_mm, r.measured.y_mm - r.odom.y_mm});
-      }
-    }
+    drive_pass(c, pass, n, side_text, expected_s, errors);
     const std::string prefix = pass == 1 ? "umbmark" : "umbmark_pass" + std::to_string(pass);
     c.write_file(prefix + "_cw.csv", csv_of(errors[0]));
     c.write_file(prefix + "_ccw.csv", csv_of(errors[1]));
@@ -252,17 +301,7 @@ Outcome run_umbmark(Context& c) {
     const calib::UmbmarkResult& result = solved.result;
     const nlohmann::json ci = intervals(result, side_mm, b);
     const std::size_t runs_so_far = 2 * n * pass;
-    Provenance p;
-    p.method = result.exact ? "umbmark-exact" : "umbmark";
-    p.runs = runs_so_far;
-    p.date = today_utc();
-    p.interval = "normal";
-    p.level = 0.95;
-    p.extra = {{"side_mm", side_mm}, {"wheelbase_mm", b}, {"pass", pass}};
-    nlohmann::json object = with_provenance(umbmark_to_json(result), p);
-    object["intervals"] = ci;
-    object["solver"] = result.exact ? "exact" : "small-angle";
-    object["solver_reason"] = solved.reason;
+    nlohmann::json object = pass_json(solved, ci, runs_so_far, side_mm, b, pass);
     const std::string text = describe(result, ci, static_cast<int>(pass), n, side_mm, b) +
                              "  solver            " + object["solver"].get<std::string>() + " (" +
                              solved.reason + ")\n";
@@ -282,25 +321,8 @@ Outcome run_umbmark(Context& c) {
                                " Nothing from this session stays applied.");
     }
 
-    // Apply on the robot with its own solver, so that its provenance reads umbmark (or
-    // umbmark-exact) with every run of every pass and the session's date.
-    c.robot.expect_ok("umbmark clear");
-    c.robot.expect_ok(std::string("umbmark side ") + side_text);
-    for (int direction = 0; direction < 2; ++direction) {
-      for (const auto& e : errors[direction]) {
-        char line[128];
-        std::snprintf(line, sizeof line, "umbmark add %s %.3f %.3f", direction == 0 ? "cw" : "ccw",
-                      e.x_mm, e.y_mm);
-        c.robot.expect_ok(line);
-      }
-    }
-    c.robot.expect_ok(result.exact ? "umbmark solve exact" : "umbmark solve");
-    const Reply applied = c.robot.expect_ok("umbmark apply " + std::to_string(c.date()) + " " +
-                                            std::to_string(runs_so_far));
+    apply_on_robot(c, errors, side_text, result.exact, runs_so_far);
     outcome.applied = true;
-    c.log << "Applied on the robot: c_l=" << applied.pairs.at("c_l")
-          << " c_r=" << applied.pairs.at("c_r")
-          << " wheelbase_mm=" << applied.pairs.at("wheelbase_mm") << "\n";
     if (!result.second_pass_recommended) {
       c.log << "E_max,syst < 3 SEM: another pass is not expected to help; done.\n";
       break;

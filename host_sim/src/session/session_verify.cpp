@@ -11,9 +11,10 @@
 
 #include "odocal/drive/motion_executor.hpp"
 #include "odocal/host/calib_json.hpp"
-#include "odocal/host/sim_procedures.hpp"
+#include "odocal/host/path_geometry.hpp"
 #include "odocal/toolkit/numbers.hpp"
 #include "session_internal.hpp"
+#include "unseen_path.hpp"
 
 namespace odocal::host::session {
 namespace {
@@ -39,22 +40,41 @@ double parameter_default(Context& c, const std::string& name) {
 
 }  // namespace
 
+UnseenPath unseen_path(Context& c) {
+  UnseenPath u;
+  u.path = drive::make_unseen_path();
+  u.goal = path_end(u.path);
+  double length_m = 0.0;
+  double turn_rad = 0.0;
+  for (std::uint8_t i = 0; i < u.path.count; ++i) {
+    length_m += std::fabs(static_cast<double>(u.path.segments[i].distance_m));
+    if (u.path.segments[i].distance_m == 0.0f) {
+      turn_rad += std::fabs(static_cast<double>(u.path.segments[i].angle_rad));
+    }
+  }
+  u.expected_s = c.path_seconds(length_m, turn_rad, u.path.count);
+  return u;
+}
+
+std::vector<UnseenStop> drive_unseen(Context& c, const UnseenPath& unseen, const std::string& label,
+                                     std::size_t n) {
+  std::vector<UnseenStop> stops;
+  for (std::size_t i = 0; i < n; ++i) {
+    const RunRecord r = c.run(label, "run unseen", unseen.expected_s);
+    stops.push_back(UnseenStop{r.measured.x_mm, r.measured.y_mm,
+                               calib::EndError{r.measured.x_mm - unseen.goal.x_m * 1e3,
+                                               r.measured.y_mm - unseen.goal.y_m * 1e3}});
+  }
+  return stops;
+}
+
 Outcome run_verify(Context& c) {
   const std::size_t n = c.options.runs.value_or(5);
   c.need_measurements(
       2 * n, "verify (" + std::to_string(n) + " runs before and " + std::to_string(n) + " after)");
   c.planned = 2 * n;
-  const drive::Path unseen = drive::make_unseen_path();
-  const sim::WorldPose goal = path_end(unseen);
-  double length_m = 0.0;
-  double turn_rad = 0.0;
-  for (std::uint8_t i = 0; i < unseen.count; ++i) {
-    length_m += std::fabs(static_cast<double>(unseen.segments[i].distance_m));
-    if (unseen.segments[i].distance_m == 0.0f) {
-      turn_rad += std::fabs(static_cast<double>(unseen.segments[i].angle_rad));
-    }
-  }
-  const double expected_s = c.path_seconds(length_m, turn_rad, unseen.count);
+  const UnseenPath unseen = unseen_path(c);
+  const PathEnd& goal = unseen.goal;
 
   const Factors in_force = c.factors();
   Factors nominal;
@@ -70,12 +90,12 @@ Outcome run_verify(Context& c) {
   std::ostringstream csv;
   csv << "scenario,trial,x_mm,y_mm\n";
   const auto drive_scenario = [&](const std::string& name) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const RunRecord r = c.run(name, "run unseen", expected_s);
-      const calib::EndError e{r.measured.x_mm - goal.x_m * 1e3, r.measured.y_mm - goal.y_m * 1e3};
-      trials.push_back(AccuracyTrial{name, e});
+    const std::vector<UnseenStop> stops = drive_unseen(c, unseen, name, n);
+    for (std::size_t i = 0; i < stops.size(); ++i) {
+      trials.push_back(AccuracyTrial{name, stops[i].error});
       char line[128];
-      std::snprintf(line, sizeof line, "%s,%zu,%.3f,%.3f\n", name.c_str(), i + 1, e.x_mm, e.y_mm);
+      std::snprintf(line, sizeof line, "%s,%zu,%.3f,%.3f\n", name.c_str(), i + 1,
+                    stops[i].error.x_mm, stops[i].error.y_mm);
       csv << line;
     }
   };

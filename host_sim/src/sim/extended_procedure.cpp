@@ -11,7 +11,7 @@
 #include <fmt/format.h>
 
 #include "odocal/host/sim_procedures.hpp"
-#include "odocal/host/sim_svg.hpp"
+#include "odocal/host/svg_plot.hpp"
 
 namespace odocal::host {
 namespace {

@@ -11,7 +11,7 @@
 
 #include "odocal/calib/quantile.hpp"
 #include "odocal/host/sim_procedures.hpp"
-#include "odocal/host/sim_svg.hpp"
+#include "odocal/host/svg_plot.hpp"
 #include "odocal/sim/random.hpp"
 
 namespace odocal::host {

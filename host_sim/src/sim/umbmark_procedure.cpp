@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 
 #include "odocal/host/sim_procedures.hpp"
-#include "odocal/host/sim_svg.hpp"
+#include "odocal/host/svg_plot.hpp"
 
 namespace odocal::host {
 namespace {

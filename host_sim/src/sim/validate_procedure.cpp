@@ -6,21 +6,10 @@
 
 #include <fmt/format.h>
 
-#include "odocal/drive/robot_model.hpp"
 #include "odocal/host/sim_procedures.hpp"
-#include "odocal/host/sim_svg.hpp"
+#include "odocal/host/svg_plot.hpp"
 
 namespace odocal::host {
-
-sim::WorldPose path_end(const drive::Path& path) {
-  // Each segment an exact arc of the one model (drive::model::advance_arc).
-  drive::model::PoseOf<double> p;
-  for (std::uint8_t i = 0; i < path.count; ++i) {
-    drive::model::advance_arc(p, static_cast<double>(path.segments[i].distance_m),
-                              static_cast<double>(path.segments[i].angle_rad));
-  }
-  return sim::WorldPose{p.x, p.y, p.theta};
-}
 
 namespace {
 
@@ -93,18 +82,15 @@ bool run_cf(SimulatedRobot& robot, const drive::DriveConfig& base, const Validat
 }
 
 /// Runs one floor: the straight calibration trials, the two estimates, and the unseen path.
-bool run_floor(SimulatedRobot& robot, const drive::DriveConfig& base, const ValidateOptions& o,
-               std::uint64_t seed, ValidateFloor& floor, std::string& error,
-               const ProgressFn& progress) {
-  robot.plant().set_bumps(floor.bump_height_m, floor.bump_spacing_m);
-  const double nominal_d = static_cast<double>(base.wheel_diameter_mm);
-  const double wheelbase = static_cast<double>(base.wheelbase_mm);
-
-  // 1. Straight trials with no correction (Maddahi section II): the end point and the wheel
-  //    rotations give one training row each, Ẋ = displacement / T and θ̇ = wheel angle / T. The
-  //    cruise speed is spread over the trials so that the regression sees a range of Ẋ.
+/// 1. Straight trials with no correction (Maddahi section II): the end point and the wheel
+///    rotations give one training row each, Ẋ = displacement / T and θ̇ = wheel angle / T. The
+///    cruise speed is spread over the trials so that the regression sees a range of Ẋ.
+///    @return false, with `error`, when a trial cannot run; `xdot_sum` the sum of the trials' Ẋ.
+bool straight_trials(SimulatedRobot& robot, const drive::DriveConfig& base,
+                     const ValidateOptions& o, ValidateFloor& floor, double& xdot_sum,
+                     std::string& error, const ProgressFn& progress) {
   const drive::Path line = drive::make_line(static_cast<float>(floor.line_m));
-  double xdot_sum = 0.0;
+  xdot_sum = 0.0;
   for (std::size_t i = 0; i < o.trials; ++i) {
     report_progress(progress, floor.name, "straight trial", i, o.trials);
     drive::DriveConfig c = base;
@@ -136,8 +122,17 @@ bool run_floor(SimulatedRobot& robot, const drive::DriveConfig& base, const Vali
     floor.stops.push_back(calib::StopPoint{out.measured.x_m * 1e3, out.measured.y_m * 1e3});
     xdot_sum += out.measured.x_m / t;
   }
+  return true;
+}
 
-  // 2a. Eq. 4/5 from the stop points (reported for reference).
+/// 2. The factors: eq. 4/5 from the stop points (reported for reference), then the linear
+///    regression (CL) and the bootstrap (CB) of the wheel rates for the desired motion, straight
+///    ahead at the trials' mean speed, Ẋ = (v, 0, 0), turned into F_lat, F_lon by eq. 7.
+bool lateral_factors(const drive::DriveConfig& base, const ValidateOptions& o, std::uint64_t seed,
+                     double xdot_sum, ValidateFloor& floor, calib::LateralResult& cl,
+                     calib::LateralResult& cb, std::string& error) {
+  const double nominal_d = static_cast<double>(base.wheel_diameter_mm);
+  const double wheelbase = static_cast<double>(base.wheelbase_mm);
   calib::LateralInput lateral;
   lateral.trials = floor.stops.data();
   lateral.trial_count = floor.stops.size();
@@ -148,9 +143,6 @@ bool run_floor(SimulatedRobot& robot, const drive::DriveConfig& base, const Vali
   if (calib::solve_lateral(lateral, floor.eq45) != calib::LateralStatus::ok) {
     floor.eq45 = calib::LateralResult{};
   }
-
-  // 2b. Linear regression and bootstrap of the wheel rates for the desired motion: straight
-  //     ahead at the trials' mean speed, Ẋ = (v, 0, 0).
   floor.unknown = calib::UnknownRow{xdot_sum / static_cast<double>(o.trials), 0.0, 0.0};
   std::vector<double> scratch(calib::bootstrap_scratch_count(o.replicates, 1));
   calib::BootstrapInput input;
@@ -169,8 +161,6 @@ bool run_floor(SimulatedRobot& robot, const drive::DriveConfig& base, const Vali
     return false;
   }
   const calib::WheelGeometry geometry{wheelbase, nominal_d, nominal_d};
-  calib::LateralResult cl;
-  calib::LateralResult cb;
   calib::WheelRateSample sample{floor.unknown.xdot_mps, 0.0, 0.0, floor.estimate.lr_l,
                                 floor.estimate.lr_r};
   if (calib::factors_from_wheel_rates(sample, geometry, cl) != calib::LateralStatus::ok) {
@@ -183,18 +173,19 @@ bool run_floor(SimulatedRobot& robot, const drive::DriveConfig& base, const Vali
     error = "bootstrap factors are degenerate";
     return false;
   }
+  return true;
+}
 
-  // 3. CF: the recommended calibration, fitted to the straight trials and to squares driven
-  //    with the nominal geometry, all measured only where they stopped.
-  FitGeometry cf;
-  if (!run_cf(robot, base, o, floor, cf, error, progress)) {
-    return false;
-  }
-
-  // 4. The unseen path, 5 runs each with no correction, LR factors, bootstrap factors, the true
-  //    geometry (OR) and the fitted one (CF).
+/// 4. The unseen path, `o.runs` runs each with no correction, LR factors, bootstrap factors,
+///    the true geometry (OR) and the fitted one (CF).
+bool unseen_scenarios(SimulatedRobot& robot, const drive::DriveConfig& base,
+                      const ValidateOptions& o, const calib::LateralResult& cl,
+                      const calib::LateralResult& cb, const FitGeometry& cf, ValidateFloor& floor,
+                      std::string& error, const ProgressFn& progress) {
+  const double nominal_d = static_cast<double>(base.wheel_diameter_mm);
+  const double wheelbase = static_cast<double>(base.wheelbase_mm);
   const drive::Path unseen = drive::make_unseen_path();
-  const sim::WorldPose goal = path_end(unseen);
+  const PathEnd goal = path_end(unseen);
   const calib::LateralResult none{};
   const sim::RobotModel& truth = robot.spec().truth;
   const FitGeometry oracle{truth.left_diameter_m * 1e3, truth.right_diameter_m * 1e3,
@@ -257,6 +248,29 @@ bool run_floor(SimulatedRobot& robot, const drive::DriveConfig& base, const Vali
     return false;
   }
   return true;
+}
+
+bool run_floor(SimulatedRobot& robot, const drive::DriveConfig& base, const ValidateOptions& o,
+               std::uint64_t seed, ValidateFloor& floor, std::string& error,
+               const ProgressFn& progress) {
+  robot.plant().set_bumps(floor.bump_height_m, floor.bump_spacing_m);
+  double xdot_sum = 0.0;
+  if (!straight_trials(robot, base, o, floor, xdot_sum, error, progress)) {
+    return false;
+  }
+  calib::LateralResult cl;
+  calib::LateralResult cb;
+  if (!lateral_factors(base, o, seed, xdot_sum, floor, cl, cb, error)) {
+    return false;
+  }
+  // 3. CF: the recommended calibration, fitted to the straight trials and to squares driven
+  //    with the nominal geometry, all measured only where they stopped.
+  FitGeometry cf;
+  if (!run_cf(robot, base, o, floor, cf, error, progress)) {
+    return false;
+  }
+
+  return unseen_scenarios(robot, base, o, cl, cb, cf, floor, error, progress);
 }
 
 }  // namespace
@@ -429,7 +443,7 @@ std::string validate_report_svg(const ValidateReport& r) {
         p.add_line(path, colours[k]);
       }
     }
-    const sim::WorldPose goal = path_end(drive::make_unseen_path());
+    const PathEnd goal = path_end(drive::make_unseen_path());
     p.add_marker(goal.x_m, goal.y_m, "#000000", '+');
     p.add_marker(0.0, 0.0, "#000000", 'o');
     p.legend({{colours[0], "NC"},

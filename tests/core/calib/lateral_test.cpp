@@ -79,9 +79,14 @@ TEST(Lateral, RefusesBadInput) {
 // F_lon = 0.97: θ̇_R = 0.97·(0.6 + 0.015)/0.06 = 9.9425, θ̇_L = 0.97·1.02·(0.6 − 0.015)/0.06
 // = 9.646650 rad/s. Inverting gives the factors back.
 TEST(Lateral, Eq7FactorsFromWheelRatesByHand) {
+  // F_lon 0.97, F_lat 1.02, v 0.3 m/s, ω 0.1 rad/s, l 0.15 m, D 0.06 m. The wheelbase in force
+  // scales with the mean effective diameter: s = (1/(1.02·0.97) + 1/0.97)/2, b = 0.15·s
+  // (= 0.1531231 m); θ̇_R = 0.97·(0.6 + 0.1·b)/0.06 = 9.947549019607843,
+  // θ̇_L = 0.97·1.02·(0.6 − 0.1·b)/0.06 = 9.6415 (exactly: 0.9894·(0.6 − 0.1·b) = 0.57849).
   LateralResult r;
-  ASSERT_EQ(factors_from_wheel_rates({0.3, 0.0, 0.1, 9.64665, 9.9425}, {150.0, 60.0, 60.0}, r),
-            LateralStatus::ok);
+  ASSERT_EQ(
+      factors_from_wheel_rates({0.3, 0.0, 0.1, 9.6415, 9.947549019607843}, {150.0, 60.0, 60.0}, r),
+      LateralStatus::ok);
   EXPECT_NEAR(r.f_lon, 0.97, 1e-12);
   EXPECT_NEAR(r.f_lat, 1.02, 1e-12);
 }
@@ -111,8 +116,11 @@ TEST(Lateral, Eq7AgreesWithDriveKinematics) {
 
 TEST(Lateral, Eq7RefusesDegenerateMotion) {
   LateralResult r;
-  // 2v − lω = 0: the left wheel stands still whatever F_lat is.
-  EXPECT_EQ(factors_from_wheel_rates({0.075, 0.0, 1.0, 0.0, 5.0}, {150.0, 60.0, 60.0}, r),
+  // A turn in place (v = 0) keeps its angle whatever F_lon is: it cannot show it.
+  EXPECT_EQ(factors_from_wheel_rates({0.0, 0.0, 1.0, -2.5, 2.5}, {150.0, 60.0, 60.0}, r),
+            LateralStatus::degenerate);
+  // θ̇_R = 2lω/(D_L + D_R): the right row says nothing of F_lat.
+  EXPECT_EQ(factors_from_wheel_rates({0.1, 0.0, 1.0, 2.0, 2.5}, {150.0, 60.0, 60.0}, r),
             LateralStatus::degenerate);
   EXPECT_EQ(factors_from_wheel_rates({0.0, 0.0, 0.0, 1.0, 1.0}, {150.0, 60.0, 60.0}, r),
             LateralStatus::degenerate);

@@ -116,7 +116,7 @@ TEST(SimMonteCarlo, ThreadCountDoesNotChangeTheResult) {
 }
 
 TEST(SimRobot, UnseenPathEndsWhereMaddahiFigure9Says) {
-  const sim::WorldPose end = path_end(drive::make_unseen_path());
+  const PathEnd end = path_end(drive::make_unseen_path());
   EXPECT_NEAR(end.x_m, 0.0, 1e-6);
   EXPECT_NEAR(end.y_m, 1.6, 1e-6);
   EXPECT_NEAR(end.theta_rad, 5.0 * pi, 1e-5);  // 4·90° + 3·120° + 180°

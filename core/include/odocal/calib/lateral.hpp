@@ -84,10 +84,14 @@ struct WheelGeometry {
   double right_diameter_mm = 0.0;
 };
 
-/// F_lat and F_lon that make eq. 7 (left row read with −F_lat·l/D_L) hold for the given wheel
-/// velocities: the heading follows from eq. 3 (tan θ = ẏ/ẋ), v = cos θ ẋ + sin θ ẏ, then
-/// F_lon = θ̇_R·D_R/(2v + lω) and F_lat = θ̇_L·D_L/(F_lon·(2v − lω)).
-/// @return `degenerate` when 2v ± lω is ~0 or a factor is not > 0.
+/// F_lat and F_lon that make eq. 7 (left row read with −F_lat·l/D_L, and the wheelbase in force
+/// scaled with the mean effective diameter as the drive does: drive::model::geometry_in_force)
+/// hold for the given wheel velocities: the heading follows from eq. 3 (tan θ = ẏ/ẋ),
+/// v = cos θ ẋ + sin θ ẏ; with k = 2lω/(D_L + D_R), F_lat = D_L(θ̇_L + k)/(D_R(θ̇_R − k)) and
+/// F_lon = (θ̇_R·D_R − q·l·ω)/(2v), q = (D_L/F_lat + D_R)/(D_L + D_R). On a straight motion
+/// (ω = 0) these are the paper's F_lon = θ̇_R·D_R/(2v), F_lat = θ̇_L·D_L/(F_lon·2v).
+/// @return `degenerate` when v is ~0 (a turn in place does not show F_lon), θ̇_R − k is ~0, or
+/// a factor is not > 0.
 [[nodiscard]] LateralStatus factors_from_wheel_rates(const WheelRateSample& sample,
                                                      const WheelGeometry& geometry,
                                                      LateralResult& result);

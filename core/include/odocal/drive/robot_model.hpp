@@ -27,10 +27,9 @@ inline SinCosOf<double> trig(double angle) {
 /// The terms of half of one arc's turn, h = Δθ/2.
 template <typename T>
 struct HalfTurn {
-  T cos;         ///< cos h
-  T sin;         ///< sin h
-  T sinc;        ///< sin(h)/h (1 at h = 0)
-  T sinc_slope;  ///< d(sin(h)/h)/dh
+  T cos;   ///< cos h
+  T sin;   ///< sin h
+  T sinc;  ///< sin(h)/h (1 at h = 0)
 };
 
 /// Below this h², series replace the closed forms: sin(h)/h and its slope would lose digits to
@@ -41,19 +40,28 @@ constexpr T series_limit_sq = T(1e-6);
 template <>
 inline constexpr float series_limit_sq<float> = 4e-4f;
 
-/// cos h, sin h, sinc h and sinc's slope, stable for every h a tick or a path segment turns.
+/// cos h, sin h and sinc h, stable for every h a tick or a path segment turns.
 template <typename T>
 HalfTurn<T> half_turn(T h) {
   const T h2 = h * h;
   if (h2 < series_limit_sq<T>) {
     const T sinc = T(1) - h2 * (T(1) / T(6)) * (T(1) - h2 * (T(1) / T(20)));
     const T c = T(1) - h2 * T(0.5) * (T(1) - h2 * (T(1) / T(12)));
-    const T slope = -h * (T(1) / T(3)) * (T(1) - h2 * (T(1) / T(10)));
-    return HalfTurn<T>{c, h * sinc, sinc, slope};
+    return HalfTurn<T>{c, h * sinc, sinc};
   }
   const auto sc = trig(h);
-  const T sinc = sc.sin / h;
-  return HalfTurn<T>{sc.cos, sc.sin, sinc, (sc.cos - sinc) / h};
+  return HalfTurn<T>{sc.cos, sc.sin, sc.sin / h};
+}
+
+/// d(sin(h)/h)/dh from `half_turn(h)`'s terms (for derivatives of the step: the fit's Jacobian,
+/// UMBmark's exact solve), by the same series below the same limit.
+template <typename T>
+T sinc_slope(T h, const HalfTurn<T>& t) {
+  const T h2 = h * h;
+  if (h2 < series_limit_sq<T>) {
+    return -h * (T(1) / T(3)) * (T(1) - h2 * (T(1) / T(10)));
+  }
+  return (t.cos - t.sinc) / h;
 }
 
 /// The arc wheelbase's weight of one increment: forward over forward plus differential wheel

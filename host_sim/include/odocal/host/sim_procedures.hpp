@@ -18,6 +18,7 @@
 #include "odocal/drive/motion_executor.hpp"
 #include "odocal/host/calib_json.hpp"
 #include "odocal/host/fit.hpp"
+#include "odocal/host/path_geometry.hpp"
 #include "odocal/host/sim_robot.hpp"
 
 namespace odocal::host {
@@ -25,8 +26,6 @@ namespace odocal::host {
 /// Receives a one-line progress message ("umbmark: pass 1, run 3/10") while a procedure runs.
 using ProgressFn = std::function<void(const std::string&)>;
 
-/// Where a path ends if driven exactly (the desired END point), start frame, m / rad.
-[[nodiscard]] sim::WorldPose path_end(const drive::Path& path);
 
 /// What ground truth a logged run records.
 enum class LogTruth {

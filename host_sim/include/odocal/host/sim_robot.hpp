@@ -9,6 +9,7 @@
 
 #include "odocal/drive/control_loop.hpp"
 #include "odocal/drive/drive_config.hpp"
+#include "odocal/host/path_geometry.hpp"
 #include "odocal/host/robot_file.hpp"
 #include "odocal/sim/encoder_wiring.hpp"
 #include "odocal/sim/plant.hpp"
@@ -19,11 +20,6 @@ namespace odocal::host {
 /// same levels, same instants, same channel faults as sim::EncoderWiring.
 using DecoderWiring = sim::BasicEncoderWiring<drive::QuadratureDecoder&>;
 
-/// A point of a driven path, m (world frame = start frame).
-struct PathPoint {
-  double x_m = 0.0;
-  double y_m = 0.0;
-};
 
 /// One path driven from the origin, as seen by the truth, the firmware and the measurement.
 struct RunOutcome {

@@ -1,4 +1,4 @@
-#include "odocal/host/sim_svg.hpp"
+#include "odocal/host/svg_plot.hpp"
 
 #include <algorithm>
 #include <cmath>

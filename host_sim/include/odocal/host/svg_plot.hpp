@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// A minimal SVG plotter for the `--svg` pictures of `odocal sim`: side-by-side panels with
+/// A minimal SVG plotter for the `--svg` pictures of `odocal sim` and the session's report.html: side-by-side panels with
 /// equal-aspect axes, markers, polylines and a legend. No dependencies.
 
 #include <deque>
@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "odocal/host/sim_robot.hpp"
+#include "odocal/host/path_geometry.hpp"
 
 namespace odocal::host {
 

@@ -75,7 +75,9 @@ void set_back(Context& c) {
 void put_back(Context& c) {
   try {
     stop_robot(c);
-    if (as_started(c, settings_now(c))) {
+    // A value set and set back again leaves the robot unsaved: its saved set is reloaded then too.
+    const bool unsaved = c.robot.expect_ok("status").text("unsaved") != "0";
+    if (as_started(c, settings_now(c)) && (c.initial_unsaved || !unsaved)) {
       c.log << "The robot is stopped; its factors and settings are as they were when the session "
                "started.\n";
       return;
@@ -112,12 +114,15 @@ void put_back(Context& c) {
 void end_early(Context& c, const std::exception& why) {
   std::string reason = why.what();
   bool by_signal = dynamic_cast<const Interrupted*>(&why) != nullptr;
-  // A signal that came with another error (a read it cut short) is the signal's way out; taking
-  // it here also keeps it from cutting the put-back short.
+  // A signal that came with another error (a read it cut short, a reply it garbled) is the
+  // signal's way out. Taking it here also keeps it from cutting the put-back short.
   try {
     check_interrupt();
-  } catch (const Interrupted& signal) {
-    reason = signal.what();
+  } catch (const Interrupted&) {
+  }
+  if (!by_signal && interrupt_signal() != 0) {
+    c.log << "\nodocal session: " << reason << "\n";
+    reason = Interrupted(interrupt_signal()).what();
     by_signal = true;
   }
   c.log << "\nodocal session: " << reason << "\n";

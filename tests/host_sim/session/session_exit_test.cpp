@@ -5,7 +5,10 @@
 // every setting the session changed and did not save put back (read back on its console), keep
 // every run in session.json with "complete": false, write report.html, exit 130 after a signal
 // and 2 otherwise, and say how to resume; --resume then goes on, and finishes the session.
+#include <fcntl.h>
 #include <signal.h>
+#include <stdlib.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
@@ -147,6 +150,12 @@ RobotState robot_state(const std::string& pty) {
   return s;
 }
 
+/// Factors of an earlier calibration saved on the robot: what every way out must leave in force.
+void prepare_store(const std::string& robot, const std::string& store) {
+  shell(bin("odocal-sim") + " --robot " + robot + " --store " + store + " <" +
+        write("exit_prepare.txt", "set c_l 1.001\nset c_r 0.999\nset wheelbase_mm 151\nsave\n"));
+}
+
 struct Procedure {
   const char* name;
   const char* robot;
@@ -163,9 +172,7 @@ void interrupt_and_resume(const Procedure& procedure) {
   std::remove(store.c_str());
   const std::string out = temp(std::string("exit_") + procedure.name + "_out");
   std::system(("rm -rf " + out).c_str());
-  // Factors of an earlier calibration saved on the robot: what every way out must leave in force.
-  shell(bin("odocal-sim") + " --robot " + robot + " --store " + store + " <" +
-        write("exit_prepare.txt", "set c_l 1.001\nset c_r 0.999\nset wheelbase_mm 151\nsave\n"));
+  prepare_store(robot, store);
   SimOnPty lockstep(robot, store);
   ASSERT_FALSE(lockstep.path().empty());
   const RobotState initial = robot_state(lockstep.path());
@@ -316,6 +323,43 @@ TEST(SessionWayOut, ALostRobotEndsTheSessionKeepingEveryRun) {
   EXPECT_FALSE(doc["complete"].get<bool>());
   EXPECT_EQ(doc["runs"].size(), 2u);
   EXPECT_EQ(rows_of(out + "/measurements.csv"), 2u);
+}
+
+TEST(SessionWayOut, TheEndOfInputAtTheSaveQuestionPutsBackWhatWasApplied) {
+  // The question is asked at a terminal only: odocal's stdin is a pty's slave, the test types on
+  // its master, every reading ahead, then Ctrl-D where the answer should come.
+  const std::string robot = write("exit_save.json", plain_robot);
+  const std::string store = temp("exit_save.store");
+  std::remove(store.c_str());
+  prepare_store(robot, store);
+  SimOnPty sim(robot, store);
+  ASSERT_FALSE(sim.path().empty());
+  const RobotState initial = robot_state(sim.path());
+  const int master = ::posix_openpt(O_RDWR | O_NOCTTY);
+  ASSERT_GE(master, 0);
+  ASSERT_EQ(::grantpt(master), 0);
+  ASSERT_EQ(::unlockpt(master), 0);
+  const std::string slave = ::ptsname(master);
+  const std::string typed = "\n-40 -45\n\n41 44\n\n-5 8\n\n6 -9\n\x04";
+  ASSERT_EQ(::write(master, typed.data(), typed.size()), static_cast<ssize_t>(typed.size()));
+  const std::string out = temp("exit_save_out");
+  std::system(("rm -rf " + out).c_str());
+  const Result r = session("--port " + sim.path() + " --procedure umbmark --side-m 1 --runs 2 " +
+                               "--passes 1 --out " + out,
+                           slave);
+  ::close(master);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("Applied on the robot:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("end of input at the question 'Save these factors"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("put back"), std::string::npos) << r.err;
+  const RobotState now = robot_state(sim.path());
+  EXPECT_EQ(now.factors, initial.factors);
+  EXPECT_NE(now.status.find("unsaved=0"), std::string::npos) << now.status;
+  const json doc = read_json(out + "/session.json");
+  ASSERT_TRUE(doc.is_object());
+  EXPECT_FALSE(doc["complete"].get<bool>());
+  EXPECT_EQ(doc["runs"].size(), 4u);
 }
 
 TEST(SessionWayOut, ASessionsJournalReplaysIt) {

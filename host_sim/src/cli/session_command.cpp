@@ -242,9 +242,8 @@ SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
   return f;
 }
 
-int run(const SessionFlags& given, const CLI::App& cmd) {
-  nlohmann::json interrupted;
-  const SessionFlags f = given.resume.empty() ? given : resumed_flags(given, cmd, interrupted);
+/// The session's options from its flags, each checked against the procedure (InputError).
+SessionOptions options_of(const SessionFlags& f) {
   if (f.port.empty() && f.sim_robot.empty()) {
     throw InputError("--port", 0, "", "give --port DEV (a robot) or --sim ROBOT.json (odocal-sim)");
   }
@@ -304,12 +303,22 @@ int run(const SessionFlags& given, const CLI::App& cmd) {
   options.confirm_in = terminal ? &std::cin : nullptr;
   options.start_in = f.sim_robot.empty() && !f.no_wait ? &std::cin : nullptr;
   options.progress = ::isatty(STDERR_FILENO) == 1;
+  return options;
+}
 
+int run(const SessionFlags& given, const CLI::App& cmd) {
+  nlohmann::json interrupted;
+  const SessionFlags f = given.resume.empty() ? given : resumed_flags(given, cmd, interrupted);
+  SessionOptions options = options_of(f);
+  const bool terminal = options.confirm_in != nullptr;
   // Everything that can be checked is checked before anything moves or is written.
   if (given.resume.empty()) {
     prepare_out_dir(options.out_dir, false);
   } else {
     options.replay = recorded_runs(interrupted, options.out_dir);
+    if (interrupted.contains("result") && interrupted["result"].is_object()) {
+      options.resumed_result = interrupted["result"];
+    }
     if (interrupted.contains("date") && interrupted["date"].is_number_unsigned()) {
       options.started_unix_s = interrupted["date"].get<std::uint64_t>();
     }
@@ -414,7 +423,8 @@ void register_session_command(CLI::App& app, int& exit_code) {
                   "(fit, 6), runs per scenario (verify, 5)")
       ->check(toolkit::whole_check(0u, 1000u));
   cmd->add_option("--measurements", flags->measurements,
-                  "CSV x_mm,y_mm[,theta_deg]: the measured stop point of each run, in order "
+                  "CSV x_mm,y_mm[,theta_deg] (or a session's measurements.csv, "
+                  "run,x_mm,y_mm,theta_deg): the measured stop point of each run, in order "
                   "(default: --sim measures, else you are asked)");
   cmd->add_flag("--yes", flags->yes, "save the result on the robot without asking");
   cmd->add_flag("--json", flags->json, "print the session JSON on stdout");

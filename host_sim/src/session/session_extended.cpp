@@ -105,21 +105,6 @@ bool typed_at_terminal(const Context& c) {
   return !from_file(c) && c.source.describe().find("terminal") != std::string::npos;
 }
 
-/// measurements.csv again from the runs (as the engine writes it on --resume), so that a heading
-/// typed after its run's x and y is on the disk before the next run.
-void rewrite_journal(Context& c) {
-  std::string journal = "run,x_mm,y_mm,theta_deg\n";
-  for (std::size_t i = 0; i < c.runs.size(); ++i) {
-    const SessionPose& m = c.runs[i].measured;
-    journal += fmt::format("{},{:.3f},{:.3f},", i + 1, m.x_mm, m.y_mm);
-    if (m.theta_deg) {
-      journal += fmt::format("{:.3f}", *m.theta_deg);
-    }
-    journal += "\n";
-  }
-  c.write_file("measurements.csv", journal);
-}
-
 /// A run typed at the terminal without its heading: asks for the heading alone (again until it is
 /// a number), and keeps it with the run. Elsewhere (a file is checked before the start) a missing
 /// heading is left to need_heading.
@@ -134,9 +119,7 @@ void complete_heading(Context& c, std::size_t number) {
                          r.label)
           << std::flush;
     std::string line;
-    const bool got = static_cast<bool>(std::getline(*c.options.start_in, line));
-    check_interrupt();
-    if (!got) {
+    if (!read_typed_line(*c.options.start_in, line)) {
       throw InputError("standard input", 0, "",
                        fmt::format("end of input at the heading of run {}", number));
     }
@@ -149,7 +132,7 @@ void complete_heading(Context& c, std::size_t number) {
     const std::optional<double> value = toolkit::parse_real(line);
     if (value && std::fabs(*value) <= 3600.0) {
       r.measured.theta_deg = *value;
-      rewrite_journal(c);
+      c.rewrite_journal();  // the heading on the disk before the next run
       c.write_session_json(false, c.partial, false, false);
       return;
     }
@@ -200,6 +183,73 @@ std::string describe(const ExtendedFigure& f, const std::vector<ExtendedRun>& re
       plain(f.reference_cw_deg, 3), plain(f.reference_ccw_deg, 3), f.e_cw_deg, f.e_ccw_deg,
       f.e_nonsys_deg, f.ci_lo_deg, f.ci_hi_deg);
   return text;
+}
+
+/// Where to lay the cables, for the person who lays them.
+std::string cables_text(std::size_t n, double first_m, double spacing_m, const char* wheel) {
+  const std::size_t total = 4 * n;
+  const char* const clear_wheel = cables_under_right_wheel ? "left" : "right";
+  std::string lay = fmt::format(
+      "\n=== Now lay the cables (before run {} of {}) ===\n"
+      "  {} cables about {:.0f} mm thick (round cable or dowel), taped down across the first leg,\n"
+      "  under the {} wheel only (the {} wheel rolls on clear floor), where the {} wheel rolls,\n"
+      "  at these distances from the start mark along the first leg, mm:\n    ",
+      2 * n + 1, total, cable_count, cable_height_mm, wheel, clear_wheel, wheel);
+  for (std::size_t i = 0; i < cable_count; ++i) {
+    lay += fmt::format("{}{:.0f}", i == 0 ? "" : ", ",
+                       (first_m + static_cast<double>(i) * spacing_m) * 1000.0);
+  }
+  lay += fmt::format(
+      "\n  (half a spacing from the start, then every {:.0f} mm). They stay down for all {} runs\n"
+      "  over the cables; same start mark as before.\n",
+      spacing_m * 1000.0, 2 * n);
+  return lay;
+}
+
+/// The figure with its runs, intervals and provenance (every run of both floors).
+Outcome outcome_of(const Context& c, const ExtendedFigure& figure,
+                   const std::vector<ExtendedRun> (&runs)[2][2],
+                   const nlohmann::json& reference_runs, const nlohmann::json& bumps, std::size_t n,
+                   double side_mm) {
+  const std::size_t total = 4 * n;
+  nlohmann::json bump_runs = nlohmann::json::array();
+  for (const auto& side : runs[1]) {
+    for (const ExtendedRun& r : side) {
+      bump_runs.push_back(run_json(r));
+    }
+  }
+  Outcome outcome;
+  outcome.result = {
+      {"e_nonsys_deg", figure.e_nonsys_deg},
+      {"e_nonsys_cw_deg", figure.e_cw_deg},
+      {"e_nonsys_ccw_deg", figure.e_ccw_deg},
+      {"ci", {figure.ci_lo_deg, figure.ci_hi_deg}},
+      {"sd_deg", figure.sd_deg},
+      {"intervals",
+       {{"level", 0.95},
+        {"method", "Student t, Welch-Satterthwaite, from the run-to-run scatter"},
+        {"e_nonsys_deg", {figure.ci_lo_deg, figure.ci_hi_deg}}}},
+      {"runs", bump_runs},
+      {"reference", {{"cw", figure.reference_cw_deg}, {"ccw", figure.reference_ccw_deg}}},
+      {"reference_runs", reference_runs},
+      {"bumps", bumps},
+      {"side_mm", side_mm}};
+  // Provenance: every run the figure came from (both floors), the session's date.
+  Provenance p;
+  p.method = "extended-umbmark";
+  p.runs = total;
+  p.interval = "student-t";
+  p.level = 0.95;
+  p.date = today_utc();
+  p.extra = {{"side_mm", side_mm}, {"date_unix_s", c.date()}};
+  outcome.result = with_provenance(outcome.result, p);
+  std::vector<ExtendedRun> reference = runs[0][0];
+  reference.insert(reference.end(), runs[0][1].begin(), runs[0][1].end());
+  std::vector<ExtendedRun> over = runs[1][0];
+  over.insert(over.end(), runs[1][1].begin(), runs[1][1].end());
+  outcome.text = describe(figure, reference, over, n, side_mm);
+  outcome.applied = false;
+  return outcome;
 }
 
 }  // namespace
@@ -266,22 +316,7 @@ Outcome run_extended(Context& c) {
   c.partial = {{"side_mm", side_mm}, {"bumps", bumps}, {"reference_runs", reference_runs}};
 
   // The user's moment to lay the cables (on --port, the Enter before the next run).
-  const char* const clear_wheel = cables_under_right_wheel ? "left" : "right";
-  std::string lay = fmt::format(
-      "\n=== Now lay the cables (before run {} of {}) ===\n"
-      "  {} cables about {:.0f} mm thick (round cable or dowel), taped down across the first leg,\n"
-      "  under the {} wheel only (the {} wheel rolls on clear floor), where the {} wheel rolls,\n"
-      "  at these distances from the start mark along the first leg, mm:\n    ",
-      2 * n + 1, total, cable_count, cable_height_mm, wheel, clear_wheel, wheel);
-  for (std::size_t i = 0; i < cable_count; ++i) {
-    lay += fmt::format("{}{:.0f}", i == 0 ? "" : ", ",
-                       (first_m + static_cast<double>(i) * spacing_m) * 1000.0);
-  }
-  lay += fmt::format(
-      "\n  (half a spacing from the start, then every {:.0f} mm). They stay down for all {} runs\n"
-      "  over the cables; same start mark as before.\n",
-      spacing_m * 1000.0, 2 * n);
-  c.log << lay;
+  c.log << cables_text(n, first_m, spacing_m, wheel);
   if (simulated) {
     const Reply laid =
         c.robot.expect_ok(fmt::format("measure cables {:.3f} {:.3f} {} {}", first_m * 1000.0,
@@ -299,44 +334,8 @@ Outcome run_extended(Context& c) {
   if (!extended_figure(runs[0][0], runs[0][1], runs[1][0], runs[1][1], figure)) {
     throw std::runtime_error("the extended UMBmark needs at least 2 runs per direction (--runs)");
   }
-  nlohmann::json bump_runs = nlohmann::json::array();
-  for (const auto& side : runs[1]) {
-    for (const ExtendedRun& r : side) {
-      bump_runs.push_back(run_json(r));
-    }
-  }
-  Outcome outcome;
-  outcome.result = {
-      {"e_nonsys_deg", figure.e_nonsys_deg},
-      {"e_nonsys_cw_deg", figure.e_cw_deg},
-      {"e_nonsys_ccw_deg", figure.e_ccw_deg},
-      {"ci", {figure.ci_lo_deg, figure.ci_hi_deg}},
-      {"sd_deg", figure.sd_deg},
-      {"intervals",
-       {{"level", 0.95},
-        {"method", "Student t, Welch-Satterthwaite, from the run-to-run scatter"},
-        {"e_nonsys_deg", {figure.ci_lo_deg, figure.ci_hi_deg}}}},
-      {"runs", bump_runs},
-      {"reference", {{"cw", figure.reference_cw_deg}, {"ccw", figure.reference_ccw_deg}}},
-      {"reference_runs", reference_runs},
-      {"bumps", bumps},
-      {"side_mm", side_mm}};
-  // Provenance: every run the figure came from (both floors), the session's date.
-  Provenance p;
-  p.method = "extended-umbmark";
-  p.runs = total;
-  p.interval = "student-t";
-  p.level = 0.95;
-  p.date = today_utc();
-  p.extra = {{"side_mm", side_mm}, {"date_unix_s", c.date()}};
-  outcome.result = with_provenance(outcome.result, p);
-  std::vector<ExtendedRun> reference = runs[0][0];
-  reference.insert(reference.end(), runs[0][1].begin(), runs[0][1].end());
-  std::vector<ExtendedRun> over = runs[1][0];
-  over.insert(over.end(), runs[1][1].begin(), runs[1][1].end());
-  outcome.text = describe(figure, reference, over, n, side_mm);
+  Outcome outcome = outcome_of(c, figure, runs, reference_runs, bumps, n, side_mm);
   c.log << outcome.text;
-  outcome.applied = false;
   return outcome;
 }
 

@@ -2,6 +2,8 @@
 // Shared by the session's procedures (not installed): the run loop, parameters, output files.
 
 #include <cstdint>
+#include <exception>
+#include <istream>
 #include <map>
 #include <optional>
 #include <ostream>
@@ -50,6 +52,9 @@ class Context {
   Factors initial;
   double initial_cruise_mps = 0.0;
   bool initial_unsaved = false;
+  /// `wiring_fix` when the session started, noted by the self-test (the one step that changes
+  /// it); unset: not changed.
+  std::optional<double> initial_wiring_fix;
   /// The result so far: procedures fill it as they go, so that an interrupted session's
   /// session.json shows what was computed (e.g. the passes done).
   nlohmann::json partial = nlohmann::json::object();
@@ -78,6 +83,11 @@ class Context {
   /// spot, in `segments` segments, at the robot's cruise speed, turn rate and settle time.
   double path_seconds(double length_m, double turn_rad, int segments);
 
+  /// The user's moment (with --port, without --no-wait): says `prompt`, asks for Enter and waits
+  /// for it; nothing that moves the robot may be sent before it returns. `before` names what
+  /// comes ("run 3", "the self-test") in the message for the end of the input.
+  void wait_for_enter(const std::string& prompt, const std::string& before);
+
   /// Refuses to start when the measurement source has fewer than `count` more rows.
   void need_measurements(std::size_t count, const std::string& what);
 
@@ -89,10 +99,38 @@ class Context {
   void write_session_json(bool complete, const nlohmann::json& result, bool applied, bool saved,
                           const std::string& interruption = std::string());
 
+  /// The runs session.json keeps while the session is not complete: this session's, then those
+  /// of the interrupted session being resumed that it has not taken over yet (a session that
+  /// stops early, or refuses to resume, never loses a run).
+  [[nodiscard]] std::vector<RunRecord> kept_runs() const;
+
+  /// measurements.csv written whole from kept_runs() (on --resume, and when a run's measurement
+  /// changed after it was journalled).
+  void rewrite_journal();
+
  private:
-  /// Appends `r`'s measurement to measurements.csv and flushes it to the disk.
-  void journal(const RunRecord& r);
+  /// Appends `r`'s measurement (run `number`) to measurements.csv and flushes it to the disk.
+  void journal(const RunRecord& r, std::size_t number);
 };
+
+/// One line typed at a prompt. False at the end of the input; a signal that cut the wait short
+/// throws Interrupted (so that it is never taken for the end of the input).
+[[nodiscard]] bool read_typed_line(std::istream& in, std::string& line);
+
+/// Asks `question` [y/n] on the log until the answer is one: --yes is a yes; without a terminal
+/// (confirm_in) a no. The end of the input throws InputError naming the question.
+[[nodiscard]] bool ask_yes_no(Context& c, const std::string& question);
+
+/// The save question after a procedure applied its result: --yes, or "y" typed at the terminal;
+/// without a terminal it says that nothing is saved.
+[[nodiscard]] bool confirmed(Context& c);
+
+/// The way out of every procedure (SIGINT, SIGTERM, the end of the input at a prompt, a lost
+/// robot, a refused result): the robot stopped and its stream off, every setting the session
+/// changed and did not save put back, session.json (`"complete": false`, no run lost) and
+/// report.html written, the reason and how to resume said. Throws SessionEnded (exit status 130
+/// after a signal, 2 otherwise).
+[[noreturn]] void end_early(Context& c, const std::exception& why);
 
 /// `{c_l, c_r, wheelbase_mm, f_lat, f_lon}`.
 nlohmann::json factors_json(const Factors& f);

@@ -2,17 +2,20 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <istream>
 #include <limits>
 #include <optional>
 #include <ostream>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
 #include "odocal/host/csv.hpp"
 #include "odocal/host/session.hpp"
 #include "odocal/toolkit/numbers.hpp"
+#include "session_internal.hpp"
 
 namespace odocal::host {
 namespace {
@@ -49,18 +52,22 @@ class RobotMeasure final : public MeasurementSource {
 class FileMeasure final : public MeasurementSource {
  public:
   explicit FileMeasure(const std::string& path) : path_(path) {
-    const bool with_theta = header_has_theta(path);
-    std::vector<std::string> columns = {"x_mm", "y_mm"};
-    if (with_theta) {
-      columns.emplace_back("theta_deg");
-    }
+    const std::vector<std::string> columns = header_of(path);
+    // A session's journal (measurements.csv) numbers its rows; its x, y, theta follow the number.
+    const std::size_t first = columns.front() == "run" ? 1 : 0;
+    const bool with_theta = columns.size() == first + 3;
     const CsvTable table = read_csv(path, columns);
     for (std::size_t r = 0; r < table.rows.size(); ++r) {
+      if (first == 1 && table.text(r, 0) != std::to_string(r + 1)) {
+        table.fail(r, 0,
+                   "expected " + std::to_string(r + 1) + ", got '" + table.text(r, 0) +
+                       "' (a journal's rows are numbered 1, 2, ... in the order of the runs)");
+      }
       SessionPose pose;
-      pose.x_mm = bounded(table, r, 0, max_position_mm);
-      pose.y_mm = bounded(table, r, 1, max_position_mm);
-      if (with_theta && !table.text(r, 2).empty()) {
-        pose.theta_deg = bounded(table, r, 2, max_theta_deg);
+      pose.x_mm = bounded(table, r, first, max_position_mm);
+      pose.y_mm = bounded(table, r, first + 1, max_position_mm);
+      if (with_theta && !table.text(r, first + 2).empty()) {
+        pose.theta_deg = bounded(table, r, first + 2, max_theta_deg);
       }
       rows_.push_back(pose);
     }
@@ -90,16 +97,19 @@ class FileMeasure final : public MeasurementSource {
     }
     return value;
   }
-  /// True when the header (first line that is not blank or a '#' note) is x_mm,y_mm,theta_deg.
-  static bool header_has_theta(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
+  /// The columns of the header (the first line that is not blank or a '#' note): x_mm,y_mm;
+  /// x_mm,y_mm,theta_deg; or a session's journal, run,x_mm,y_mm,theta_deg. Anything else is
+  /// refused naming the line and the three forms.
+  static std::vector<std::string> header_of(const std::string& path) {
+    static const std::vector<std::vector<std::string>> forms = {
+        {"x_mm", "y_mm"}, {"x_mm", "y_mm", "theta_deg"}, {"run", "x_mm", "y_mm", "theta_deg"}};
+    const std::string text = read_text_file(path);
+    std::istringstream in(text);
     std::string line;
-    bool first = true;
-    while (std::getline(in, line)) {
-      if (first && line.rfind("\xEF\xBB\xBF", 0) == 0) {
+    for (std::size_t number = 1; std::getline(in, line); ++number) {
+      if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) {
         line.erase(0, 3);
       }
-      first = false;
       std::string compact;
       for (char c : line) {
         if (c != ' ' && c != '\t' && c != '\r') {
@@ -109,9 +119,21 @@ class FileMeasure final : public MeasurementSource {
       if (compact.empty() || compact[0] == '#') {
         continue;
       }
-      return compact == "x_mm,y_mm,theta_deg";
+      for (const std::vector<std::string>& form : forms) {
+        std::string joined;
+        for (const std::string& name : form) {
+          joined += (joined.empty() ? "" : ",") + name;
+        }
+        if (compact == joined) {
+          return form;
+        }
+      }
+      throw InputError(path, number, "",
+                       "header must be x_mm,y_mm or x_mm,y_mm,theta_deg, or a session's journal "
+                       "run,x_mm,y_mm,theta_deg; got '" +
+                           compact + "'");
     }
-    return false;
+    return forms.front();  // no header at all: read_csv says so
   }
   std::string path_;
   std::vector<SessionPose> rows_;
@@ -131,7 +153,7 @@ class PromptMeasure final : public MeasurementSource {
       prompt_ << "Measured stop point from the start mark, mm: x (ahead) y (left) [heading deg]: "
               << std::flush;
       std::string line;
-      if (!std::getline(in_, line)) {
+      if (!session::read_typed_line(in_, line)) {
         throw InputError("terminal", 0, "",
                          "no measurement for run " + std::to_string(index + 1) +
                              " (end of input); nothing was saved");

@@ -5,6 +5,7 @@
 // fixes it, applies it with --yes or the user's consent, and tests again.
 
 #include <cstdint>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -31,6 +32,11 @@ std::vector<std::string> fault_list(const Reply& reply) {
 }
 
 Reply selftest(Context& c, const std::string& line) {
+  // The user's moment: the wheels turn, so nothing is sent before Enter (with --port).
+  c.wait_for_enter(
+      "Self-test: put the robot on the floor with room to turn about its middle (each wheel "
+      "turns alone, slowly, for a moment); hands off;",
+      "the self-test");
   c.log << "Self-test: each wheel turns alone, slowly, for a moment (" << line << ")\n";
   // Two wheels, each 0.3 s of driving and 0.8 s to come to rest: seconds on a real robot.
   return c.robot.expect_ok(line, 20000);
@@ -78,37 +84,58 @@ Diagnosis diagnose(Context& c, const std::string& seen) {
                          "invert_left_encoder"};
 }
 
-/// --yes, or "y" typed at the terminal; false without a terminal.
-bool consent(Context& c, const std::string& question) {
-  if (c.options.yes) {
-    return true;
+/// --resume: the self-test the interrupted session finished is not driven again. Its measured
+/// runs are taken over and its fix (put back by the interruption) is applied again.
+std::optional<Outcome> replayed(Context& c) {
+  const nlohmann::json& before = c.options.resumed_result;
+  if (!before.is_object() || !before.contains("selftest") || !before["selftest"].is_object() ||
+      !before.contains("selftest_runs") || !before["selftest_runs"].is_number_unsigned()) {
+    return std::nullopt;
   }
-  if (c.options.confirm_in == nullptr) {
-    return false;
+  const auto measured = before["selftest_runs"].get<std::size_t>();
+  if (c.runs.size() + measured > c.options.replay.size()) {
+    return std::nullopt;  // its runs are not all there: test again
   }
-  for (;;) {
-    c.log << question << " [y/n]: " << std::flush;
-    std::string answer;
-    if (!std::getline(*c.options.confirm_in, answer)) {
-      throw InputError("standard input", 0, "", "end of input at the question '" + question + "'");
-    }
-    while (!answer.empty() && (answer.back() == '\r' || answer.back() == ' ')) {
-      answer.pop_back();
-    }
-    if (answer == "y" || answer == "yes") {
-      return true;
-    }
-    if (answer == "n" || answer == "no") {
-      return false;
-    }
+  c.initial_wiring_fix = c.get("wiring_fix");  // what an interruption puts back
+  Outcome out;
+  out.result = before["selftest"];
+  out.text = before.value("selftest_text", std::string());
+  for (std::size_t i = 0; i < measured; ++i) {
+    const RunRecord& r = c.options.replay[c.runs.size()];
+    static_cast<void>(c.run(r.label, r.command, 1.2));
   }
+  std::string again;
+  if (out.result.contains("fixed") && out.result["fixed"].contains("wiring_fix")) {
+    const double value = out.result["fixed"]["wiring_fix"].get<double>();
+    static_cast<void>(c.set("wiring_fix", value));
+    out.applied = true;
+    again = fmt::format("; its fix applied again (wiring_fix {:.0f})", value);
+  }
+  c.log << "Self-test: done before the interruption (" << out.result["faults"].size()
+        << " fault(s)), not driven again" << again << ".\n";
+  return out;
+}
+
+/// The self-test's outcome and its measured runs in the partial result, for --resume.
+void record(Context& c, const Outcome& out, std::size_t runs_before) {
+  c.partial["selftest"] = out.result;
+  c.partial["selftest_runs"] = c.runs.size() - runs_before;
+  c.partial["selftest_text"] = out.text;
 }
 
 }  // namespace
 
 Outcome run_selftest(Context& c) {
+  if (std::optional<Outcome> done = replayed(c)) {
+    return *done;
+  }
+  const std::size_t runs_before = c.runs.size();
   Outcome out;
-  const auto before = static_cast<std::uint32_t>(c.get("wiring_fix"));
+  const double wiring_fix = c.get("wiring_fix");
+  if (!c.initial_wiring_fix) {
+    c.initial_wiring_fix = wiring_fix;  // what an interruption puts back
+  }
+  const auto before = static_cast<std::uint32_t>(wiring_fix);
   const Reply first = selftest(c, "selftest");
   nlohmann::json faults = nlohmann::json::array();
   std::uint32_t bits = 0u;
@@ -141,7 +168,7 @@ Outcome run_selftest(Context& c) {
       names += (names.empty() ? "" : ", ") + f;
     }
     c.log << text.str();
-    if (consent(c, fmt::format("Apply the fix ({}): set wiring_fix {}?", names, proposed))) {
+    if (ask_yes_no(c, fmt::format("Apply the fix ({}): set wiring_fix {}?", names, proposed))) {
       const auto value = static_cast<std::uint32_t>(c.set("wiring_fix", proposed));
       out.result["fixed"]["wiring_fix"] = value;
       out.result["wiring_fix"] = value;
@@ -159,6 +186,7 @@ Outcome run_selftest(Context& c) {
     }
   }
   out.text = text.str();
+  record(c, out, runs_before);
   return out;
 }
 

@@ -89,17 +89,18 @@ inline double stored(const std::string& robot, const std::string& store, const s
   return at == std::string::npos ? NAN : std::atof(r.out.c_str() + at + name.size() + 1);
 }
 
-/// odocal-sim on a pty, as a robot on a serial port would be.
+/// odocal-sim on a pty, as a robot on a serial port would be: in lockstep with its host (speed
+/// 0), or in real time (speed 1: a run takes the seconds it takes on the floor).
 class SimOnPty {
  public:
-  SimOnPty(const std::string& robot, const std::string& store) {
+  SimOnPty(const std::string& robot, const std::string& store, const std::string& speed = "0") {
     int out[2];
     EXPECT_EQ(::pipe(out), 0);
     pid_ = ::fork();
     if (pid_ == 0) {
       ::dup2(out[1], STDOUT_FILENO);
       ::close(out[0]);
-      ::execl(bin("odocal-sim").c_str(), "odocal-sim", "--pty", "--speed", "0", "--robot",
+      ::execl(bin("odocal-sim").c_str(), "odocal-sim", "--pty", "--speed", speed.c_str(), "--robot",
               robot.c_str(), "--store", store.c_str(), static_cast<char*>(nullptr));
       ::_exit(127);
     }

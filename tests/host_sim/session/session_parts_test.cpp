@@ -81,6 +81,18 @@ TEST(SessionMeasurementFile, ReadsBothHeadersWithOptionalHeading) {
   EXPECT_EQ(*three->take(run, 1, 2).theta_deg, -5.0);
 }
 
+TEST(SessionMeasurementFile, ReadsASessionsOwnJournal) {
+  // measurements.csv as a session writes it: numbered rows, the heading empty when not measured.
+  const auto journal = odocal::host::file_measurements(write_temp(
+      "journal.csv", "run,x_mm,y_mm,theta_deg\n1,-1.500,2.000,\n2,3.000,4.000,-5.000\n"));
+  EXPECT_EQ(journal->available(0), 2u);
+  const odocal::host::RunRecord run;
+  EXPECT_EQ(journal->take(run, 0, 2).x_mm, -1.5);
+  EXPECT_FALSE(journal->take(run, 0, 2).theta_deg.has_value());
+  EXPECT_EQ(journal->take(run, 1, 2).y_mm, 4.0);
+  EXPECT_EQ(*journal->take(run, 1, 2).theta_deg, -5.0);
+}
+
 void expect_file_error(const std::string& name, const std::string& content,
                        const std::string& where, const std::string& field) {
   const std::string path = write_temp(name, content);
@@ -104,6 +116,10 @@ TEST(SessionMeasurementFile, GarbageIsRefusedNamingFileLineAndField) {
   expect_file_error("g5.csv", "x_mm,y_mm\n1,1e300\n", ":2", "y_mm");
   expect_file_error("g6.csv", "x_mm,y_mm\n", "", "");
   expect_file_error("missing.csv/nope", "", "", "");
+  // A journal's rows in the order of the runs, numbered from 1.
+  expect_file_error("j1.csv", "run,x_mm,y_mm,theta_deg\n2,1,2,\n", ":2", "run");
+  expect_file_error("j2.csv", "run,x_mm,y_mm,theta_deg\n1,1,2,\n1,3,4,\n", ":3", "run");
+  expect_file_error("j3.csv", "run,x_mm,y_mm\n1,1,2\n", ":1", "");
 }
 
 }  // namespace

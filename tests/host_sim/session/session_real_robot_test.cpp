@@ -23,11 +23,11 @@
 
 #include "odocal/calib/umbmark.hpp"
 #include "session_harness.hpp"
+#include "session_person.hpp"
 
 namespace {
 
 using namespace odocal_session_test;
-using Clock = std::chrono::steady_clock;
 
 // The hidden robot of these tests: told 60 mm wheels and 150 mm, really 59.85 / 60.15 mm and
 // 153 mm; no slip, so its runs repeat and the readings below are what a tape would give.
@@ -39,147 +39,6 @@ const char* const hidden_robot =
 constexpr double true_left_mm = 59.85;
 constexpr double true_right_mm = 60.15;
 constexpr double true_wheelbase_mm = 153.0;
-
-/// `odocal session ARGS` with a person at it: stdin, stdout and stderr are pipes the test reads
-/// and types into as the session asks.
-class Person {
- public:
-  explicit Person(const std::vector<std::string>& args) {
-    int in[2], out[2], err[2];
-    EXPECT_EQ(::pipe(in), 0);
-    EXPECT_EQ(::pipe(out), 0);
-    EXPECT_EQ(::pipe(err), 0);
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      ::dup2(in[0], STDIN_FILENO);
-      ::dup2(out[1], STDOUT_FILENO);
-      ::dup2(err[1], STDERR_FILENO);
-      for (int fd : {in[0], in[1], out[0], out[1], err[0], err[1]}) {
-        ::close(fd);
-      }
-      std::vector<std::string> all = {bin("odocal"), "session"};
-      all.insert(all.end(), args.begin(), args.end());
-      std::vector<char*> argv;
-      for (auto& a : all) {
-        argv.push_back(a.data());
-      }
-      argv.push_back(nullptr);
-      ::execv(argv[0], argv.data());
-      ::_exit(127);
-    }
-    ::close(in[0]);
-    ::close(out[1]);
-    ::close(err[1]);
-    in_ = in[1];
-    out_ = out[0];
-    err_ = err[0];
-  }
-  ~Person() {
-    if (pid_ > 0) {
-      ::kill(pid_, SIGKILL);
-      static_cast<void>(finish());
-    }
-  }
-  /// Reads until `text` has appeared `times` times on stderr (false after `timeout_s`).
-  bool wait_for(const std::string& text, std::size_t times, double timeout_s = 60.0) {
-    const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
-    while (count(text) < times) {
-      if (Clock::now() > deadline || read_some(200) < 0) {
-        return count(text) >= times;
-      }
-    }
-    return true;
-  }
-  [[nodiscard]] std::size_t count(const std::string& text) const {
-    std::size_t n = 0;
-    for (auto at = err.find(text); at != std::string::npos; at = err.find(text, at + 1)) {
-      ++n;
-    }
-    return n;
-  }
-  void type(const std::string& line) {
-    const std::string data = line + "\n";
-    EXPECT_EQ(::write(in_, data.data(), data.size()), static_cast<ssize_t>(data.size()));
-  }
-  void signal(int number) { ::kill(pid_, number); }
-  /// Ends the input, reads everything, returns the exit status (-1 for a crash).
-  int finish() {
-    if (in_ >= 0) {
-      ::close(in_);
-      in_ = -1;
-    }
-    const auto deadline = Clock::now() + std::chrono::seconds(120);
-    while (Clock::now() < deadline && read_some(1000) >= 0) {
-    }
-    int status = 0;
-    ::waitpid(pid_, &status, 0);
-    pid_ = -1;
-    ::close(out_);
-    ::close(err_);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
-  std::string out;
-  std::string err;
-
- private:
-  /// 1 when something was read, 0 when nothing came within `timeout_ms`, -1 when both outputs
-  /// are closed.
-  int read_some(int timeout_ms) {
-    pollfd fds[2] = {{out_, POLLIN, 0}, {err_, POLLIN, 0}};
-    if (::poll(fds, 2, timeout_ms) <= 0) {
-      return 0;
-    }
-    int closed = 0;
-    char buffer[4096];
-    for (int i = 0; i < 2; ++i) {
-      if (fds[i].revents == 0) {
-        continue;
-      }
-      const ssize_t n = ::read(fds[i].fd, buffer, sizeof buffer);
-      if (n > 0) {
-        (i == 0 ? out : err).append(buffer, static_cast<std::size_t>(n));
-        return 1;
-      }
-      ++closed;
-    }
-    return closed == 2 ? -1 : 0;
-  }
-  pid_t pid_ = -1;
-  int in_ = -1, out_ = -1, err_ = -1;
-};
-
-/// One line to the robot's console on its pty and the reply that has `key=`.
-std::string ask_robot(const std::string& pty, const std::string& line, const std::string& key) {
-  const int fd = ::open(pty.c_str(), O_RDWR | O_NOCTTY);
-  EXPECT_GE(fd, 0) << pty;
-  termios mode{};
-  ::tcgetattr(fd, &mode);
-  ::cfmakeraw(&mode);
-  ::tcsetattr(fd, TCSANOW, &mode);
-  const std::string data = line + "\n";
-  EXPECT_EQ(::write(fd, data.data(), data.size()), static_cast<ssize_t>(data.size()));
-  std::string got;
-  const auto deadline = Clock::now() + std::chrono::seconds(10);
-  while (got.find(key + "=") == std::string::npos ||
-         got.find('\n', got.find(key + "=")) == std::string::npos) {
-    pollfd wait{fd, POLLIN, 0};
-    if (Clock::now() > deadline || ::poll(&wait, 1, 500) < 0) {
-      break;
-    }
-    char buffer[512];
-    const ssize_t n = ::read(fd, buffer, sizeof buffer);
-    if (n > 0) {
-      got.append(buffer, static_cast<std::size_t>(n));
-    }
-  }
-  ::close(fd);
-  return got;
-}
-
-double value_of(const std::string& text, const std::string& key) {
-  const auto at = text.rfind(key + "=");
-  return at == std::string::npos ? NAN : std::atof(text.c_str() + at + key.size() + 1);
-}
 
 /// What a tape measure gives at the end of the session's latest run of the UMBmark square: the
 /// odometry it printed plus the exact square geometry of the hidden robot relative to the
@@ -200,23 +59,52 @@ std::string reading(const Person& p, double side_mm, bool clockwise, double c_l,
   return text;
 }
 
-json read_json(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return json::parse(text.str(), nullptr, false);
-}
-
-std::size_t rows_of(const std::string& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::size_t rows = 0;
-  std::getline(in, line);
-  EXPECT_EQ(line, "run,x_mm,y_mm,theta_deg");
-  while (std::getline(in, line)) {
-    rows += line.empty() ? 0u : 1u;
+/// --resume of the session interrupted in pass 2: the five runs are taken over, pass 1 applied
+/// again, pass 2 finished.
+void resume_pass_two(const std::string& pty, const std::string& out, const json& interrupted,
+                     double side_mm) {
+  double c_l = 1.0, c_r = 1.0, b = 150.0;
+  Person p({"--port", pty, "--resume", out, "--json"});
+  for (int run = 6; run <= 8; ++run) {
+    ASSERT_TRUE(p.wait_for("press Enter to start", static_cast<std::size_t>(run - 5))) << p.err;
+    if (run == 6) {
+      EXPECT_EQ(p.count("not driven again"), 5u) << p.err;
+      const std::string& e = p.err;
+      const auto at = e.rfind("Applied on the robot:");
+      ASSERT_NE(at, std::string::npos) << e;
+      const std::string applied = e.substr(at, e.find('\n', at) - at);
+      c_l = value_of(applied, "c_l");
+      c_r = value_of(applied, "c_r");
+      b = value_of(applied, "wheelbase_mm");
+    }
+    p.type("");
+    ASSERT_TRUE(p.wait_for("Measured stop point", static_cast<std::size_t>(run - 5))) << p.err;
+    p.type(reading(p, side_mm, run == 6, c_l, c_r, b, run));
   }
-  return rows;
+  ASSERT_EQ(p.finish(), 0) << p.err;
+  const json done = json::parse(p.out, nullptr, false);
+  ASSERT_TRUE(done.is_object()) << p.out << p.err;
+  EXPECT_TRUE(done["complete"].get<bool>());
+  ASSERT_EQ(done["runs"].size(), 8u);
+  for (std::size_t i = 0; i < 5; ++i) {
+    EXPECT_EQ(done["runs"][i], interrupted["runs"][i]) << "run " << i + 1;
+  }
+  EXPECT_EQ(rows_of(out + "/measurements.csv"), 8u);
+  EXPECT_EQ(done["date"], interrupted["date"]);
+  // The result is the one of these runs: pass 1 solved again from the same readings.
+  ASSERT_EQ(done["result"]["passes"].size(), 2u);
+  EXPECT_DOUBLE_EQ(done["result"]["passes"][0]["e_d"].get<double>(),
+                   interrupted["result"]["passes"][0]["e_d"].get<double>());
+  // The hidden robot's geometry is in force: the readings followed the exact square model, so
+  // only the 1.5 mm scatter over a 1 m square and the counts' quantum remain (E_d to
+  // b·δ/(2L²) = 1.1e-4 for δ = 3 mm, the wheelbase to (2/π)·δ/(2L)·b = 0.15 mm).
+  const double e_d = done["factors"]["c_r"].get<double>() / done["factors"]["c_l"].get<double>();
+  EXPECT_NEAR(e_d, true_right_mm / true_left_mm, 3e-4);
+  EXPECT_NEAR(done["factors"]["wheelbase_mm"].get<double>(), true_wheelbase_mm, 0.5);
+  // Provenance tells the whole truth: all 8 runs, the session's date.
+  const std::string provenance = ask_robot(pty, "provenance", "wheel_date");
+  EXPECT_EQ(value_of(provenance, "wheel_runs"), 8.0) << provenance;
+  EXPECT_EQ(value_of(provenance, "wheel_date"), done["date"].get<double>()) << provenance;
 }
 
 TEST(SessionOnARealRobot, EnterBeforeEachRunCtrlCInPassTwoPutsBackAndResumeFinishes) {
@@ -283,52 +171,7 @@ TEST(SessionOnARealRobot, EnterBeforeEachRunCtrlCInPassTwoPutsBackAndResumeFinis
   EXPECT_EQ(conflict.status, 2);
   EXPECT_NE(conflict.err.find("--runs"), std::string::npos) << conflict.err;
 
-  // --resume: the five runs are taken over, pass 1 applied again, pass 2 finished.
-  {
-    Person p({"--port", sim.path(), "--resume", out, "--json"});
-    c_l = c_r = 1.0;
-    b = 150.0;
-    for (int run = 6; run <= 8; ++run) {
-      ASSERT_TRUE(p.wait_for("press Enter to start", static_cast<std::size_t>(run - 5))) << p.err;
-      if (run == 6) {
-        EXPECT_EQ(p.count("not driven again"), 5u) << p.err;
-        const std::string& e = p.err;
-        const auto at = e.rfind("Applied on the robot:");
-        ASSERT_NE(at, std::string::npos) << e;
-        const std::string applied = e.substr(at, e.find('\n', at) - at);
-        c_l = value_of(applied, "c_l");
-        c_r = value_of(applied, "c_r");
-        b = value_of(applied, "wheelbase_mm");
-      }
-      p.type("");
-      ASSERT_TRUE(p.wait_for("Measured stop point", static_cast<std::size_t>(run - 5))) << p.err;
-      p.type(reading(p, side_mm, run == 6, c_l, c_r, b, run));
-    }
-    ASSERT_EQ(p.finish(), 0) << p.err;
-    const json done = json::parse(p.out, nullptr, false);
-    ASSERT_TRUE(done.is_object()) << p.out << p.err;
-    EXPECT_TRUE(done["complete"].get<bool>());
-    ASSERT_EQ(done["runs"].size(), 8u);
-    for (std::size_t i = 0; i < 5; ++i) {
-      EXPECT_EQ(done["runs"][i], interrupted["runs"][i]) << "run " << i + 1;
-    }
-    EXPECT_EQ(rows_of(out + "/measurements.csv"), 8u);
-    EXPECT_EQ(done["date"], interrupted["date"]);
-    // The result is the one of these runs: pass 1 solved again from the same readings.
-    ASSERT_EQ(done["result"]["passes"].size(), 2u);
-    EXPECT_DOUBLE_EQ(done["result"]["passes"][0]["e_d"].get<double>(),
-                     interrupted["result"]["passes"][0]["e_d"].get<double>());
-    // The hidden robot's geometry is in force: the readings followed the exact square model, so
-    // only the 1.5 mm scatter over a 1 m square and the counts' quantum remain (E_d to
-    // b·δ/(2L²) = 1.1e-4 for δ = 3 mm, the wheelbase to (2/π)·δ/(2L)·b = 0.15 mm).
-    const double e_d = done["factors"]["c_r"].get<double>() / done["factors"]["c_l"].get<double>();
-    EXPECT_NEAR(e_d, true_right_mm / true_left_mm, 3e-4);
-    EXPECT_NEAR(done["factors"]["wheelbase_mm"].get<double>(), true_wheelbase_mm, 0.5);
-    // Provenance tells the whole truth: all 8 runs, the session's date.
-    const std::string provenance = ask_robot(sim.path(), "provenance", "wheel_date");
-    EXPECT_EQ(value_of(provenance, "wheel_runs"), 8.0) << provenance;
-    EXPECT_EQ(value_of(provenance, "wheel_date"), done["date"].get<double>()) << provenance;
-  }
+  resume_pass_two(sim.path(), out, interrupted, side_mm);
   // A complete session is not resumed.
   const Result again = session("--port " + sim.path() + " --resume " + out);
   EXPECT_EQ(again.status, 2);

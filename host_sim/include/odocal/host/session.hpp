@@ -117,6 +117,9 @@ struct SessionOptions {
   nlohmann::json recorded = nlohmann::json::object();
   /// Runs of the interrupted session being resumed, in order: taken, not driven again.
   std::vector<RunRecord> replay;
+  /// The `result` the interrupted session being resumed recorded (e.g. its self-test, which is
+  /// then not driven again).
+  nlohmann::json resumed_result = nlohmann::json::object();
 };
 
 namespace session {

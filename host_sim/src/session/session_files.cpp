@@ -1,0 +1,246 @@
+// The session's files: the journal (measurements.csv, one writer), session.json, report.html,
+// runs.csv, and the runs of an interrupted session read back for --resume.
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <optional>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "odocal/host/csv.hpp"
+#include "session_internal.hpp"
+
+namespace odocal::host {
+namespace session {
+
+namespace {
+
+/// One row of the journal: `run,x_mm,y_mm,theta_deg` (theta empty when not measured).
+std::string journal_row(std::size_t number, const SessionPose& m) {
+  std::string row = fmt::format("{},{:.3f},{:.3f},", number, m.x_mm, m.y_mm);
+  if (m.theta_deg) {
+    row += fmt::format("{:.3f}", *m.theta_deg);
+  }
+  return row + "\n";
+}
+
+constexpr const char* journal_header = "run,x_mm,y_mm,theta_deg\n";
+
+}  // namespace
+
+void Context::journal(const RunRecord& r, std::size_t number) {
+  const std::string path = options.out_dir + "/measurements.csv";
+  struct stat info {};
+  const bool fresh = ::stat(path.c_str(), &info) != 0 || info.st_size == 0;
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    throw InputError(path, 0, "", std::string("cannot write: ") + std::strerror(errno));
+  }
+  const std::string text =
+      (fresh ? std::string(journal_header) : std::string()) + journal_row(number, r.measured);
+  const bool written = ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
+  const bool synced = ::fsync(fd) == 0;
+  ::close(fd);
+  if (!written || !synced) {
+    throw InputError(path, 0, "", std::string("cannot write: ") + std::strerror(errno));
+  }
+  if (std::find(files.begin(), files.end(), "measurements.csv") == files.end()) {
+    files.push_back("measurements.csv");
+  }
+}
+
+void Context::rewrite_journal() {
+  const std::vector<RunRecord> kept = kept_runs();
+  std::string text = journal_header;
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    text += journal_row(i + 1, kept[i].measured);
+  }
+  write_file("measurements.csv", text);
+}
+
+std::vector<RunRecord> Context::kept_runs() const {
+  std::vector<RunRecord> kept = runs;
+  for (std::size_t i = runs.size(); i < options.replay.size(); ++i) {
+    kept.push_back(options.replay[i]);
+  }
+  return kept;
+}
+
+void Context::write_session_json(bool complete, const nlohmann::json& result, bool applied,
+                                 bool saved, const std::string& interruption) {
+  const std::vector<RunRecord> kept = kept_runs();
+  nlohmann::json doc = {{"procedure", to_string(options.procedure)},
+                        {"complete", complete},
+                        {"date", options.started_unix_s},
+                        {"options", options.recorded},
+                        {"runs", runs_json(complete ? runs : kept)},
+                        {"measurements", complete ? runs.size() : kept.size()},
+                        {"result", result},
+                        {"applied", applied},
+                        {"saved", saved}};
+  if (!interruption.empty()) {
+    doc["interrupted"] = interruption;
+  }
+  if (last_factors) {
+    doc["factors"] = factors_json(*last_factors);
+  }
+  write_file("session.json", doc.dump(2) + "\n");
+}
+
+void Context::write_file(const std::string& name, const std::string& content) {
+  const std::string path = options.out_dir + "/" + name;
+  const std::string temporary = path + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << content;
+    out.close();
+    if (!out) {
+      throw InputError(path, 0, "", "cannot write");
+    }
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    throw InputError(path, 0, "", std::string("cannot write: ") + std::strerror(errno));
+  }
+  if (std::find(files.begin(), files.end(), name) == files.end()) {
+    files.push_back(name);
+  }
+}
+
+std::string runs_csv(const std::vector<RunRecord>& runs) {
+  std::ostringstream out;
+  out << "trial,label,path,duration_ms,count_l,count_r,odom_x_mm,odom_y_mm,odom_theta_deg,"
+         "measured_x_mm,measured_y_mm,measured_theta_deg\n";
+  for (const RunRecord& r : runs) {
+    char line[512];
+    std::snprintf(line, sizeof line, "%lld,%s,%s,%.0f,%lld,%lld,%.3f,%.3f,%.3f,%.3f,%.3f,",
+                  static_cast<long long>(r.trial), r.label.c_str(), r.path.c_str(), r.duration_ms,
+                  static_cast<long long>(r.count_l), static_cast<long long>(r.count_r), r.odom.x_mm,
+                  r.odom.y_mm, r.odom.theta_deg.value_or(0.0), r.measured.x_mm, r.measured.y_mm);
+    out << line;
+    if (r.measured.theta_deg) {
+      std::snprintf(line, sizeof line, "%.3f", *r.measured.theta_deg);
+      out << line;
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
+nlohmann::json runs_json(const std::vector<RunRecord>& runs) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const RunRecord& r : runs) {
+    const auto theta = [](const std::optional<double>& t) {
+      return t ? nlohmann::json(*t) : nlohmann::json(nullptr);
+    };
+    nlohmann::json ticks = nullptr;
+    if (!r.ticks.empty()) {
+      ticks = nlohmann::json::array();
+      for (const TickSample& t : r.ticks) {
+        ticks.push_back({t.t_ms, t.count_l, t.count_r});
+      }
+    }
+    out.push_back(
+        {{"label", r.label},
+         {"command", r.command},
+         {"ticks", ticks},
+         {"trial", r.trial},
+         {"path", r.path},
+         {"duration_ms", static_cast<std::int64_t>(std::llround(r.duration_ms))},
+         {"count_l", r.count_l},
+         {"count_r", r.count_r},
+         {"odom",
+          {{"x_mm", r.odom.x_mm}, {"y_mm", r.odom.y_mm}, {"theta_deg", theta(r.odom.theta_deg)}}},
+         {"measured",
+          {{"x_mm", r.measured.x_mm},
+           {"y_mm", r.measured.y_mm},
+           {"theta_deg", theta(r.measured.theta_deg)}}}});
+  }
+  return out;
+}
+
+void write_report(Context& c, const nlohmann::json& result, const std::string& summary,
+                  bool complete, bool saved, const std::string& interruption) {
+  ReportInput in;
+  in.title = std::string("odocal session ") + to_string(c.options.procedure);
+  in.date_unix_s = c.date();
+  in.complete = complete;
+  in.interruption = interruption;
+  in.saved = saved;
+  in.runs = c.runs;
+  in.result = result;
+  in.summary = summary;
+  in.side_m = c.options.side_m.value_or(4.0);
+  try {
+    // From the robot when it still answers (after an interruption it may not).
+    in.factors = c.last_factors.value_or(c.initial);
+    in.wheel_diameter_mm = c.get("wheel_diameter_mm");
+    // The wheelbase in force when the session started: the geometry the runs were driven and
+    // their odometry computed with (the fit's "before").
+    in.wheelbase_mm = c.initial.wheelbase_mm;
+    in.counts_per_rev = c.get("counts_per_rev");
+    const Reply provenance = c.robot.command("provenance", 2000);
+    if (provenance.ok) {
+      in.provenance = provenance.pairs;
+    }
+  } catch (const std::exception&) {
+    in.wheelbase_mm = in.factors.wheelbase_mm > 0.0 ? in.factors.wheelbase_mm : in.wheelbase_mm;
+  }
+  c.write_file("report.html", report_html(in));
+}
+
+}  // namespace session
+
+std::vector<RunRecord> recorded_runs(const nlohmann::json& session, const std::string& dir) {
+  const std::string file = dir + "/session.json";
+  std::vector<RunRecord> runs;
+  if (!session.contains("runs") || !session["runs"].is_array()) {
+    throw InputError(file, 0, "runs", "missing or not an array");
+  }
+  std::size_t index = 0;
+  for (const nlohmann::json& run : session["runs"]) {
+    ++index;
+    try {
+      RunRecord r;
+      r.label = run.at("label").get<std::string>();
+      r.command = run.at("command").get<std::string>();
+      r.trial = run.at("trial").get<std::int64_t>();
+      r.path = run.at("path").get<std::string>();
+      r.duration_ms = run.at("duration_ms").get<double>();
+      r.count_l = run.at("count_l").get<std::int64_t>();
+      r.count_r = run.at("count_r").get<std::int64_t>();
+      const auto pose = [](const nlohmann::json& j) {
+        SessionPose p;
+        p.x_mm = j.at("x_mm").get<double>();
+        p.y_mm = j.at("y_mm").get<double>();
+        if (!j.at("theta_deg").is_null()) {
+          p.theta_deg = j.at("theta_deg").get<double>();
+        }
+        return p;
+      };
+      r.odom = pose(run.at("odom"));
+      r.measured = pose(run.at("measured"));
+      if (run.contains("ticks") && run["ticks"].is_array()) {
+        for (const nlohmann::json& t : run["ticks"]) {
+          r.ticks.push_back(TickSample{t.at(0).get<double>(), t.at(1).get<std::int64_t>(),
+                                       t.at(2).get<std::int64_t>()});
+        }
+      }
+      runs.push_back(r);
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(file, 0, "runs", "run " + std::to_string(index) + ": " + e.what());
+    }
+  }
+  return runs;
+}
+
+}  // namespace odocal::host

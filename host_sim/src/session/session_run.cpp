@@ -1,0 +1,194 @@
+// The session's measured run: the user's moment, `odom reset`, the drive, `# done`, `trial`, the
+// tick log, the measurement and its journal.
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "odocal/host/csv.hpp"
+#include "odocal/toolkit/numbers.hpp"
+#include "session_internal.hpp"
+
+namespace odocal::host::session {
+namespace {
+
+std::int64_t whole(const Reply& reply, const std::string& key) {
+  const std::optional<std::int64_t> value = toolkit::parse_integer(reply.text(key));
+  if (!value) {
+    throw LinkError("robot reply '" + reply.line + "': " + key + " is not a whole number");
+  }
+  return *value;
+}
+
+/// Waits until `samples` has grown past `count` (a `# ticks` line arrived).
+void wait_tick(RobotClient& robot, const std::vector<TickSample>& samples, std::size_t count) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (samples.size() <= count) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      throw LinkError(
+          "no '# ticks' line within 10 s after 'stream ticks' (does the firmware "
+          "have it?)");
+    }
+    static_cast<void>(robot.pump(200));
+  }
+}
+
+/// `# ticks` lines into a run's record for as long as the run lasts: however the run ends (an
+/// interruption included), the handler is gone with it, so that no line read afterwards (while
+/// the robot is stopped and its factors put back) is written into a record that no longer
+/// exists. The engine's way out turns the stream off on the robot.
+class TickLogging {
+ public:
+  explicit TickLogging(RobotClient& robot) : robot_(robot) {}
+  ~TickLogging() { stop(); }
+  TickLogging(const TickLogging&) = delete;
+  TickLogging& operator=(const TickLogging&) = delete;
+
+  void start(RunRecord& r) {
+    robot_.on_ticks([&r](const std::string& line) {
+      const auto pairs = hash_line_pairs(line);
+      const auto t = pairs.find("t_ms"), l = pairs.find("count_l"), c = pairs.find("count_r");
+      if (t == pairs.end() || l == pairs.end() || c == pairs.end()) {
+        return;
+      }
+      const auto tv = toolkit::parse_real(t->second);
+      const auto lv = toolkit::parse_integer(l->second), cv = toolkit::parse_integer(c->second);
+      if (tv && lv && cv) {
+        r.ticks.push_back(TickSample{*tv, *lv, *cv});
+      }
+    });
+  }
+  void stop() { robot_.on_ticks(nullptr); }
+
+ private:
+  RobotClient& robot_;
+};
+
+/// Waits for the run's `# done` (within `timeout_s`), showing progress on a terminal.
+std::map<std::string, std::string> wait_done(Context& c, double expected_s) {
+  const double timeout_s = 30.0 + 3.0 * expected_s;
+  const auto started = std::chrono::steady_clock::now();
+  std::map<std::string, std::string> done;
+  for (;;) {
+    done = c.robot.poll_done(c.options.progress ? 2000 : 500);
+    if (!done.empty()) {
+      break;
+    }
+    const double elapsed_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    if (elapsed_s > timeout_s) {
+      throw LinkError(fmt::format("the run did not end (no '# done') within {:.0f} s", timeout_s));
+    }
+    if (c.options.progress) {
+      c.log << fmt::format("\r  driving: {:.0f} s of about {:.0f} s ", elapsed_s, expected_s)
+            << std::flush;
+    }
+  }
+  if (c.options.progress) {
+    c.log << "\r" << std::string(40, ' ') << "\r";
+  }
+  return done;
+}
+
+/// `trial` into `r`, checked against the `# done` line.
+void read_trial(RobotClient& robot, const std::map<std::string, std::string>& done, RunRecord& r) {
+  const Reply trial = robot.expect_ok("trial");
+  r.trial = whole(trial, "trial");
+  r.path = trial.text("path");
+  const auto done_trial = done.find("trial");
+  if (done_trial != done.end() && done_trial->second != std::to_string(r.trial)) {
+    throw LinkError("'# done trial=" + done_trial->second + "' but 'trial' reports trial " +
+                    std::to_string(r.trial));
+  }
+  r.duration_ms = trial.number("duration_ms");
+  r.count_l = whole(trial, "count_l");
+  r.count_r = whole(trial, "count_r");
+  r.odom.x_mm = trial.number("x_mm");
+  r.odom.y_mm = trial.number("y_mm");
+  r.odom.theta_deg = trial.number("theta_deg");
+}
+
+}  // namespace
+
+void Context::wait_for_enter(const std::string& prompt, const std::string& before) {
+  if (options.start_in == nullptr) {
+    return;
+  }
+  log << "\n" << prompt << " press Enter to start (Ctrl-C ends the session): " << std::flush;
+  std::string line;
+  const bool got = read_typed_line(*options.start_in, line);
+  if (got && options.confirm_in == nullptr) {
+    log << "\n";  // input from a pipe: the Enter did not show
+  }
+  if (!got) {
+    throw InputError("standard input", 0, "",
+                     "end of input while waiting for Enter before " + before);
+  }
+}
+
+RunRecord Context::run(const std::string& label, const std::string& command, double expected_s,
+                       bool log_ticks) {
+  const std::size_t index = runs.size();
+  planned = std::max(planned, index + 1);
+  if (index < options.replay.size()) {
+    // --resume: this run was driven and measured before the interruption.
+    RunRecord r = options.replay[index];
+    if (r.command != command || r.label != label) {
+      throw InputError(options.out_dir + "/session.json", 0, "runs",
+                       fmt::format("run {} was '{}' ({}), this session would drive '{}' ({}): "
+                                   "the interrupted session ran with other settings",
+                                   index + 1, r.command, r.label, command, label));
+    }
+    r.replayed = true;
+    log << fmt::format("Run {}/{}: {} - measured before the interruption, not driven again\n",
+                       index + 1, planned, label);
+    runs.push_back(r);
+    return r;
+  }
+  wait_for_enter(fmt::format("Run {}/{} ({}): put the robot on the start mark, aligned with the "
+                             "start line, hands off;",
+                             index + 1, planned, label),
+                 fmt::format("run {}", index + 1));
+  RunRecord r;
+  r.label = label;
+  r.command = command;
+  robot.expect_ok("odom reset");
+  TickLogging logging(robot);
+  if (log_ticks) {
+    logging.start(r);
+    robot.expect_ok("stream ticks 50");
+    wait_tick(robot, r.ticks, 0);  // the start row: counts before the motion
+  }
+  log << fmt::format("Run {}/{}: {} ({})\n", index + 1, planned, label, command);
+  robot.expect_ok(command);
+  const std::map<std::string, std::string> done = wait_done(*this, expected_s);
+  if (log_ticks) {
+    robot.expect_ok("stream off");
+    logging.stop();
+  }
+  read_trial(robot, done, r);
+  if (log_ticks) {
+    // The end row at rest: the start row's counts plus what the trial moved (the robot stood
+    // still from the start row to the motion), so no wait for a stream line after `# done`.
+    const TickSample first = r.ticks.front();
+    const double end_ms = std::max(r.ticks.back().t_ms + 20.0, first.t_ms + r.duration_ms);
+    r.ticks.push_back(TickSample{end_ms, first.count_l + r.count_l, first.count_r + r.count_r});
+  }
+  r.measured = source.take(r, runs.size(), planned);
+  log << fmt::format(
+      "  run {} {} (trial {}, {:.1f} s): odometry {:.1f}, {:.1f} mm; measured {:.1f}, {:.1f} mm\n",
+      runs.size() + 1, label, r.trial, r.duration_ms / 1000.0, plain(r.odom.x_mm),
+      plain(r.odom.y_mm), plain(r.measured.x_mm), plain(r.measured.y_mm));
+  runs.push_back(r);
+  journal(r, runs.size());
+  write_session_json(false, partial, false, false);
+  return r;
+}
+
+}  // namespace odocal::host::session

@@ -43,8 +43,7 @@ struct Solved {
 /// 0, 1, ..., count − 1: every unit.
 [[nodiscard]] std::vector<std::size_t> every_unit(std::size_t count);
 
-// --------------------------------------------------------- what the logs determine
-// (fit_determination)
+// -------------------------------------------- what the logs determine (fit_determination)
 
 /// Relative (log-parameter) covariance directions: what the data determine, and how well.
 struct Determination {

@@ -48,27 +48,6 @@ bool ratio(double numerator, double denominator, double& quotient) {
   return defined;
 }
 
-/// Standard normal CDF.
-double normal_cdf(double z) {
-  return 0.5 * std::erfc(-z / std::sqrt(2.0));
-}
-
-/// Standard normal quantile by Newton's method on the CDF (monotone from 0 for p > 1/2).
-double normal_quantile(double p) {
-  const double inv_sqrt_2pi = 0.39894228040143267794;
-  const bool upper = p >= 0.5;
-  const double q = upper ? p : 1.0 - p;
-  double z = 0.0;
-  for (int i = 0; i < 100; ++i) {
-    const double step = (normal_cdf(z) - q) / (inv_sqrt_2pi * std::exp(-0.5 * z * z));
-    z -= step;
-    if (std::fabs(step) < 1e-14 * (1.0 + std::fabs(z))) {
-      break;
-    }
-  }
-  return upper ? z : -z;
-}
-
 BootstrapStatus fit(const TrainingRow* training, std::size_t count, BootstrapFit& out,
                     Model& model) {
   if (training == nullptr || count < bootstrap_min_training || count > bootstrap_max_training) {
@@ -170,17 +149,7 @@ double t_calibrated_level(double level, double dof) {
   if (!(dof > 0.0) || !(level > 0.0) || !(level < 1.0)) {
     return level;
   }
-  // Student-t quantile from the normal one by the Cornish-Fisher expansion in 1/ν (accurate to
-  // ~1e-4 for ν >= 4), then the level at which the normal quantile reaches it.
-  const double z = normal_quantile(0.5 * (1.0 + level));
-  const double z2 = z * z;
-  const double z3 = z2 * z, z5 = z3 * z2, z7 = z5 * z2, z9 = z7 * z2;
-  const double g1 = (z3 + z) / 4.0;
-  const double g2 = (5.0 * z5 + 16.0 * z3 + 3.0 * z) / 96.0;
-  const double g3 = (3.0 * z7 + 19.0 * z5 + 17.0 * z3 - 15.0 * z) / 384.0;
-  const double g4 = (79.0 * z9 + 776.0 * z7 + 1482.0 * z5 - 1920.0 * z3 - 945.0 * z) / 92160.0;
-  const double inv = 1.0 / dof;
-  const double t = z + inv * (g1 + inv * (g2 + inv * (g3 + inv * g4)));
+  const double t = student_t_quantile(0.5 * (1.0 + level), dof);
   return 2.0 * normal_cdf(t) - 1.0;
 }
 

@@ -91,16 +91,9 @@ int run_fit(const FitCommandOptions& o) {
               << outcome.error.message << '\n';
     return 2;
   }
-  nlohmann::json j = fit_result_json(*outcome.result);
   // Beside the geometry: the random error growth from the same runs' residuals.
-  NoiseOptions noise_options;
-  noise_options.seed = o.seed;
-  noise_options.level = o.level;
-  noise_options.heading_length_mm = outcome.result->heading_length_mm;
-  noise_options.replicates = o.replicates > 0u ? noise_options.replicates : 0u;
-  const NoiseEstimate noise =
-      estimate_wheel_noise(logs, nominal, outcome.result->geometry, noise_options);
-  j["noise"] = noise_json(noise);
+  const NoiseEstimate noise = noise_for_fit(logs, *outcome.result, options);
+  const nlohmann::json j = fit_json(*outcome.result, noise);
   // Nothing that is not a number is printed (the bounds above keep every figure finite).
   for (const char* key : {"wheel_diameter_left_mm", "wheel_diameter_right_mm", "wheelbase_mm"}) {
     if (!std::isfinite(j.at(key).get<double>())) {
@@ -111,7 +104,7 @@ int run_fit(const FitCommandOptions& o) {
   if (o.json) {
     std::cout << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
   } else {
-    std::cout << fit_result_text(*outcome.result) << noise_text(noise);
+    std::cout << fit_text(*outcome.result, noise);
   }
   return 0;
 }

@@ -6,18 +6,43 @@
 namespace odocal::host::calib_cli {
 namespace {
 
-double multiplier_key(const json& object, const std::string& file, const char* key) {
+/// `prefix` + `key`: where a key of the calibration object is in the file, for messages.
+std::string field_name(const std::string& prefix, const char* key) {
+  return prefix + key;
+}
+
+double multiplier_key(const json& object, const std::string& file, const std::string& prefix,
+                      const char* key) {
   if (!object.contains(key)) {
-    throw InputError(file, 0, key, "missing key (expected the JSON of `odocal umbmark --json`)");
+    throw InputError(file, 0, field_name(prefix, key),
+                     "missing key (expected the JSON of `odocal umbmark --json` or `odocal fit "
+                     "--json`, or a session.json whose result is one)");
   }
   const json& value = object.at(key);
   if (!value.is_number() || !std::isfinite(value.get<double>()) || !(value.get<double>() > 0.0) ||
       value.get<double>() > ros2_max_multiplier) {
-    throw InputError(file, 0, key,
+    throw InputError(file, 0, field_name(prefix, key),
                      "must be " + multiplier_allowed() + ", got " +
                          value.dump(-1, ' ', false, json::error_handler_t::replace));
   }
   return value.get<double>();
+}
+
+/// The calibration in a `--from` file: the file itself (the JSON of `odocal umbmark` or `odocal
+/// fit`), or, in a session.json (`procedure` and `result`), its `result` (`--procedure fit`,
+/// `umbmark`) or the fit inside it (`result.fit`, `--procedure auto`). `prefix` says where.
+const json& calibration_of(const json& doc, std::string& prefix) {
+  if (!doc.contains("procedure") || !doc.contains("result") || !doc["result"].is_object()) {
+    prefix.clear();
+    return doc;
+  }
+  const json& result = doc["result"];
+  if (result.contains("fit") && result["fit"].is_object() && !result.contains("c_l")) {
+    prefix = "result.fit.";
+    return result["fit"];
+  }
+  prefix = "result.";
+  return result;
 }
 
 /// A ROS 2 node / controller name: a letter or '_', then letters, digits or '_'
@@ -54,8 +79,9 @@ std::string comment_text(const json& value) {
 }
 
 /// A number of `odocal fit`'s noise object: finite and >= 0.
-double noise_key(const json& noise, const std::string& file, const char* key) {
-  const std::string field = std::string("noise.") + key;
+double noise_key(const json& noise, const std::string& file, const std::string& prefix,
+                 const char* key) {
+  const std::string field = prefix + "noise." + key;
   if (!noise.contains(key)) {
     throw InputError(file, 0, field, "missing key (expected the JSON of `odocal fit --json`)");
   }
@@ -104,21 +130,26 @@ void run_ros2(const Ros2Options& o) {
     if (!doc.is_object()) {
       throw InputError(o.from_file, 1, "", "expected a JSON object");
     }
-    c_l = multiplier_key(doc, o.from_file, "c_l");
-    c_r = multiplier_key(doc, o.from_file, "c_r");
-    e_b = multiplier_key(doc, o.from_file, "e_b");
+    std::string at;  // where the calibration is in the file: "", "result." or "result.fit."
+    const json& cal = calibration_of(doc, at);
+    c_l = multiplier_key(cal, o.from_file, at, "c_l");
+    c_r = multiplier_key(cal, o.from_file, at, "c_r");
+    e_b = multiplier_key(cal, o.from_file, at, "e_b");
     source = comment_text(json(o.from_file));
+    if (!at.empty()) {
+      source += " (session, procedure " + comment_text(doc["procedure"]) + ")";
+    }
     // The JSON of `odocal fit` carries the random error growth: the covariances follow from it.
-    if (doc.contains("noise") && doc["noise"].is_object() && !doc["noise"].contains("error")) {
-      const WheelNoise noise{noise_key(doc["noise"], o.from_file, "k_l"),
-                             noise_key(doc["noise"], o.from_file, "k_r")};
-      if (!doc.contains("wheelbase_mm") || !doc["wheelbase_mm"].is_number() ||
-          !(doc["wheelbase_mm"].get<double>() > 0.0) ||
-          !std::isfinite(doc["wheelbase_mm"].get<double>())) {
-        throw InputError(o.from_file, 0, "wheelbase_mm",
+    if (cal.contains("noise") && cal["noise"].is_object() && !cal["noise"].contains("error")) {
+      const WheelNoise noise{noise_key(cal["noise"], o.from_file, at, "k_l"),
+                             noise_key(cal["noise"], o.from_file, at, "k_r")};
+      if (!cal.contains("wheelbase_mm") || !cal["wheelbase_mm"].is_number() ||
+          !(cal["wheelbase_mm"].get<double>() > 0.0) ||
+          !std::isfinite(cal["wheelbase_mm"].get<double>())) {
+        throw InputError(o.from_file, 0, at + "wheelbase_mm",
                          "missing or not a positive number (the covariance needs the wheelbase)");
       }
-      covariance = ros2_covariance(noise, doc["wheelbase_mm"].get<double>(), o.speed_mps,
+      covariance = ros2_covariance(noise, cal["wheelbase_mm"].get<double>(), o.speed_mps,
                                    1.0 / o.publish_hz, o.pose_distance_m);
       char note[200];
       std::snprintf(note, sizeof note,
@@ -126,8 +157,8 @@ void run_ros2(const Ros2Options& o) {
                     "at %.4g m/s over 1/%.4g s (docs/calibration.md)\n",
                     noise.k_l, noise.k_r, o.pose_distance_m, o.speed_mps, o.publish_hz);
       covariance_note = note;
-    } else if (doc.contains("noise") && doc["noise"].is_object()) {
-      covariance_note = "# no covariances: " + comment_text(doc["noise"]["error"]) + "\n";
+    } else if (cal.contains("noise") && cal["noise"].is_object()) {
+      covariance_note = "# no covariances: " + comment_text(cal["noise"]["error"]) + "\n";
     }
     if (doc.contains("provenance") && doc["provenance"].is_object()) {
       const auto& p = doc["provenance"];

@@ -40,7 +40,4 @@ struct ClusterInterval {
                                                std::uint32_t replicates, std::uint64_t seed,
                                                double level);
 
-/// Student-t quantile: P(T_dof <= t) = probability, dof > 0 (need not be whole).
-[[nodiscard]] double student_t_quantile(double probability, double dof);
-
 }  // namespace odocal::host::fit_detail

@@ -1,9 +1,10 @@
-// `odocal fit`: the result as JSON (contract keys) and as text.
+// `odocal fit`: the result as JSON (contract keys) and as text, with the noise estimate beside it.
 
 #include <cstdio>
 #include <sstream>
 
 #include "odocal/host/fit.hpp"
+#include "odocal/host/fit_noise.hpp"
 
 namespace odocal::host {
 namespace {
@@ -214,6 +215,26 @@ std::string fit_result_text(const FitResult& r) {
         << " too, or 'fit apply c_l c_r b 0 0 arc b_arc' (docs/console.md))\n";
   }
   return out.str();
+}
+
+NoiseEstimate noise_for_fit(const std::vector<TickLog>& runs, const FitResult& fit,
+                            const FitOptions& options) {
+  NoiseOptions noise_options;
+  noise_options.seed = options.seed;
+  noise_options.level = options.level;
+  noise_options.heading_length_mm = fit.heading_length_mm;
+  noise_options.replicates = options.replicates > 0u ? noise_options.replicates : 0u;
+  return estimate_wheel_noise(runs, fit.nominal, fit.geometry, noise_options);
+}
+
+nlohmann::json fit_json(const FitResult& fit, const NoiseEstimate& noise) {
+  nlohmann::json j = fit_result_json(fit);
+  j["noise"] = noise_json(noise);
+  return j;
+}
+
+std::string fit_text(const FitResult& fit, const NoiseEstimate& noise) {
+  return fit_result_text(fit) + noise_text(noise);
 }
 
 }  // namespace odocal::host

@@ -587,8 +587,8 @@ Outcome run_auto(Context& c) {
   fo.replicates = 300;
   fo.progress = [&c](const std::string& message) { c.log << "  " << message << "\n"; };
   fitted = fit_now();
-  out.result["fit"] = fit_result_json(fitted);
-  out.result["fit"]["noise"] = p.noise;
+  // The JSON of `odocal fit` on these logs (noise with its intervals): what `odocal ros2` reads.
+  out.result["fit"] = fit_json(fitted, noise_for_fit(logs, fitted, fo));
   c.log << fit_text_for_auto(fitted);
   const double d = nominal.wheel_diameter_mm;
   const double c_l = fitted.geometry.wheel_diameter_left_mm / d;

@@ -15,6 +15,7 @@
 
 #include "model_in_force.hpp"
 #include "odocal/host/fit.hpp"
+#include "odocal/host/fit_noise.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
@@ -90,8 +91,10 @@ Outcome run_fit(Context& c) {
   }
   const FitResult& result = *fitted.result;
   Outcome outcome;
-  outcome.result = fit_result_json(result);
-  outcome.text = fit_result_text(result);
+  // The JSON of `odocal fit` on these logs (noise included): what `odocal ros2 --from` reads.
+  const NoiseEstimate noise = noise_for_fit(logs, result, options);
+  outcome.result = fit_json(result, noise);
+  outcome.text = fit_text(result, noise);
   c.log << outcome.text;
   // Change only what the runs show wrong: a parameter whose interval holds the value in force
   // keeps it (a fit of a few runs must not replace a better UMBmark result by its noise).

@@ -16,6 +16,7 @@
 #include "model_in_force.hpp"
 #include "odocal/calib/bootstrap.hpp"
 #include "odocal/calib/lateral.hpp"
+#include "odocal/calib/quantile.hpp"
 #include "odocal/drive/robot_model.hpp"
 #include "odocal/host/calib_json.hpp"
 #include "session_internal.hpp"
@@ -87,12 +88,7 @@ Shown shown_corrections(const std::vector<calib::StopPoint>& stops,
   if (n < 3) {
     return shown;
   }
-  // Two-sided 95 % Student t quantiles for n − 1 = 2 .. 30 degrees of freedom, then normal.
-  static constexpr double t95[] = {4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262,
-                                   2.228, 2.201, 2.179, 2.160, 2.145, 2.131, 2.120, 2.110,
-                                   2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060,
-                                   2.056, 2.052, 2.048, 2.045, 2.042};
-  const double t = n - 1 <= 30 ? t95[n - 3] : 1.96;
+  const double t = calib::student_t_quantile(0.975, static_cast<double>(n - 1));
   const auto interval = [&](const std::vector<double>& v, double& lo, double& hi) {
     double mean = 0.0;
     for (double x : v) {

@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "odocal/calib/quantile.hpp"
 #include "odocal/host/sim_procedures.hpp"
 #include "odocal/host/svg_plot.hpp"
 
@@ -18,37 +19,6 @@ namespace {
 
 using std::numbers::pi;
 constexpr double deg_per_rad = 180.0 / pi;
-
-/// Student-t distribution function for t >= 0 by Simpson's rule on the density (host code; the
-/// degrees of freedom here are small whole or fractional numbers, the accuracy ~1e-9).
-double student_t_cdf(double t, double dof) {
-  const double log_norm =
-      std::lgamma(0.5 * (dof + 1.0)) - std::lgamma(0.5 * dof) - 0.5 * std::log(dof * pi);
-  const auto density = [&](double x) {
-    return std::exp(log_norm - 0.5 * (dof + 1.0) * std::log1p(x * x / dof));
-  };
-  constexpr int intervals = 2000;
-  const double h = t / intervals;
-  double sum = density(0.0) + density(t);
-  for (int i = 1; i < intervals; ++i) {
-    sum += density(i * h) * (i % 2 == 1 ? 4.0 : 2.0);
-  }
-  return 0.5 + sum * h / 3.0;
-}
-
-/// The t with P(T_dof <= t) = probability (probability in (0.5, 1)).
-double student_t_quantile(double probability, double dof) {
-  double lo = 0.0;
-  double hi = 1.0;
-  while (student_t_cdf(hi, dof) < probability && hi < 1e6) {
-    hi *= 2.0;
-  }
-  for (int i = 0; i < 60; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (student_t_cdf(mid, dof) < probability ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
-}
 
 struct Moments {
   double mean = 0.0;
@@ -169,7 +139,7 @@ bool extended_figure(const std::vector<ExtendedRun>& reference_cw,
   f.e_nonsys_deg = f.e_cw_deg + f.e_ccw_deg;
   f.sd_deg = std::sqrt(variance);
   const double dof = dof_denominator > 0.0 ? variance * variance / dof_denominator : 1e6;
-  const double t = student_t_quantile(0.975, std::max(dof, 1.0));
+  const double t = calib::student_t_quantile(0.975, std::max(dof, 1.0));
   f.ci_lo_deg = std::max(0.0, f.e_nonsys_deg - t * f.sd_deg);
   f.ci_hi_deg = f.e_nonsys_deg + t * f.sd_deg;
   figure = f;

@@ -16,8 +16,6 @@
 #include "odocal/host/fit.hpp"
 #include "odocal/host/sim_procedures.hpp"
 
-#include "../../../host_sim/src/fit/fit_interval.hpp"  // internal: the Student-t quantile
-
 namespace odocal::host {
 namespace {
 
@@ -316,20 +314,6 @@ TEST(FitGeometry, OneTapeMeasureRunGivesTheGeometryWithoutIntervals) {
   EXPECT_FALSE(out.result->ci_left_mm.has_value());
   EXPECT_EQ(out.result->replicates, 0u);
   EXPECT_NE(fit_result_text(*out.result).find("single run"), std::string::npos);
-}
-
-TEST(FitInterval, StudentTQuantilesMatchTheTables) {
-  // Two-sided 95 % points of Student's t (any statistics table), and the normal limit.
-  EXPECT_NEAR(fit_detail::student_t_quantile(0.975, 1.0), 12.7062, 1e-4);
-  EXPECT_NEAR(fit_detail::student_t_quantile(0.975, 3.0), 3.1824, 1e-4);
-  EXPECT_NEAR(fit_detail::student_t_quantile(0.975, 10.0), 2.2281, 1e-4);
-  EXPECT_NEAR(fit_detail::student_t_quantile(0.95, 30.0), 1.6973, 1e-4);
-  EXPECT_NEAR(fit_detail::student_t_quantile(0.975, 1e7), 1.95996, 1e-4);
-  EXPECT_NEAR(fit_detail::student_t_quantile(0.025, 3.0), -3.1824, 1e-4);
-  // Between whole degrees of freedom (Bell-McCaffrey's are not whole): between its neighbours.
-  const double t = fit_detail::student_t_quantile(0.975, 3.5);
-  EXPECT_LT(t, 3.1824);
-  EXPECT_GT(t, 2.7764);
 }
 
 // ------------------------------------------------------------------------------ reading logs

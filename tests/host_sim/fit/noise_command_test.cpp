@@ -1,5 +1,6 @@
 // `odocal fit`'s noise object and `odocal ros2 --from FIT.json`'s covariances, end to end through
-// the program.
+// the program; the sessions that fit give the same JSON, and `ros2 --from` reads their
+// session.json.
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -7,9 +8,11 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "odocal/host/fit.hpp"
@@ -124,6 +127,108 @@ TEST(OdocalFitNoise, FitJsonCarriesNoiseAndRos2WritesItsCovariances) {
   EXPECT_TRUE(out.empty()) << out;
   EXPECT_EQ(run_command(odocal + " ros2 --from " + fit_file + " --publish-hz 0", out, err), 2);
   EXPECT_NE(err.find("--publish-hz"), std::string::npos) << err;
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// `odocal ros2 --from FILE`'s covariance diagonals and multipliers agree with the fit object
+/// `fit` (the arithmetic of ros2_covariance on its noise and wheelbase; the shortest decimals
+/// that read back as the same doubles, so to rounding).
+void expect_ros2_of(const std::string& odocal, const std::string& file, const nlohmann::json& fit) {
+  std::string out, err;
+  ASSERT_EQ(run_command(odocal + " ros2 --from " + file, out, err), 0) << err;
+  const std::vector<double> pose = yaml_list(out, "pose_covariance_diagonal");
+  const std::vector<double> twist = yaml_list(out, "twist_covariance_diagonal");
+  ASSERT_EQ(pose.size(), 6u) << out;
+  ASSERT_EQ(twist.size(), 6u) << out;
+  // ros2's defaults: 0.2 m/s, 50 Hz, the pose after 1 m (docs/calibration.md).
+  const Ros2Covariance expected = ros2_covariance(
+      WheelNoise{fit["noise"]["k_l"].get<double>(), fit["noise"]["k_r"].get<double>()},
+      fit["wheelbase_mm"].get<double>(), 0.2, 1.0 / 50.0, 1.0);
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_NEAR(pose[i], expected.pose[i], 1e-12 * expected.pose[i]) << i;
+    EXPECT_NEAR(twist[i], expected.twist[i], 1e-12 * expected.twist[i]) << i;
+  }
+  for (const auto& [key, name] : {std::pair{"e_b", "wheel_separation_multiplier"},
+                                  std::pair{"c_l", "left_wheel_radius_multiplier"},
+                                  std::pair{"c_r", "right_wheel_radius_multiplier"}}) {
+    const auto at = out.find(std::string(name) + ": ");
+    ASSERT_NE(at, std::string::npos) << out;
+    EXPECT_EQ(std::stod(out.substr(at + std::string(name).size() + 2)), fit[key].get<double>())
+        << name;
+  }
+}
+
+TEST(OdocalFitNoise, FittingSessionsGiveOdocalFitsJsonAndRos2ReadsTheirSessionJson) {
+  const std::string odocal = odocal_binary();
+  if (odocal.empty() || !std::ifstream(odocal + "-sim")) {
+    FAIL() << "odocal and odocal-sim not built (cmake --build --preset host builds them)";
+  }
+  // A robot that slips (k = σ²·50 mm = 4.5e-4 mm²/mm per wheel): the noise has something to find.
+  const std::string robot = ::testing::TempDir() + "noise_session_robot.json";
+  std::ofstream(robot) << R"({"wheel_diameter_mm": 60, "wheelbase_mm": 150,
+      "counts_per_rev": 1440, "true_left_diameter_mm": 59.85, "true_right_diameter_mm": 60.15,
+      "true_wheelbase_mm": 153, "slip_sigma": 0.003, "bump_height_mm": 0,
+      "measure_sigma_mm": 2})";
+  std::string out, err;
+
+  // --procedure fit: its result is `odocal fit`'s JSON on its logs, every key, noise included
+  // (the same computation on the same files and options: equal, not merely close).
+  const std::string fit_dir = ::testing::TempDir() + "noise_session_fit";
+  std::system(("rm -rf " + fit_dir).c_str());
+  ASSERT_EQ(run_command(odocal + " session --sim " + robot +
+                            " --seed 4 --procedure fit --runs 6 --yes --json --out " + fit_dir,
+                        out, err),
+            0)
+      << err;
+  const nlohmann::json session = nlohmann::json::parse(read_file(fit_dir + "/session.json"));
+  const nlohmann::json& result = session["result"];
+  std::string logs;
+  for (int i = 1; i <= 6; ++i) {
+    logs += " " + fit_dir + "/fit_run_0" + std::to_string(i) + ".csv";
+  }
+  ASSERT_EQ(run_command(odocal + " fit --log" + logs +
+                            " --wheel-diameter-mm 60 --wheelbase-mm 150 --counts-per-rev 1440 "
+                            "--seed 4 --json",
+                        out, err),
+            0)
+      << err;
+  const nlohmann::json fit = nlohmann::json::parse(out);
+  ASSERT_TRUE(fit["noise"].contains("k_l")) << fit["noise"].dump();
+  for (const auto& [key, value] : fit.items()) {
+    ASSERT_TRUE(result.contains(key)) << key;
+    EXPECT_EQ(result[key], value) << key;
+  }
+  expect_ros2_of(odocal, fit_dir + "/session.json", result);
+
+  // --procedure auto: the fit is result.fit, in the same shape, noise and its intervals included.
+  const std::string auto_dir = ::testing::TempDir() + "noise_session_auto";
+  std::system(("rm -rf " + auto_dir).c_str());
+  ASSERT_EQ(run_command(odocal + " session --sim " + robot +
+                            " --seed 4 --procedure auto --yes --json --out " + auto_dir,
+                        out, err),
+            0)
+      << err;
+  const nlohmann::json auto_session = nlohmann::json::parse(read_file(auto_dir + "/session.json"));
+  const nlohmann::json& auto_fit = auto_session["result"]["fit"];
+  for (const auto& [key, value] : fit.items()) {
+    EXPECT_TRUE(auto_fit.contains(key)) << key;
+  }
+  for (const char* key : {"k_l", "k_r"}) {
+    ASSERT_EQ(auto_fit["noise"]["ci"][key].size(), 2u) << auto_fit["noise"].dump();
+  }
+  expect_ros2_of(odocal, auto_dir + "/session.json", auto_fit);
+
+  // A session.json whose fit lacks a multiplier is refused, naming where it should be.
+  nlohmann::json bad = session;
+  bad["result"].erase("c_r");
+  const std::string bad_file = ::testing::TempDir() + "noise_session_bad.json";
+  std::ofstream(bad_file) << bad.dump();
+  EXPECT_EQ(run_command(odocal + " ros2 --from " + bad_file, out, err), 2);
+  EXPECT_NE(err.find("result.c_r"), std::string::npos) << err;
 }
 
 }  // namespace

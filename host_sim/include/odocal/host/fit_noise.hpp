@@ -106,4 +106,18 @@ struct Ros2Covariance {
                                              double unobserved = 1.0e6);
 [[nodiscard]] std::string noise_text(const NoiseEstimate& estimate);
 
+/// The noise estimate every fit reports beside its geometry (`odocal fit` and the sessions that
+/// fit): `runs` about `fit`'s geometry, with the seed, level and heading length of `options` (the
+/// fit's), and intervals (NoiseOptions' B) when the fit was asked for intervals (B > 0).
+[[nodiscard]] NoiseEstimate noise_for_fit(const std::vector<TickLog>& runs, const FitResult& fit,
+                                          const FitOptions& options);
+
+/// The one JSON of a fit, whatever procedure made it (`odocal fit --json`, a session's `result`
+/// with `--procedure fit`, its `result.fit` with `--procedure auto`): fit_result_json with
+/// `noise` (noise_json). What `odocal ros2 --from` reads.
+[[nodiscard]] nlohmann::json fit_json(const FitResult& fit, const NoiseEstimate& noise);
+
+/// The same for people: fit_result_text, then noise_text.
+[[nodiscard]] std::string fit_text(const FitResult& fit, const NoiseEstimate& noise);
+
 }  // namespace odocal::host

@@ -19,8 +19,9 @@
 
 #include "odocal/host/calib_json.hpp"
 #include "odocal/host/csv.hpp"
+#include "odocal/host/extended_figure.hpp"
+#include "odocal/host/path_geometry.hpp"
 #include "odocal/host/robot_client.hpp"
-#include "odocal/host/sim_procedures.hpp"
 #include "odocal/toolkit/numbers.hpp"
 #include "session_internal.hpp"
 

@@ -17,6 +17,7 @@
 #include "odocal/calib/umbmark.hpp"
 #include "odocal/drive/motion_executor.hpp"
 #include "odocal/host/calib_json.hpp"
+#include "odocal/host/extended_figure.hpp"
 #include "odocal/host/fit.hpp"
 #include "odocal/host/path_geometry.hpp"
 #include "odocal/host/sim_robot.hpp"
@@ -25,7 +26,6 @@ namespace odocal::host {
 
 /// Receives a one-line progress message ("umbmark: pass 1, run 3/10") while a procedure runs.
 using ProgressFn = std::function<void(const std::string&)>;
-
 
 /// What ground truth a logged run records.
 enum class LogTruth {
@@ -174,36 +174,6 @@ struct ExtendedOptions {
   bool record_paths = false;   ///< keep the true paths (for --svg)
 };
 
-/// One run of the extended UMBmark: its return errors, measured minus odometry (as UMBmark).
-struct ExtendedRun {
-  bool clockwise = true;
-  double theta_error_deg = 0.0;  ///< measured heading minus odometry heading, wrapped to ±180°
-  double x_mm = 0.0;
-  double y_mm = 0.0;
-  std::uint32_t bumps_crossed = 0;  ///< cables the robot's wheels actually rolled over
-};
-
-/// The figure of the extended UMBmark from its runs (docs/architecture.md): per direction, the
-/// average of |θ_i − θ̄_ref| over the bump runs i, θ̄_ref the bump-free runs' average orientation
-/// error in that direction; e_nonsys_deg = the sum of the two directions' averages.
-struct ExtendedFigure {
-  double reference_cw_deg = 0.0;
-  double reference_ccw_deg = 0.0;
-  double e_cw_deg = 0.0;
-  double e_ccw_deg = 0.0;
-  double e_nonsys_deg = 0.0;
-  double sd_deg = 0.0;     ///< approximate standard error of e_nonsys_deg (run-to-run scatter)
-  double ci_lo_deg = 0.0;  ///< approximate 95 % interval (Student t)
-  double ci_hi_deg = 0.0;
-};
-
-/// Computes the figure; false (and `figure` untouched) unless every list has at least 2 runs.
-[[nodiscard]] bool extended_figure(const std::vector<ExtendedRun>& reference_cw,
-                                   const std::vector<ExtendedRun>& reference_ccw,
-                                   const std::vector<ExtendedRun>& bumps_cw,
-                                   const std::vector<ExtendedRun>& bumps_ccw,
-                                   ExtendedFigure& figure);
-
 struct ExtendedReport {
   bool ok = false;
   std::string error;
@@ -219,10 +189,6 @@ struct ExtendedReport {
   std::uint64_t seed = 0;
   ExtendedOptions options{};
 };
-
-/// Where the cables go: `count` evenly spaced along a leg of `side_m`, half a spacing from each
-/// end (first = side/(2·count), spacing = side/count).
-void extended_bump_layout(double side_m, std::size_t count, double& first_m, double& spacing_m);
 
 /// The extended UMBmark on a robot (its nominal geometry in the firmware): `runs` cw + `runs` ccw
 /// squares on a smooth floor, then the same over `bumps` cables laid under one wheel along the

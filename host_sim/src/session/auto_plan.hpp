@@ -1,0 +1,73 @@
+#pragma once
+// Internal to the session: how `--procedure auto` plans its runs (docs/calibration.md "How auto
+// chooses its runs"): the kinds of run, their commands and instructions, and the precision the
+// runs so far leave on the unseen path, with the run that lowers it the most.
+
+#include <cstddef>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "odocal/host/fit.hpp"
+#include "session_internal.hpp"
+
+namespace odocal::host::session::auto_plan {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kMeasureSigmaMm = 2.0;        ///< a tape over a few metres (docs/calibration.md)
+constexpr double kHeadingLengthMm = 286.4789;  ///< 2 mm per 0.4 degree, as odocal fit
+constexpr std::size_t kTotalMeasurements = 12;
+/// --target's default: the factors add no more to the unseen path's end than one tape
+/// measurement's error (docs/calibration.md).
+constexpr double kDefaultTargetMm = 2.0;
+
+enum class Kind { line, spin_ccw, spin_cw, arc_left, arc_right };
+
+/// The label of a run of `k` (`line`, `turns-ccw`, ...).
+const char* kind_label(Kind k);
+
+/// What the runs are made of, from the robot's size and speeds.
+struct Plan {
+  double line_m = 2.0;
+  double spin_radps = 2.0;
+  double spin_turns = 5.0;
+  double arc_radius_m = 0.4;
+  double arc_rad = 1.5 * kPi;
+  double arc_mps = 0.2;
+  double cruise_mps = 0.3;
+};
+
+/// The drive command of a run of `k`, and its nominal duration (`expected_s`).
+std::string command_of(Kind k, const Plan& p, double& expected_s, Context& c);
+
+/// What the user is to do and measure for a run of `k`.
+std::string what_to_do(Kind k, const Plan& p);
+
+/// The runs' sizes from the robot's wheelbase, speeds and --side-m.
+Plan plan_for(Context& c, double wheelbase_mm);
+
+/// What the runs so far leave on the unseen path, and the run to drive next.
+struct Precision {
+  double sigma_sys_mm = 0.0;
+  double sigma_random_mm = 0.0;  ///< 0: not estimated
+  double target_mm = 0.0;
+  Kind next = Kind::line;
+  std::size_t more = 0;  ///< runs expected before the target is met (capped)
+  /// The arcs look like another wheelbase the runs cannot pin yet: not done before more arcs.
+  bool arc_unresolved = false;
+  nlohmann::json noise;  ///< `odocal fit`'s `noise` object, null when not estimated
+};
+
+/// The fit's comparison of model `kind` (nullptr when it was not among the candidates).
+const FitCandidate* candidate_of(const FitResult& r, FitModelKind kind);
+
+/// The precision the fit `r` of `logs` leaves, the next run, and how many more runs (at most
+/// `room`) the target likely takes; `arc_count` the arcs driven so far.
+Precision precision_of(const FitResult& r, const FitNominal& nominal,
+                       const std::vector<TickLog>& logs, const Plan& plan,
+                       std::optional<double> target, std::size_t room, std::size_t arc_count);
+
+}  // namespace odocal::host::session::auto_plan

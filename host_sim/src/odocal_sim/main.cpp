@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -35,17 +36,30 @@ void on_signal(int) {
 }
 
 /// The console's view of a stream whose input the program feeds itself (scripted stdin): it
-/// writes through, and reads nothing.
-class OutputOnly final : public odocal::hal::ByteStream {
+/// writes through, and gives the console the script's bytes as they are fed.
+class ScriptedStream final : public odocal::hal::ByteStream {
  public:
-  explicit OutputOnly(odocal::hal::ByteStream& inner) : inner_(inner) {}
+  explicit ScriptedStream(odocal::hal::ByteStream& inner) : inner_(inner) {}
+  /// Queues script bytes for the console to read.
+  void feed(const std::string& bytes) { pending_ += bytes; }
 
  private:
-  std::size_t do_read(std::uint8_t*, std::size_t) override { return 0u; }
+  std::size_t do_read(std::uint8_t* out, std::size_t capacity) override {
+    const std::size_t n = std::min(capacity, pending_.size() - taken_);
+    std::memcpy(out, pending_.data() + taken_, n);
+    taken_ += n;
+    if (taken_ == pending_.size()) {
+      pending_.clear();
+      taken_ = 0u;
+    }
+    return n;
+  }
   std::size_t do_write(const std::uint8_t* data, std::size_t size) override {
     return inner_.write(data, size);
   }
   odocal::hal::ByteStream& inner_;
+  std::string pending_;
+  std::size_t taken_ = 0u;
 };
 
 /// The console's view of the pty in lockstep: passes bytes through and counts the input lines
@@ -382,7 +396,7 @@ int main(int argc, char** argv) {
   // The console stream.
   std::unique_ptr<posix::PtyByteStream> pty;
   std::unique_ptr<posix::FdByteStream> stdio;
-  std::unique_ptr<OutputOnly> output_only;
+  std::unique_ptr<ScriptedStream> scripted;
   std::unique_ptr<LineReader> script;
   // On a pty as fast as possible, the robot runs in lockstep with its host: simulated time
   // advances only while a motion or its trial runs, and by a fixed quantum after each input
@@ -414,9 +428,9 @@ int main(int argc, char** argv) {
     } else {
       // Scripted input: one line at a time, each answered (and its motion finished) before the
       // next is read.
-      output_only = std::make_unique<OutputOnly>(*stdio);
+      scripted = std::make_unique<ScriptedStream>(*stdio);
       script = std::make_unique<LineReader>(*stdio);
-      console_stream = output_only.get();
+      console_stream = scripted.get();
     }
   }
   params::ParamSet defaults;
@@ -516,11 +530,7 @@ int main(int argc, char** argv) {
         bool fed = false;
         while (!line_end && script->next(line, line_end)) {
           fed = true;
-          for (char c : line) {
-            while (!console.receive_from_isr(static_cast<std::uint8_t>(c))) {
-              console.poll(robot.plant().clock().now_us());
-            }
-          }
+          scripted->feed(line);
         }
         if (fed) {
           pacer.rebase(robot.simulated_s());

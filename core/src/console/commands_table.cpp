@@ -50,15 +50,23 @@ const Console::Form Console::form_table_[] = {
 };
 const std::size_t Console::form_count_ = sizeof(Console::form_table_) / sizeof(Form);
 
+bool Console::refused_by_selftest(Handler handler) {
+  if (!selftest_.running()) {
+    return false;
+  }
+  // The self-test's reply is still to come: only `stop` is taken, and ends it.
+  if (handler != Handler::stop) {
+    send_error(ErrorCode::busy, "selftest running; stop ends it");
+    return true;
+  }
+  selftest_.cancel();
+  send_error(ErrorCode::busy, "selftest ended by stop");
+  return false;
+}
+
 void Console::dispatch(Handler handler, const Token* words, std::size_t count) {
-  if (selftest_.running()) {
-    // The self-test's reply is still to come: only `stop` is taken, and ends it.
-    if (handler != Handler::stop) {
-      send_error(ErrorCode::busy, "selftest running; stop ends it");
-      return;
-    }
-    selftest_.cancel();
-    send_error(ErrorCode::busy, "selftest ended by stop");
+  if (refused_by_selftest(handler)) {
+    return;
   }
   switch (handler) {
     case Handler::help:

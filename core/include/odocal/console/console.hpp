@@ -190,6 +190,9 @@ class Console {
   [[gnu::noinline]] void handle_event(LineEvent event);
   void execute(const Token* words, std::size_t count);
   void dispatch(Handler handler, const Token* words, std::size_t count);
+  /// While a self-test runs: refuses every command but `stop` (err busy), which ends the test
+  /// (its `err busy` line first, then stop's own reply). @return true when refused.
+  bool refused_by_selftest(Handler handler);
   void continue_listing();
   void note_trials();
   void emit_streams(std::uint32_t now_us);

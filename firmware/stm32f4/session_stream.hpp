@@ -34,6 +34,7 @@ class SessionStream final : public hal::ByteStream {
   std::size_t do_write(const std::uint8_t* data, std::size_t size) override {
     return uart_.write(data, size);
   }
+  std::uint32_t do_rx_dropped() const override { return uart_.rx_dropped(); }
 
   static constexpr std::uint8_t end_of_transmission = 0x04u;
   hal::ByteStream& uart_;

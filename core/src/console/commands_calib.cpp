@@ -19,11 +19,11 @@ constexpr params::ParamId kFactorIds[] = {
     params::ParamId::f_lat,        params::ParamId::f_lon};
 constexpr std::size_t kLateralFirst = 4u;
 
-const params::ParamId* factor_ids(bool wheel) {
-  return kFactorIds + (wheel ? 0u : kLateralFirst);
-}
-
 }  // namespace
+
+const params::ParamId* Console::factor_ids(FactorGroup group) {
+  return kFactorIds + (group == FactorGroup::wheel ? 0u : kLateralFirst);
+}
 
 bool Console::point_args(const Token* words, float& x, float& y) {
   return number_arg(words[0], -1.0e6f, 1.0e6f, x) && number_arg(words[1], -1.0e6f, 1.0e6f, y);
@@ -182,7 +182,7 @@ void Console::cmd_calib_apply(FactorGroup group, const Token* words, std::size_t
 void Console::cmd_host_factors(FactorGroup group, const Token* words, std::size_t count) {
   const bool fit = group == FactorGroup::wheel;
   // Every value is checked against its parameter's range before anything changes.
-  const params::ParamId* ids = factor_ids(fit);
+  const params::ParamId* ids = factor_ids(group);
   const std::size_t id_count = fit ? 3u : 2u;
   // values[3]: `fit apply`'s arc wheelbase, 0 (one wheelbase) unless `arc <mm>` ends the line.
   float values[4] = {};
@@ -219,7 +219,7 @@ bool Console::apply_factors(FactorGroup group, const float* values, std::size_t 
     return false;
   }
   const bool wheel = group == FactorGroup::wheel;
-  const params::ParamId* ids = factor_ids(wheel);
+  const params::ParamId* ids = factor_ids(group);
   params::ParamSet candidate = settings_.values();
   for (std::size_t i = 0; i < count; ++i) {
     candidate.set(ids[i], values[i]);
@@ -244,8 +244,8 @@ bool Console::apply_factors(FactorGroup group, const float* values, std::size_t 
     append(reply, " %s=%6", params::param_info(ids[i]).name, settings_.get(ids[i]));
   }
   // Factors computed on a host print runs only when the host said how many.
-  append_either(reply, runs != 0u, " method=%s runs=%u unsaved=1", " method=%s unsaved=1",
-                params::method_name(method), runs);
+  append_either(reply, runs != 0u ? Spec::full : Spec::shorter, " method=%s runs=%u unsaved=1",
+                " method=%s unsaved=1", params::method_name(method), runs);
   send(reply);
   return true;
 }

@@ -7,8 +7,8 @@
 
 namespace odocal::console {
 
-void Console::cmd_odom(std::size_t count) {
-  if (count == 2u) {  // odom reset
+void Console::cmd_odom(Handler handler) {
+  if (handler == Handler::odom_reset) {
     // The path's segments end on odometry: zeroing it mid-path would stretch the segment.
     if (refuse_busy(Busy::path)) {
       return;
@@ -85,8 +85,8 @@ void Console::cmd_run(Handler handler, const Token* words) {
     umbmark_.note_driven_side_mm(length_m * 1000.0f);
   }
   // The unseen path has no length.
-  send_either(!unseen, "ok path=%s segments=%u length_m=%3", "ok path=%s segments=%u",
-              drive::path_name(path.id), path.count, length_m);
+  send_either(unseen ? Spec::shorter : Spec::full, "ok path=%s segments=%u length_m=%3",
+              "ok path=%s segments=%u", drive::path_name(path.id), path.count, length_m);
 }
 
 void Console::cmd_stream(Handler handler, const Token* words) {
@@ -141,8 +141,8 @@ void Console::trial_pairs(Reply& reply, const KeptTrial& trial) {
   pose_pairs(reply, trial.end);
 }
 
-void Console::cmd_trials(std::size_t count) {
-  if (count == 2u) {  // trials clear
+void Console::cmd_trials(Handler handler) {
+  if (handler == Handler::trials_clear) {
     trials_.clear();
     send_line("ok trials=%u", 0u);  // the spec of `trials`'s last line
     return;

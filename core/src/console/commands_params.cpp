@@ -6,14 +6,14 @@
 
 namespace odocal::console {
 
-void Console::cmd_param(const Token* words, std::size_t count) {
+void Console::cmd_param(Handler handler, const Token* words) {
   params::ParamId id{};
   if (!params::find_param(words[1].text, words[1].length, id)) {
     send_error(ErrorCode::unknown_parameter, "no such parameter (see params)");
     return;
   }
   const params::ParamInfo& info = params::param_info(id);
-  if (count == 3u) {  // set <name> <value>
+  if (handler == Handler::set) {
     // number_arg accepts the bounds as `params` prints them and keeps the value inside the
     // table's.
     float stored = 0.0f;

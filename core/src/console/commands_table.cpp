@@ -13,14 +13,14 @@ const Console::Form Console::form_table_[] = {
     {"version", 1, 1, 0, Handler::version},
     {"status", 1, 1, 0, Handler::status},
     {"params", 1, 1, 0, Handler::params},
-    {"get <name>", 2, 2, 0, Handler::param},
-    {"set <name> <value>", 3, 3, 0, Handler::param},
+    {"get <name>", 2, 2, 0, Handler::get},
+    {"set <name> <value>", 3, 3, 0, Handler::set},
     {"save", 1, 1, form_moving, Handler::save},
     {"load", 1, 1, form_moving, Handler::load},
     {"defaults", 1, 1, form_moving, Handler::defaults},
     {"provenance", 1, 1, 0, Handler::provenance},
     {"odom", 1, 1, 0, Handler::odom},
-    {"odom reset", 2, 2, form_sub, Handler::odom},
+    {"odom reset", 2, 2, form_sub, Handler::odom_reset},
     {"drive <v_mps> <w_radps> [ms]", 3, 4, 0, Handler::drive},
     {"stop", 1, 1, 0, Handler::stop},
     {"selftest [left|right]", 1, 2, form_moving, Handler::selftest},
@@ -30,7 +30,7 @@ const Console::Form Console::form_table_[] = {
     {"run unseen", 2, 2, form_sub, Handler::run_unseen},
     {"trial [N]", 1, 2, 0, Handler::trial},
     {"trials", 1, 1, 0, Handler::trials},
-    {"trials clear", 2, 2, form_sub, Handler::trials},
+    {"trials clear", 2, 2, form_sub, Handler::trials_clear},
     {"umbmark clear", 2, 2, form_sub, Handler::umbmark_clear},
     {"umbmark add cw|ccw <x_mm> <y_mm>", 5, 5, form_sub, Handler::umbmark_add},
     {"umbmark side <side_m>", 3, 3, form_sub, Handler::umbmark_side},
@@ -50,15 +50,23 @@ const Console::Form Console::form_table_[] = {
 };
 const std::size_t Console::form_count_ = sizeof(Console::form_table_) / sizeof(Form);
 
+bool Console::refused_by_selftest(Handler handler) {
+  if (!selftest_.running()) {
+    return false;
+  }
+  // The self-test's reply is still to come: only `stop` is taken, and ends it.
+  if (handler != Handler::stop) {
+    send_error(ErrorCode::busy, "selftest running; stop ends it");
+    return true;
+  }
+  selftest_.cancel();
+  send_error(ErrorCode::busy, "selftest ended by stop");
+  return false;
+}
+
 void Console::dispatch(Handler handler, const Token* words, std::size_t count) {
-  if (selftest_phase_ != 0u) {
-    // The self-test's reply is still to come: only `stop` is taken, and ends it.
-    if (handler != Handler::stop) {
-      send_error(ErrorCode::busy, "selftest running; stop ends it");
-      return;
-    }
-    selftest_phase_ = 0u;
-    send_error(ErrorCode::busy, "selftest ended by stop");
+  if (refused_by_selftest(handler)) {
+    return;
   }
   switch (handler) {
     case Handler::help:
@@ -73,8 +81,9 @@ void Console::dispatch(Handler handler, const Token* words, std::size_t count) {
     case Handler::params:
       start_listing(Listing::params);
       return;
-    case Handler::param:
-      cmd_param(words, count);
+    case Handler::get:
+    case Handler::set:
+      cmd_param(handler, words);
       return;
     case Handler::save:
       cmd_save();
@@ -89,7 +98,8 @@ void Console::dispatch(Handler handler, const Token* words, std::size_t count) {
       cmd_provenance();
       return;
     case Handler::odom:
-      cmd_odom(count);
+    case Handler::odom_reset:
+      cmd_odom(handler);
       return;
     case Handler::drive:
       cmd_drive(words, count);
@@ -110,7 +120,8 @@ void Console::dispatch(Handler handler, const Token* words, std::size_t count) {
       cmd_trial(words, count);
       return;
     case Handler::trials:
-      cmd_trials(count);
+    case Handler::trials_clear:
+      cmd_trials(handler);
       return;
     case Handler::umbmark_clear:
       cmd_umbmark_clear();

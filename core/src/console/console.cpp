@@ -23,6 +23,7 @@ Console::Console(hal::ByteStream& stream, drive::ControlLoop& loop, params::Para
       loop_(loop),
       options_(options),
       echo_(options.echo == EchoMode::on),
+      selftest_(loop, settings_),
       settings_(loop, store, options.defaults) {}
 
 params::StoreResult Console::start(std::uint32_t now_us) {
@@ -42,25 +43,31 @@ params::StoreResult Console::start(std::uint32_t now_us) {
   return start.store;
 }
 
-bool Console::receive_from_isr(std::uint8_t byte) {
-  if (!rx_.push(byte)) {
-    rx_dropped_.fetch_add(1u, std::memory_order_relaxed);
-    return false;
-  }
-  return true;
-}
-
 ConsoleCounters Console::counters() const {
   ConsoleCounters c;
   c.commands = commands_;
   c.errors = errors_;
   c.stream_dropped = stream_dropped_;
-  c.rx_dropped = rx_dropped_.load(std::memory_order_relaxed);
+  c.rx_dropped = stream_.rx_dropped();
   return c;
 }
 
-bool Console::idle() const {
-  return rx_.size() == 0u && listing_ == Listing::none && out_.size() == 0u;
+bool Console::idle() {
+  return listing_ == Listing::none && out_.size() == 0u && peek_byte() < 0;
+}
+
+bool Console::next_byte(std::uint8_t& byte) {
+  const int next = peek_byte();
+  held_ = false;
+  byte = static_cast<std::uint8_t>(next);
+  return next >= 0;
+}
+
+int Console::peek_byte() {
+  if (!held_) {
+    held_ = stream_.read(&held_byte_, 1u) != 0u;
+  }
+  return held_ ? held_byte_ : -1;
 }
 
 void Console::poll(std::uint32_t now_us) {
@@ -71,25 +78,9 @@ void Console::poll(std::uint32_t now_us) {
   clock_us_ += static_cast<std::uint32_t>(now_us - last_now_us_);
   last_now_us_ = now_us;
 
-  // Pull what the stream has into the ring (as much as the ring takes).
-  std::array<std::uint8_t, 16> chunk{};  // small: the main loop's stack
-  for (;;) {
-    const std::size_t room = rx_.free_space();
-    if (room == 0u) {
-      break;
-    }
-    const std::size_t got = stream_.read(chunk.data(), room < chunk.size() ? room : chunk.size());
-    for (std::size_t i = 0; i < got; ++i) {
-      (void)rx_.push(chunk[i]);
-    }
-    if (got == 0u) {
-      break;
-    }
-  }
-
   // A finished trial is announced before the reply to any later line.
   note_trials();
-  if (selftest_phase_ != 0u) {
+  if (selftest_.running()) {
     continue_selftest();
   }
   if (listing_ != Listing::none) {
@@ -102,9 +93,10 @@ void Console::poll(std::uint32_t now_us) {
 }
 
 void Console::take_input() {
-  // One line per poll, and only while a whole reply (plus its echo) is sure to fit.
+  // One line per poll, and only while a whole reply (plus its echo) is sure to fit: until then
+  // the input waits in the stream (the console has no receive ring of its own).
   std::uint8_t byte = 0u;
-  while (out_.free_space() >= max_reply + 8u && rx_.pop(byte)) {
+  while (out_.free_space() >= max_reply + 8u && next_byte(byte)) {
     Echo echo;
     const LineEvent event = editor_.feed(byte, echo);
     bool echo_this = echo_;
@@ -129,9 +121,7 @@ void Console::take_input() {
 void Console::detect_terminal(std::uint8_t line_end) {
   // Terminals send Enter as a bare CR, one key at a time; programs send CR LF in one write. A CR
   // with nothing behind it yet is a person typing: show the line they could not see, echo on.
-  std::uint8_t next = 0u;
-  if (options_.echo != EchoMode::automatic || echo_ || line_end != '\r' ||
-      (rx_.peek(next) && next == '\n')) {
+  if (options_.echo != EchoMode::automatic || echo_ || line_end != '\r' || peek_byte() == '\n') {
     return;
   }
   echo_ = true;

@@ -1,5 +1,7 @@
 #include "odocal/console/reply.hpp"
 
+#include "odocal/console/name_list.hpp"
+
 namespace odocal::console {
 
 const char* error_code_name(ErrorCode code) {
@@ -10,19 +12,12 @@ const char* error_code_name(ErrorCode code) {
       "bad_argument\0bad_number\0out_of_range\0busy\0fault\0rejected\0store_error\0"
       "store_empty\0store_version\0umbmark_full\0umbmark_failed\0not_solved\0no_trial\0"
       "lateral_full\0lateral_failed\0store_corrupt";
-  // As many names as codes (their order is checked name by name in tests/core/console).
-  constexpr auto count_names = [](const char* text, std::size_t size) {
-    std::size_t count = 0u;
-    for (std::size_t i = 0u; i < size; ++i) {
-      count += text[i] == '\0' ? 1u : 0u;
-    }
-    return count;
-  };
-  static_assert(
-      count_names(names, sizeof names) == static_cast<std::size_t>(ErrorCode::store_corrupt) + 1u,
-      "one name per ErrorCode, the last one being store_corrupt");
+  // As many names as codes: a code added without its name does not compile (their order is
+  // checked name by name in tests/core/console).
+  static_assert(nul_count(names) == static_cast<std::size_t>(ErrorCode::count),
+                "one name per ErrorCode, in its order");
   auto n = static_cast<unsigned>(code);
-  if (n > static_cast<unsigned>(ErrorCode::store_corrupt)) {
+  if (n >= static_cast<unsigned>(ErrorCode::count)) {
     return "unknown";
   }
   const char* name = names;

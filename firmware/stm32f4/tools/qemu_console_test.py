@@ -156,6 +156,25 @@ def main():
     reply = guest.command("bogus")
     checks.check(reply is not None and reply.startswith("err"), "unknown command refused", reply)
 
+    # The console keeps no receive ring of its own: input waits in the USART's (127 bytes), which
+    # the main loop drains into the line editor on every pass. A whole 127-byte line and its line
+    # end (128 bytes) get through, a 128-byte one is refused whole, and three lines sent in one
+    # write get their three replies in order.
+    reply = guest.command("get " + "x" * 123)
+    checks.check(reply is not None and reply.startswith("err unknown_parameter"),
+                 "a 127-byte line is read whole", reply)
+    reply = guest.command("get " + "x" * 124)
+    checks.check(reply is not None and reply.startswith("err line_too_long"),
+                 "a 128-byte line is refused whole", reply)
+    guest.send("get c_l\nget c_r\nget kp\n")
+    burst = []
+    for _ in range(3):
+        match = guest.expect(rb"(?m)^(ok|err)\b([^\r\n]*)\r?\n", 10.0)
+        burst.append((match.group(1) + match.group(2)).decode() if match else "")
+    checks.check(burst[0] == "ok c_l=1.000000" and burst[1] == "ok c_r=1.000000" and
+                 burst[2].startswith("ok kp="), "three lines in one write: three replies in order",
+                 " | ".join(burst))
+
     # Wiring self-test (docs/wiring.md): the QEMU robot is wired right; a wrong wiring_fix (the
     # left encoder inverted) is a miswiring the self-test names; 0 puts it back.
     reply = guest.command("selftest", 30.0)

@@ -28,7 +28,9 @@ void UsartStream::on_interrupt(void* self) {
     const auto byte = static_cast<std::uint8_t>(usart::dr(u).read());
     const bool overrun = (status & usart::sr_ore.mask()) != 0u;
     if (!stream.rx_.push(byte) || overrun) {
-      stream.rx_dropped_.fetch_add(1u, std::memory_order_relaxed);
+      // This handler is the only writer: a plain increment, no read-modify-write loop.
+      stream.rx_dropped_.store(stream.rx_dropped_.load(std::memory_order_relaxed) + 1u,
+                               std::memory_order_relaxed);
     }
   }
   // Only this handler writes CR1 after start(), so its read-modify-write cannot race.

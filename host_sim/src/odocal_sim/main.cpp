@@ -100,7 +100,7 @@ bool open_storage(const std::string& store_file, Storage& s, std::string& error)
 struct ConsoleIo {
   std::unique_ptr<posix::PtyByteStream> pty;
   std::unique_ptr<posix::FdByteStream> stdio;
-  std::unique_ptr<OutputOnly> output_only;
+  std::unique_ptr<ScriptedStream> scripted;
   std::unique_ptr<LineReader> script;
   std::unique_ptr<LineCountingStream> counting;
   hal::ByteStream* stream = nullptr;
@@ -137,9 +137,9 @@ bool open_console_io(const Options& o, ConsoleIo& io, std::string& error) {
   } else {
     // Scripted input: one line at a time, each answered (and its motion finished) before the
     // next is read.
-    io.output_only = std::make_unique<OutputOnly>(*io.stdio);
+    io.scripted = std::make_unique<ScriptedStream>(*io.stdio);
     io.script = std::make_unique<LineReader>(*io.stdio);
-    io.stream = io.output_only.get();
+    io.stream = io.scripted.get();
   }
   return true;
 }
@@ -201,19 +201,15 @@ void run_lockstep(host::SimulatedRobot& robot, console::Console& console, Consol
 /// Feeds the next scripted line when the previous one is answered and its motion is over; a
 /// whole line goes in before the robot ticks again, however many pieces it comes in.
 /// @return false once the input has ended and everything is answered.
-bool feed_script(host::SimulatedRobot& robot, console::Console& console, LineReader& script,
+bool feed_script(host::SimulatedRobot& robot, console::Console& console, ConsoleIo& io,
                  Pacer& pacer, bool& input_done) {
   if (!input_done && console.idle() && !busy(robot.loop().status(), console)) {
     std::string line;
     bool line_end = false;
     bool fed = false;
-    while (!line_end && script.next(line, line_end)) {
+    while (!line_end && io.script->next(line, line_end)) {
       fed = true;
-      for (char c : line) {
-        while (!console.receive_from_isr(static_cast<std::uint8_t>(c))) {
-          console.poll(robot.plant().clock().now_us());
-        }
-      }
+      io.scripted->feed(line);
     }
     if (fed) {
       pacer.rebase(robot.simulated_s());
@@ -231,7 +227,7 @@ void run_paced(host::SimulatedRobot& robot, console::Console& console, ConsoleIo
   bool input_done = false;
   while (!stop_requested()) {
     if (io.script) {
-      if (!feed_script(robot, console, *io.script, pacer, input_done)) {
+      if (!feed_script(robot, console, io, pacer, input_done)) {
         break;
       }
     } else if (io.stdio && (io.stdio->end_of_input() || io.stdio->output_broken()) &&

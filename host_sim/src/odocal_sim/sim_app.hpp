@@ -21,17 +21,21 @@ namespace odocal::sim_app {
 void install_stop_handlers();
 
 /// The console's view of a stream whose input the program feeds itself (scripted stdin): it
-/// writes through, and reads nothing.
-class OutputOnly final : public hal::ByteStream {
+/// writes through, and gives the console the script's bytes as they are fed.
+class ScriptedStream final : public hal::ByteStream {
  public:
-  explicit OutputOnly(hal::ByteStream& inner) : inner_(inner) {}
+  explicit ScriptedStream(hal::ByteStream& inner) : inner_(inner) {}
+  /// Queues script bytes for the console to read.
+  void feed(const std::string& bytes) { pending_ += bytes; }
 
  private:
-  std::size_t do_read(std::uint8_t*, std::size_t) override { return 0u; }
+  std::size_t do_read(std::uint8_t* out, std::size_t capacity) override;
   std::size_t do_write(const std::uint8_t* data, std::size_t size) override {
     return inner_.write(data, size);
   }
   hal::ByteStream& inner_;
+  std::string pending_;
+  std::size_t taken_ = 0u;
 };
 
 /// The console's view of the pty in lockstep: passes bytes through and counts the input lines

@@ -2,8 +2,10 @@
 
 #include <poll.h>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
+#include <cstring>
 #include <thread>
 
 #include "sim_app.hpp"
@@ -28,6 +30,17 @@ void install_stop_handlers() {
   action.sa_handler = on_signal;
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
+}
+
+std::size_t ScriptedStream::do_read(std::uint8_t* out, std::size_t capacity) {
+  const std::size_t n = std::min(capacity, pending_.size() - taken_);
+  std::memcpy(out, pending_.data() + taken_, n);
+  taken_ += n;
+  if (taken_ == pending_.size()) {
+    pending_.clear();
+    taken_ = 0u;
+  }
+  return n;
 }
 
 std::size_t LineCountingStream::do_read(std::uint8_t* out, std::size_t /*capacity*/) {

@@ -2,9 +2,14 @@
 // Test rig: a console wired to a real ControlLoop (fake motor outputs), a RAM flash store and a
 // scripted byte stream with fixed buffers (so a test can assert that polling allocates nothing).
 
+#include <gtest/gtest.h>
+
 #include <array>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
+#include <memory>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -25,6 +30,7 @@ class ScriptStream final : public hal::ByteStream {
   std::size_t output_size = 0;
   std::size_t read_limit = 1 << 20;   ///< bytes handed out per read call
   std::size_t write_limit = 1 << 20;  ///< bytes accepted per write call (0: a stalled link)
+  std::uint32_t dropped = 0;          ///< what rx_dropped() says (bytes a UART would have lost)
 
   void type(const std::string& text) {
     std::memcpy(input.data() + input_size, text.data(), text.size());
@@ -51,6 +57,7 @@ class ScriptStream final : public hal::ByteStream {
     output_size += n;
     return n;
   }
+  std::uint32_t do_rx_dropped() const override { return dropped; }
 };
 
 using RigFlash = sim::StaticRamBlockStore<1024, 4, 4>;
@@ -165,6 +172,45 @@ inline std::string error_code(const std::string& line) {
     return "";
   const std::size_t end = line.find(' ', 4);
   return line.substr(4, end == std::string::npos ? std::string::npos : end - 4);
+}
+
+/// A number printed in a reply (asserting it is all number).
+inline double number(const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  EXPECT_TRUE(!text.empty() && *end == '\0') << "not a number: '" << text << "'";
+  return v;
+}
+
+/// Printed with 6 decimals: within 0.5e-6 of the stored float.
+inline constexpr double kPrinted = 0.5e-6 + 1e-9;
+
+/// Every reply line is `ok` + key=value pairs or `err <code> <message>`.
+inline const std::regex kOkLine(R"(ok( [a-z_0-9]+=[^ =]+)*)");
+inline const std::regex kErrLine(R"(err [a-z_]+ \S.*)");
+
+/// A started console rig.
+inline std::unique_ptr<Rig> make_rig(console::ConsoleOptions options = Rig::quiet(),
+                                     RigFlash* flash = nullptr) {
+  auto rig = std::make_unique<Rig>(options, flash);
+  (void)rig->console.start(rig->now_us);
+  return rig;
+}
+
+/// A refused command changes nothing: the parameters, provenance, unsaved flag and the drive
+/// configuration are the same after it.
+inline void expect_refused_without_change(Rig& rig, const std::string& command,
+                                          const std::string& code) {
+  const params::ParamSet before = rig.console.params();
+  const bool unsaved_before = rig.console.unsaved();
+  const drive::DriveConfig config_before = rig.loop.config();
+  const std::string line = rig.reply(command);
+  EXPECT_EQ(error_code(line), code) << command << " -> " << line;
+  EXPECT_TRUE(std::regex_match(line, kErrLine)) << line;
+  EXPECT_TRUE(params::same(before, rig.console.params())) << command;
+  EXPECT_EQ(unsaved_before, rig.console.unsaved()) << command;
+  const drive::DriveConfig after = rig.loop.config();
+  EXPECT_EQ(std::memcmp(&config_before, &after, sizeof after), 0) << command;
 }
 
 }  // namespace odocal::test

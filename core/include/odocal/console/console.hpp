@@ -6,19 +6,18 @@
 /// KeptTrials. The handlers are grouped by area in console/commands_*.cpp.
 
 #include <array>
-#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
 
 #include "odocal/calib/lateral_session.hpp"
 #include "odocal/calib/umbmark_session.hpp"
-#include "odocal/concurrency/spsc_ring.hpp"
 #include "odocal/console/kept_trials.hpp"
 #include "odocal/console/line_editor.hpp"
 #include "odocal/console/output_queue.hpp"
 #include "odocal/console/reply.hpp"
 #include "odocal/console/reply_spec.hpp"
+#include "odocal/console/self_test.hpp"
 #include "odocal/console/settings.hpp"
 #include "odocal/console/text.hpp"
 #include "odocal/drive/control_loop.hpp"
@@ -71,22 +70,22 @@ struct ConsoleCounters {
   std::uint32_t commands = 0u;        ///< lines answered
   std::uint32_t errors = 0u;          ///< of which `err`
   std::uint32_t stream_dropped = 0u;  ///< stream lines dropped because the output queue was full
-  std::uint32_t rx_dropped = 0u;      ///< received bytes dropped because the RX ring was full
+  std::uint32_t rx_dropped = 0u;      ///< received bytes the stream lost (ByteStream::rx_dropped)
 };
 
 /// The console.
 ///
 /// Wiring: construct it with the console byte stream, the control loop and the parameter store;
 /// call `start()` once (loads the saved parameters into the loop); then call `poll(now_us)` from
-/// the main loop as often as convenient (every iteration). Received bytes reach the RX ring by one
-/// path only (the ring has a single producer): either the stream's `read`, which `poll` calls, or
-/// a UART RX interrupt calling `receive_from_isr()` (its stream's `read` then returns 0).
+/// the main loop as often as convenient (every iteration). The console reads its input from the
+/// stream a byte at a time, only when a whole reply is sure to fit in its output queue; meanwhile
+/// input waits in the stream's own receive buffer (the USART's ring, the kernel's tty buffer):
+/// the console keeps no receive ring of its own (docs/architecture.md, "The console").
 /// `poll` never blocks: output waits in a queue and stream lines are dropped (counted) when it is
-/// full; input waits in the RX ring while a reply cannot be queued.
+/// full.
 /// Memory: a few KiB, all inside the object. No heap, no exceptions.
 class Console {
  public:
-  static constexpr std::size_t rx_capacity = 256u;              ///< RX ring (255 usable bytes)
   static constexpr std::size_t max_reply = console::max_reply;  ///< longest reply line, bytes
   static constexpr std::size_t umbmark_capacity = calib::UmbmarkSession::capacity;
 
@@ -99,10 +98,6 @@ class Console {
   /// Out of line: its parameter set stays off the main loop's frame.
   [[gnu::noinline]] params::StoreResult start(std::uint32_t now_us);
 
-  /// Hands one received byte to the console. ISR-safe (single producer: one ISR or one reader
-  /// thread). @return false when the RX ring is full (byte dropped and counted).
-  bool receive_from_isr(std::uint8_t byte);
-
   /// Main-loop work: reads the stream, announces a finished trial (`# done`), handles at most one
   /// complete line (writing its reply), emits due stream lines, and writes queued output to the
   /// stream. Never blocks. @param now_us monotonic microseconds (wraps modulo 2^32).
@@ -110,11 +105,13 @@ class Console {
 
   /// True when no received byte waits, no multi-line reply is in progress and the output queue is
   /// empty: the console has answered everything it was given (but a `selftest` still running,
-  /// see `selftest_running`).
-  [[nodiscard]] bool idle() const;
+  /// see `selftest_running`). To know whether a byte waits it reads one ahead from the stream
+  /// (kept for the next `poll`), so a stream's end (Ctrl-D, end of file) is seen only once every
+  /// byte before it was taken. Main loop.
+  [[nodiscard]] bool idle();
   /// True while a `selftest` drives the wheels (its reply is still to come): a host that runs
   /// the robot's time keeps it running until then.
-  [[nodiscard]] bool selftest_running() const { return selftest_phase_ != 0u; }
+  [[nodiscard]] bool selftest_running() const { return selftest_.running(); }
 
   /// The parameter values in force.
   [[nodiscard]] const params::ParamSet& params() const { return settings_.values(); }
@@ -131,12 +128,14 @@ class Console {
     version,
     status,
     params,
-    param,
+    get,
+    set,
     save,
     load,
     defaults,
     provenance,
     odom,
+    odom_reset,
     drive,
     stop,
     run_umbmark_cw,
@@ -145,6 +144,7 @@ class Console {
     run_unseen,
     trial,
     trials,
+    trials_clear,
     umbmark_clear,
     umbmark_add,
     umbmark_side,
@@ -181,10 +181,18 @@ class Console {
   // inlined into the main loop, they made one function too long for its literal pools to be
   // shared (the robot's flash).
   [[gnu::noinline]] void take_input();
+  /// The next received byte: the one looked ahead at, else one read from the stream.
+  /// @return false when none has arrived.
+  bool next_byte(std::uint8_t& byte);
+  /// The next received byte without taking it; -1 when none has arrived.
+  int peek_byte();
   void detect_terminal(std::uint8_t line_end);
   [[gnu::noinline]] void handle_event(LineEvent event);
   void execute(const Token* words, std::size_t count);
   void dispatch(Handler handler, const Token* words, std::size_t count);
+  /// While a self-test runs: refuses every command but `stop` (err busy), which ends the test
+  /// (its `err busy` line first, then stop's own reply). @return true when refused.
+  bool refused_by_selftest(Handler handler);
   void continue_listing();
   void note_trials();
   void emit_streams(std::uint32_t now_us);
@@ -242,14 +250,19 @@ class Console {
       append_args(reply, spec.text(), args);
     }
   }
-  /// Appends `full` when `use_full`, else `shorter`, which leaves the last values out.
+  /// Which of a two-spec reply's specs to write (append_either, send_either).
+  enum class Spec : std::uint8_t {
+    full,     ///< every value
+    shorter,  ///< the last values left out
+  };
+  /// Appends the spec `which` says, `full` or `shorter`.
   template <typename... Values>
-  static void append_either(Reply& reply, bool use_full,
+  static void append_either(Reply& reply, Spec which,
                             ReplySpec<std::type_identity_t<Values>...> full,
                             LeadingReplySpec<std::type_identity_t<Values>...> shorter,
                             Values... values) {
     const Arg args[] = {Arg(values)...};
-    append_args(reply, use_full ? full.text() : shorter.text(), args);
+    append_args(reply, which == Spec::full ? full.text() : shorter.text(), args);
   }
   /// Sends one line written from `spec` (see append_args).
   void send_args(const char* spec, const Arg* args);
@@ -262,12 +275,12 @@ class Console {
       send_args(spec.text(), args);
     }
   }
-  /// Sends `full` when `use_full`, else `shorter`, which leaves the last values out.
+  /// Sends the spec `which` says, `full` or `shorter`.
   template <typename... Values>
-  void send_either(bool use_full, ReplySpec<std::type_identity_t<Values>...> full,
+  void send_either(Spec which, ReplySpec<std::type_identity_t<Values>...> full,
                    LeadingReplySpec<std::type_identity_t<Values>...> shorter, Values... values) {
     const Arg args[] = {Arg(values)...};
-    send_args(use_full ? full.text() : shorter.text(), args);
+    send_args(which == Spec::full ? full.text() : shorter.text(), args);
   }
   /// Sends an `err <code> ` line whose message is written from `spec` (counted in `errors`).
   void send_error_args(ErrorCode code, const char* spec, const Arg* args);
@@ -313,14 +326,15 @@ class Console {
   // commands_params.cpp. [[gnu::noinline]]: handlers with a big frame (a parameter set, a drive
   // configuration, the UMBmark solver) stay out of the dispatch's frame, which every command's
   // path (`load` and the store's the deepest) shares (worst-case stack, docs/stm32f4.md).
-  /// `get <name>` and `set <name> <value>` (the same reply).
-  [[gnu::noinline]] void cmd_param(const Token* words, std::size_t count);
+  /// `get <name>` and `set <name> <value>` (handler: which form; the same reply).
+  [[gnu::noinline]] void cmd_param(Handler handler, const Token* words);
   void cmd_save();
   void cmd_load();
   void cmd_defaults();
   void cmd_provenance();
   // commands_motion.cpp
-  void cmd_odom(std::size_t count);
+  /// `odom` and `odom reset` (handler: which form).
+  void cmd_odom(Handler handler);
   [[gnu::noinline]] void cmd_drive(const Token* words, std::size_t count);
   void cmd_stop();
   /// `run <path>` (handler: which path).
@@ -328,10 +342,11 @@ class Console {
   /// `stream odom|ticks <hz>`, `stream off` (handler: which form).
   void cmd_stream(Handler handler, const Token* words);
   void cmd_trial(const Token* words, std::size_t count);
-  void cmd_trials(std::size_t count);
-  // commands_selftest.cpp: `selftest`, run from `poll` until its one reply.
+  /// `trials` and `trials clear` (handler: which form).
+  void cmd_trials(Handler handler);
+  // commands_selftest.cpp: `selftest`, moved on from `poll` until its one reply.
   void cmd_selftest(const Token* words, std::size_t count);
-  void start_selftest_wheel(unsigned wheel);
+  /// Moves the running self-test on; sends its reply when it ends.
   void continue_selftest();
   /// ` path=.. duration_ms=.. count_l=.. count_r=.. x_mm=.. y_mm=.. theta_deg=..`
   static void trial_pairs(Reply& reply, const KeptTrial& trial);
@@ -353,6 +368,8 @@ class Console {
     wheel,    ///< c_l, c_r, wheelbase_mm, wheelbase_arc_mm: UMBmark, `fit apply`
     lateral,  ///< f_lat, f_lon: Maddahi, `lateral set`
   };
+  /// The group's factors in the order its commands take them (commands_calib.cpp).
+  static const params::ParamId* factor_ids(FactorGroup group);
   /// `umbmark apply` (wheel) / `lateral apply` (lateral): puts the solved factors in force.
   void cmd_calib_apply(FactorGroup group, const Token* words, std::size_t count);
   /// `fit apply` (wheel) / `lateral set` (lateral): puts host-computed factors in force with
@@ -372,23 +389,14 @@ class Console {
   ConsoleOptions options_;
   bool echo_ = false;
   bool clock_started_ = false;
+  bool held_ = false;         ///< a byte was read ahead (peek_byte): held_byte_
+  std::uint8_t held_byte_{};  ///< read from the stream, not yet taken
   Listing listing_ = Listing::none;
   const Form* form_ = form_table_;  ///< the form being handled
   std::size_t listing_index_ = 0u;
   std::uint32_t trial_seen_ = 0u;    ///< number of the last trial announced
   std::uint32_t lateral_used_ = 0u;  ///< number of the last trial `lateral add` took
-  // `selftest`: 0 off, 1 left wheel driven, 2 its stop pending, 3 right wheel driven; what it
-  // found so far.
-  std::uint8_t selftest_phase_ = 0u;
-  std::uint8_t selftest_last_ = 1u;  ///< the last wheel to test (0 left, 1 right)
-  std::uint16_t selftest_faults_ = 0u;
-  float selftest_duty_ = 0.0f;
-  float selftest_enough_ = 0.0f;  ///< counts that tell a turning wheel from jitter          ///<
-                                  ///< largest |duty| of the driven wheel in this phase
-  std::uint32_t selftest_due_us_ = 0u;  ///< end of this phase (last_now_us_ clock)
-  std::int32_t selftest_start_[2] = {};
-  std::uint32_t selftest_illegal_[2] = {};
-  std::int32_t selftest_counts_[4] = {};  ///< left drive: left, right counts; right drive: same
+  SelfTest selftest_;
 
   /// The timing of one periodic stream (`stream odom|ticks <hz>`).
   struct StreamTimer {
@@ -402,12 +410,10 @@ class Console {
   std::uint32_t commands_ = 0u;
   std::uint32_t errors_ = 0u;
   std::uint32_t stream_dropped_ = 0u;
-  std::atomic<std::uint32_t> rx_dropped_{0u};
 
   LineEditor editor_;
   Settings settings_;
   OutputQueue out_;
-  concurrency::SpscRing<rx_capacity> rx_;
   calib::UmbmarkSession umbmark_;
   calib::LateralSession lateral_;
   KeptTrials trials_;

@@ -36,9 +36,10 @@ enum class ErrorCode : std::uint8_t {
   lateral_full,       ///< no room for another lateral trial
   lateral_failed,     ///< the lateral solver refused the trials (message says why)
   store_corrupt,      ///< `load` found records, every one of them damaged
+  count,              ///< not a code: how many there are (error_code_name names each)
 };
 
-/// The code as printed ("line_too_long", ...).
+/// The code as printed ("line_too_long", ...); "unknown" for ErrorCode::count and beyond.
 [[nodiscard]] const char* error_code_name(ErrorCode code);
 
 /// Longest output line, bytes (status with a target's own pairs).

@@ -25,6 +25,9 @@ enum FaultBits : std::uint8_t {
   fault_encoder_right = 0x02,
   fault_stall_left = 0x04,  ///< duty above `stall_duty` with no net motion for `stall_ms`
   fault_stall_right = 0x08,
+  /// Every bit above: a new fault adds its bit here too (the console's fault names are
+  /// static_asserted against it, core/src/console/commands_system.cpp).
+  fault_all = 0x0F,
 };
 
 /// What the loop is doing.

@@ -1,10 +1,10 @@
 #pragma once
 /// @file
 /// The project's one single-producer / single-consumer byte ring, for data crossing from an
-/// interrupt (or a reader thread) to the main loop and back: the console's receive ring (core)
-/// and the STM32F4 USART's receive and transmit rings (hal/stm32f4). Header-only and
-/// dependency-free, so it sits in hal/include, the one include directory every library may use
-/// (a HAL backend may not depend on the core).
+/// interrupt (or a reader thread) to the main loop and back: the STM32F4 USART's receive and
+/// transmit rings (hal/stm32f4), which the console reads and writes through its byte stream.
+/// Header-only and dependency-free, so it sits in hal/include, the one include directory every
+/// library may use (a HAL backend may not depend on the core).
 
 #include <array>
 #include <atomic>

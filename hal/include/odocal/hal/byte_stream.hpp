@@ -28,12 +28,17 @@ class ByteStream {
     return do_write(data, size);
   }
 
+  /// Received bytes lost before `read` could return them (a receive buffer full, a hardware
+  /// overrun), since start-up; 0 where nothing is ever lost (a pipe, a pty). Main-loop only.
+  [[nodiscard]] std::uint32_t rx_dropped() const { return do_rx_dropped(); }
+
  protected:
   ~ByteStream() = default;
 
  private:
   virtual std::size_t do_read(std::uint8_t* out, std::size_t capacity) = 0;
   virtual std::size_t do_write(const std::uint8_t* data, std::size_t size) = 0;
+  virtual std::uint32_t do_rx_dropped() const { return 0u; }
 };
 
 }  // namespace odocal::hal

@@ -34,11 +34,6 @@ class UsartStream final : public hal::ByteStream {
   /// Not ISR-safe; call once before interrupts are enabled.
   void start();
 
-  /// Bytes dropped because the receive ring was full or the USART overran. ISR-safe.
-  [[nodiscard]] std::uint32_t rx_dropped() const {
-    return rx_dropped_.load(std::memory_order_relaxed);
-  }
-
   /// Writes `text` by polling, bypassing the ring: for fault reports with interrupts disabled.
   /// Gives up on a byte after a bounded wait. Any context.
   static void emergency_write(Block usart, const char* text);
@@ -46,13 +41,19 @@ class UsartStream final : public hal::ByteStream {
  private:
   std::size_t do_read(std::uint8_t* out, std::size_t capacity) override;
   std::size_t do_write(const std::uint8_t* data, std::size_t size) override;
+  /// Bytes dropped because the receive ring was full or the USART overran.
+  std::uint32_t do_rx_dropped() const override {
+    return rx_dropped_.load(std::memory_order_relaxed);
+  }
   static void on_interrupt(void* self);
 
   UsartConfig config_;
-  // Small: the console drains rx into its own line buffer every main-loop pass (~11.5 B/ms
-  // arrive at 115200 baud) and keeps its replies in its own output queue until tx has room; the
-  // main loop runs at least every tick (1 ms), so 128 B of tx (11 ms of line time) keep the line
-  // busy.
+  // Small: the console drains rx into its line editor every main-loop pass while a reply fits
+  // in its output queue (~11.5 B/ms arrive at 115200 baud; it keeps no receive ring of its own,
+  // so rx is where input waits: 127 B hold a whole 127-byte line, the most a host that waits for
+  // each reply has in flight, docs/architecture.md) and keeps its replies in its own output queue
+  // until tx has room; the main loop runs at least every tick (1 ms), so 128 B of tx (11 ms of
+  // line time) keep the line busy.
   concurrency::SpscRing<128> rx_;
   concurrency::SpscRing<128> tx_;
   std::atomic<std::uint32_t> rx_dropped_{0u};

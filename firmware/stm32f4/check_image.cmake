@@ -32,7 +32,7 @@ if(NO_DOUBLE)
   endforeach()
   if(found)
     message(FATAL_ERROR "${ELF}: links ${found} (the robot image does no double arithmetic and "
-                        "no 64-bit division: see core/include/odocal/drive/numeric.hpp)")
+                        "no 64-bit division: see core/include/odocal/math/numeric.hpp)")
   endif()
   set(double_note "/double/64-bit division")
 endif()

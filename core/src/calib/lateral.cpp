@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "norm.hpp"
-#include "odocal/drive/bounded_trig.hpp"
+#include "odocal/math/bounded_trig.hpp"
 
 namespace odocal::calib {
 namespace {
@@ -13,10 +13,10 @@ bool positive(Real v) {
   return std::isfinite(v) && v > 0;
 }
 
-// The chord angle: the robot's float solve without newlib's atanf (drive::arctan, within 3e-7
+// The chord angle: the robot's float solve without newlib's atanf (math::arctan, within 3e-7
 // rad); the host's double solve as before.
 float chord_angle(float slope) {
-  return drive::arctan(slope);
+  return math::arctan(slope);
 }
 double chord_angle(double slope) {
   return std::atan(slope);

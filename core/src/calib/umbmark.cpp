@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "norm.hpp"
-#include "odocal/drive/bounded_trig.hpp"
+#include "odocal/math/bounded_trig.hpp"
 #include "odocal/drive/robot_model.hpp"
 
 namespace odocal::calib {
@@ -16,10 +16,10 @@ namespace {
 // sin/cos of the tick: newlib's full-range reduction is ~3.6 KB (float) / ~4.5 KB (double) of
 // flash. The host's double solve keeps libm, so `odocal umbmark` output is unchanged.
 float sin_of(float a) {
-  return drive::sin_cos(a).sin;
+  return math::sin_cos(a).sin;
 }
 float cos_of(float a) {
-  return drive::sin_cos(a).cos;
+  return math::sin_cos(a).cos;
 }
 double sin_of(double a) {
   return std::sin(a);

@@ -2,7 +2,7 @@
 // `params`, `trials`) a line at a time, `# done trial=` announcements, and the periodic streams.
 
 #include "odocal/console/console.hpp"
-#include "odocal/drive/numeric.hpp"
+#include "odocal/math/numeric.hpp"
 
 namespace odocal::console {
 
@@ -104,7 +104,7 @@ void Console::emit_streams(std::uint32_t now_us) {
     const std::size_t mark = out_.size();
     const std::size_t typed = clear_typing();
     ReplyLine line(out_);
-    const std::uint64_t t_ms = drive::divide_u64(counts.t_us, 1000u);
+    const std::uint64_t t_ms = math::divide_u64(counts.t_us, 1000u);
     if (odom) {
       append(line, "# odom t_ms=%U", &t_ms);
       pose_pairs(line, pose);

@@ -4,7 +4,7 @@
 #include <cstring>
 #include <limits>
 
-#include "odocal/drive/numeric.hpp"
+#include "odocal/math/numeric.hpp"
 
 namespace odocal::console {
 namespace {
@@ -40,7 +40,7 @@ char* put_digits(char* end, std::uint64_t value, int zeros, int point) {
     }
     std::uint32_t digit = 0u;
     if (i >= zeros) {
-      const std::uint64_t quotient = drive::divide_u64(value, 10u);
+      const std::uint64_t quotient = math::divide_u64(value, 10u);
       digit = static_cast<std::uint32_t>(value) - static_cast<std::uint32_t>(quotient) * 10u;
       value = quotient;
     }

@@ -1,6 +1,6 @@
 #include "odocal/drive/drive_config.hpp"
 
-#include "odocal/drive/numeric.hpp"
+#include "odocal/math/numeric.hpp"
 
 #include <cmath>
 
@@ -14,7 +14,7 @@ bool field_accepts(std::size_t index, float value) {
   if (value < field.min || value > field.max) {
     return false;
   }
-  return !field.integer || is_whole(value);
+  return !field.integer || math::is_whole(value);
 }
 
 ConfigCheck check(const DriveConfig& config) {

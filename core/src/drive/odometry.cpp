@@ -3,7 +3,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "odocal/drive/bounded_trig.hpp"
+#include "odocal/math/bounded_trig.hpp"
 #include "odocal/drive/robot_model.hpp"
 
 namespace odocal::drive {
@@ -26,9 +26,9 @@ void Odometry::reset(const Pose& pose) {
   y_m_ = pose.y_m;
   x_comp_ = 0.0f;
   y_comp_ = 0.0f;
-  heading_ = wrap_pi(pose.theta_rad);
+  heading_ = math::wrap_pi(pose.theta_rad);
   heading_comp_ = 0.0f;
-  const SinCos sc = sin_cos(heading_);
+  const math::SinCos sc = math::sin_cos(heading_);
   cos_ = sc.cos;
   sin_ = sc.sin;
   since_resync_ = 0u;
@@ -57,7 +57,7 @@ void Odometry::update(float left_m, float right_m, float wheelbase_m) {
   if (++since_resync_ >= resync_period) {
     // Recompute the vector from the reference heading: rotation rounding never accumulates.
     since_resync_ = 0u;
-    const SinCos sc = sin_cos(heading_);
+    const math::SinCos sc = math::sin_cos(heading_);
     cos_ = sc.cos;
     sin_ = sc.sin;
   } else {
@@ -74,7 +74,7 @@ void Odometry::update(float left_m, float right_m, float wheelbase_m) {
 }
 
 Pose Odometry::pose() const {
-  return Pose{x_m_, y_m_, arctan2(sin_, cos_)};
+  return Pose{x_m_, y_m_, math::arctan2(sin_, cos_)};
 }
 
 }  // namespace odocal::drive

@@ -1,6 +1,6 @@
 #include "odocal/drive/trial.hpp"
 
-#include "odocal/drive/numeric.hpp"
+#include "odocal/math/numeric.hpp"
 
 namespace odocal::drive {
 
@@ -66,7 +66,7 @@ bool TrialRecorder::advance(bool moving, std::int64_t counts_l, std::int64_t cou
   last_.number = next_number_++;
   last_.path = path_;
   last_.length_m = length_m_;
-  last_.duration_ms = static_cast<std::uint32_t>(divide_u64(elapsed_us_ + 500u, 1000u));
+  last_.duration_ms = static_cast<std::uint32_t>(math::divide_u64(elapsed_us_ + 500u, 1000u));
   last_.count_l = counts_l - start_l_;
   last_.count_r = counts_r - start_r_;
   phase_ = Phase::none;

@@ -11,7 +11,7 @@
 #include <limits>
 
 #include "odocal/console/text.hpp"
-#include "odocal/drive/numeric.hpp"
+#include "odocal/math/numeric.hpp"
 
 namespace odocal::console::reference {
 
@@ -45,7 +45,7 @@ inline std::size_t put_decimal(std::uint64_t value, std::size_t width, char* out
   char reversed[20];
   std::size_t n = 0;
   do {
-    const std::uint64_t quotient = drive::divide_u64(value, 10u);
+    const std::uint64_t quotient = math::divide_u64(value, 10u);
     reversed[n++] = static_cast<char>('0' + static_cast<int>(value - quotient * 10u));
     value = quotient;
   } while (value != 0u || n < width);

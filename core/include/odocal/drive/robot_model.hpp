@@ -12,15 +12,15 @@
 
 #include <cmath>
 
-#include "odocal/drive/bounded_trig.hpp"
+#include "odocal/math/bounded_trig.hpp"
 
 namespace odocal::drive::model {
 
 /// sin and cos of a bounded angle: the robot's own for float, libm's for double.
-inline SinCos trig(float angle) {
-  return sin_cos(angle);
+inline math::SinCos trig(float angle) {
+  return math::sin_cos(angle);
 }
-inline SinCosOf<double> trig(double angle) {
+inline math::SinCosOf<double> trig(double angle) {
   return {std::sin(angle), std::cos(angle)};
 }
 

@@ -1,8 +1,8 @@
-// core/include/odocal/drive/numeric.hpp: the robot's own 64-bit division (no libgcc
+// core/include/odocal/math/numeric.hpp: the robot's own 64-bit division (no libgcc
 // __udivmoddi4) and the whole-number test the parameter table uses, against the host's
 // arithmetic on edge values and on a sweep.
 
-#include "odocal/drive/numeric.hpp"
+#include "odocal/math/numeric.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,8 +12,8 @@
 
 namespace {
 
-using odocal::drive::divide_u64;
-using odocal::drive::is_whole;
+using odocal::math::divide_u64;
+using odocal::math::is_whole;
 
 TEST(Numeric, DivideU64MatchesTheHostsDivisionOnEdges) {
   const std::uint64_t xs[] = {0u,

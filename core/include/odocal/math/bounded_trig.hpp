@@ -5,14 +5,14 @@
 /// `sinf`/`cosf` pull ~3.6 KB of Payne-Hanek tables and code into the robot image, double
 /// `sin`/`cos` ~4.5 KB, `remainderf`/`fmodf` ~0.7 KB. Quadrant reduction by a split pi/2
 /// (Cody-Waite), then Taylor polynomials on [-pi/4, pi/4] whose truncation error is far below the
-/// type's rounding. Accuracy (tests/core/drive/bounded_trig_test.cpp, against std::sin/std::cos):
+/// type's rounding. Accuracy (tests/core/math/bounded_trig_test.cpp, against std::sin/std::cos):
 /// a few roundings of the type for |x| up to 2^12 pi/2 (float) or 2^20 pi/2 (double); beyond that
 /// the reduction loses precision, so such inputs are outside the contract. ISR-safe, no state.
 
 #include <cstdint>
 #include <numbers>
 
-namespace odocal::drive {
+namespace odocal::math {
 
 template <typename T>
 struct SinCosOf {
@@ -136,7 +136,7 @@ inline float atan_unit(float t) {
 
 /// The angle of the vector (x, y), in [-pi, pi], as `std::atan2` for finite arguments, without
 /// newlib's atan2f/atanf (750 B). Error within 3e-7 rad of the exact angle (two roundings of pi;
-/// tests/core/drive/bounded_trig_test.cpp). atan2(0, 0) is 0. ISR-safe, no state.
+/// tests/core/math/bounded_trig_test.cpp). atan2(0, 0) is 0. ISR-safe, no state.
 inline float arctan2(float y, float x) {
   constexpr float pi = std::numbers::pi_v<float>;
   const float ax = x < 0.0f ? -x : x;
@@ -158,4 +158,4 @@ inline float arctan(float v) {
   return arctan2(v, 1.0f);
 }
 
-}  // namespace odocal::drive
+}  // namespace odocal::math

@@ -2,11 +2,11 @@
 /// @file
 /// Small integer and float helpers that keep libgcc's larger routines out of the robot image: the
 /// Cortex-M4 divides 32-bit integers in hardware but not 64-bit ones (libgcc's `__udivmoddi4` is
-/// ~0.7 KB). Pure, ISR-safe. Tests: tests/core/drive/numeric_test.cpp.
+/// ~0.7 KB). Pure, ISR-safe. Tests: tests/core/math/numeric_test.cpp.
 
 #include <cstdint>
 
-namespace odocal::drive {
+namespace odocal::math {
 
 /// x / d for a divisor below 2^16, by long division in 16-bit digits (each step fits in 32 bits).
 constexpr std::uint64_t divide_u64(std::uint64_t x, std::uint16_t d) {
@@ -31,4 +31,4 @@ inline bool is_whole(float value) {
   return static_cast<float>(static_cast<std::int32_t>(value)) == value;
 }
 
-}  // namespace odocal::drive
+}  // namespace odocal::math

@@ -1,10 +1,10 @@
-#include "odocal/drive/bounded_trig.hpp"
+#include "odocal/math/bounded_trig.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-namespace odocal::drive {
+namespace odocal::math {
 namespace {
 
 // One float rounding near 1 is 2^-24 ~ 6e-8; the polynomial evaluation and the reduction add a
@@ -64,9 +64,9 @@ TEST(BoundedTrig, WrapPiMatchesRemainder) {
 }
 
 }  // namespace
-}  // namespace odocal::drive
+}  // namespace odocal::math
 
-namespace odocal::drive {
+namespace odocal::math {
 namespace {
 
 TEST(BoundedTrig, DoubleMatchesLibmToAFewRoundings) {
@@ -133,4 +133,4 @@ TEST(BoundedTrig, ArctanOfSlopesMatchesDouble) {
 }
 
 }  // namespace
-}  // namespace odocal::drive
+}  // namespace odocal::math

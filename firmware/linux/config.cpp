@@ -94,13 +94,18 @@ constexpr Key kKeys[] = {
 };
 constexpr std::size_t kKeyCount = sizeof(kKeys) / sizeof(kKeys[0]);
 
-}  // namespace
-
-bool parse_config(const std::string& text, const std::string& name, LinuxConfig& config,
-                  std::string& error) {
-  // Two passes: `chip` is the default for every line, wherever it appears in the file.
+/// The file's values as written, by key (index into kKeys), and the line each came from (0: not
+/// given).
+struct RawConfig {
   std::string values[kKeyCount];
   int lines[kKeyCount] = {};
+};
+
+/// The first pass: splits the file into `key = value` lines, refusing a malformed line, an
+/// unknown or repeated key and an empty value. Nothing is interpreted yet, so `chip` is known
+/// before any line is read.
+bool read_raw(const std::string& text, const std::string& name, RawConfig& raw_config,
+              std::string& error) {
   std::istringstream input(text);
   std::string raw;
   int number = 0;
@@ -129,90 +134,103 @@ bool parse_config(const std::string& text, const std::string& name, LinuxConfig&
       error = where + "unknown key \"" + key + "\" (see odocal-linux --help)";
       return false;
     }
-    if (lines[index] != 0) {
+    if (raw_config.lines[index] != 0) {
       error = where + "key \"" + key + "\" repeated (first on line " +
-              std::to_string(lines[index]) + ")";
+              std::to_string(raw_config.lines[index]) + ")";
       return false;
     }
     if (value.empty()) {
       error = where + "key \"" + key + "\" has no value";
       return false;
     }
-    values[index] = value;
-    lines[index] = number;
+    raw_config.values[index] = value;
+    raw_config.lines[index] = number;
   }
+  return true;
+}
 
-  LinuxConfig parsed;
-  const std::string default_chip = lines[0] != 0 ? values[0] : std::string("gpiochip0");
+/// Parses the value of key `k` into its place in `parsed`. @return false with `expected` saying
+/// what the key takes.
+bool parse_value(std::size_t k, const std::string& value, const std::string& default_chip,
+                 LinuxConfig& parsed, std::string& expected) {
+  const Key& key = kKeys[k];
   LinePin* line_targets[] = {nullptr,           &parsed.left_a,        &parsed.left_b,
                              &parsed.right_a,   &parsed.right_b,       &parsed.left_dir,
                              &parsed.right_dir, &parsed.enable,        nullptr,
                              nullptr,           &parsed.left_pwm.gpio, &parsed.right_pwm.gpio};
+  bool ok = true;
+  unsigned long number_value = 0u;
+  switch (key.kind) {
+    case Kind::line:
+    case Kind::optional_line:
+      ok = parse_line(value, default_chip, *line_targets[k]);
+      line_targets[k]->role = key.name;
+      expected = "a line offset or chip:offset";
+      break;
+    case Kind::pwm:
+      ok = parse_pwm(value, k == 8u ? parsed.left_pwm : parsed.right_pwm);
+      expected = "pwmchipN:CHANNEL or none";
+      break;
+    case Kind::number:
+      if (std::strcmp(key.name, "pwm_hz") == 0) {
+        ok = parse_unsigned(value, 1u, 10000000u, number_value);
+        parsed.pwm_hz = static_cast<std::uint32_t>(number_value);
+        expected = "a whole number of Hz in 1..10000000";
+      } else if (std::strcmp(key.name, "soft_pwm_hz") == 0) {
+        ok = parse_unsigned(value, 1u, 5000u, number_value);
+        parsed.soft_pwm_hz = static_cast<std::uint32_t>(number_value);
+        expected = "a whole number of Hz in 1..5000";
+      } else {
+        ok = parse_unsigned(value, 0u, 100000u, number_value);
+        parsed.event_holdback_us = static_cast<std::uint32_t>(number_value);
+        expected = "a whole number of microseconds in 0..100000";
+      }
+      break;
+    case Kind::priority:
+      ok = parse_unsigned(value, 0u, 99u, number_value);
+      expected = "a SCHED_FIFO priority 0..99 (0: normal scheduling)";
+      if (std::strcmp(key.name, "event_priority") == 0) {
+        parsed.event_priority = static_cast<int>(number_value);
+      } else if (std::strcmp(key.name, "tick_priority") == 0) {
+        parsed.tick_priority = static_cast<int>(number_value);
+      } else {
+        parsed.pwm_priority = static_cast<int>(number_value);
+      }
+      break;
+    case Kind::text:
+      if (std::strcmp(key.name, "store") == 0) {
+        parsed.store = value;
+      }
+      break;
+  }
+  return ok;
+}
+
+/// The second pass: every key's value parsed into `parsed`, in the table's order, with the
+/// required keys and a PWM for each motor present.
+bool parse_values(const RawConfig& raw, const std::string& name, LinuxConfig& parsed,
+                  std::string& error) {
+  const std::string default_chip = raw.lines[0] != 0 ? raw.values[0] : std::string("gpiochip0");
   for (std::size_t k = 0; k < kKeyCount; ++k) {
     const Key& key = kKeys[k];
-    const std::string where = name + ":" + std::to_string(lines[k]) + ": ";
-    if (lines[k] == 0) {
+    const std::string where = name + ":" + std::to_string(raw.lines[k]) + ": ";
+    if (raw.lines[k] == 0) {
       if (key.required) {
         error = name + ": missing required key \"" + key.name + "\"";
         return false;
       }
       continue;
     }
-    const std::string& value = values[k];
-    bool ok = true;
+    const std::string& value = raw.values[k];
     std::string expected;
-    unsigned long number_value = 0u;
-    switch (key.kind) {
-      case Kind::line:
-      case Kind::optional_line:
-        ok = parse_line(value, default_chip, *line_targets[k]);
-        line_targets[k]->role = key.name;
-        expected = "a line offset or chip:offset";
-        break;
-      case Kind::pwm:
-        ok = parse_pwm(value, k == 8u ? parsed.left_pwm : parsed.right_pwm);
-        expected = "pwmchipN:CHANNEL or none";
-        break;
-      case Kind::number:
-        if (std::strcmp(key.name, "pwm_hz") == 0) {
-          ok = parse_unsigned(value, 1u, 10000000u, number_value);
-          parsed.pwm_hz = static_cast<std::uint32_t>(number_value);
-          expected = "a whole number of Hz in 1..10000000";
-        } else if (std::strcmp(key.name, "soft_pwm_hz") == 0) {
-          ok = parse_unsigned(value, 1u, 5000u, number_value);
-          parsed.soft_pwm_hz = static_cast<std::uint32_t>(number_value);
-          expected = "a whole number of Hz in 1..5000";
-        } else {
-          ok = parse_unsigned(value, 0u, 100000u, number_value);
-          parsed.event_holdback_us = static_cast<std::uint32_t>(number_value);
-          expected = "a whole number of microseconds in 0..100000";
-        }
-        break;
-      case Kind::priority:
-        ok = parse_unsigned(value, 0u, 99u, number_value);
-        expected = "a SCHED_FIFO priority 0..99 (0: normal scheduling)";
-        if (std::strcmp(key.name, "event_priority") == 0) {
-          parsed.event_priority = static_cast<int>(number_value);
-        } else if (std::strcmp(key.name, "tick_priority") == 0) {
-          parsed.tick_priority = static_cast<int>(number_value);
-        } else {
-          parsed.pwm_priority = static_cast<int>(number_value);
-        }
-        break;
-      case Kind::text:
-        if (std::strcmp(key.name, "store") == 0) {
-          parsed.store = value;
-        }
-        break;
-    }
-    if (!ok) {
+    if (!parse_value(k, value, default_chip, parsed, expected)) {
       error = where + "bad value \"" + value + "\" for \"" + key.name + "\": expected " + expected;
       return false;
     }
   }
-  parsed.has_enable = lines[7] != 0;
-  parsed.left_pwm.has_gpio = lines[10] != 0;
-  parsed.right_pwm.has_gpio = lines[11] != 0;
+  parsed.has_enable = raw.lines[7] != 0;
+  parsed.left_pwm.has_gpio = raw.lines[10] != 0;
+  parsed.right_pwm.has_gpio = raw.lines[11] != 0;
   for (PwmSpec* spec : {&parsed.left_pwm, &parsed.right_pwm}) {
     if (!spec->sysfs && !spec->has_gpio) {
       const bool left = spec == &parsed.left_pwm;
@@ -221,8 +239,11 @@ bool parse_config(const std::string& text, const std::string& name, LinuxConfig&
       return false;
     }
   }
+  return true;
+}
 
-  // One line, one signal.
+/// One line, one signal: refuses two roles on the same GPIO line or the same PWM channel.
+bool check_lines_distinct(const LinuxConfig& parsed, const std::string& name, std::string& error) {
   const LinePin* used[] = {&parsed.left_a,
                            &parsed.left_b,
                            &parsed.right_a,
@@ -248,6 +269,20 @@ bool parse_config(const std::string& text, const std::string& name, LinuxConfig&
       parsed.left_pwm.channel == parsed.right_pwm.channel) {
     error = name + ": left_pwm and right_pwm both use pwmchip" +
             std::to_string(parsed.left_pwm.chip) + ":" + std::to_string(parsed.left_pwm.channel);
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool parse_config(const std::string& text, const std::string& name, LinuxConfig& config,
+                  std::string& error) {
+  // Two passes: `chip` is the default for every line, wherever it appears in the file.
+  RawConfig raw;
+  LinuxConfig parsed;
+  if (!read_raw(text, name, raw, error) || !parse_values(raw, name, parsed, error) ||
+      !check_lines_distinct(parsed, name, error)) {
     return false;
   }
   config = parsed;

@@ -162,12 +162,13 @@ int parse_options(int argc, char** argv, Options& options) {
   return -1;
 }
 
-int run(const Options& options, const LinuxConfig& config) {
-  Robot robot;
+/// Opens every line and PWM channel of `config` and prints the wiring on stderr. @return false
+/// (the reason printed) when any cannot be set up.
+bool open_robot(Robot& robot, const LinuxConfig& config) {
   const SetupResult wired = robot.open(config);
   if (!wired.ok()) {
     std::fprintf(stderr, "odocal-linux: %s\n", wired.message.c_str());
-    return kExitSetup;
+    return false;
   }
   std::fprintf(stderr,
                "odocal-linux: encoders %s/%s %s/%s, direction %s %s, PWM left %s, right %s\n",
@@ -175,6 +176,127 @@ int run(const Options& options, const LinuxConfig& config) {
                describe(config.right_a).c_str(), describe(config.right_b).c_str(),
                describe(config.left_dir).c_str(), describe(config.right_dir).c_str(),
                robot.left_pwm.description.c_str(), robot.right_pwm.description.c_str());
+  return true;
+}
+
+/// The console's byte stream: stdio, a pty or a serial port (`tty_fd`, closed by the caller).
+struct ConsoleStream {
+  std::unique_ptr<posix::FdByteStream> fd_stream;
+  std::unique_ptr<posix::PtyByteStream> pty_stream;
+  hal::ByteStream* raw = nullptr;
+  int input_fd = -1;
+  int tty_fd = -1;
+};
+
+/// Opens the console stream the options ask for. @return false (the reason printed) when the
+/// pty or the serial port cannot be opened.
+bool open_console_stream(const Options& options, ConsoleStream& stream) {
+  std::string error;
+  if (options.pty) {
+    stream.pty_stream = std::make_unique<posix::PtyByteStream>();
+    if (!stream.pty_stream->open(error)) {
+      std::fprintf(stderr, "odocal-linux: pty: %s\n", error.c_str());
+      return false;
+    }
+    std::fprintf(stderr, "odocal-linux: console on %s\n", stream.pty_stream->slave_name().c_str());
+    stream.raw = stream.pty_stream.get();
+    stream.input_fd = stream.pty_stream->input_fd();
+    return true;
+  }
+  if (!options.tty.empty()) {
+    stream.tty_fd = open_tty(options.tty, error);
+    if (stream.tty_fd < 0) {
+      std::fprintf(stderr, "odocal-linux: console %s\n", error.c_str());
+      return false;
+    }
+  }
+  const int tty_fd = stream.tty_fd;
+  stream.fd_stream = std::make_unique<posix::FdByteStream>(tty_fd >= 0 ? tty_fd : STDIN_FILENO,
+                                                           tty_fd >= 0 ? tty_fd : STDOUT_FILENO);
+  stream.raw = stream.fd_stream.get();
+  stream.input_fd = stream.fd_stream->input_fd();
+  return true;
+}
+
+/// The console's options on this target: echo and CRLF on a terminal, and this target's
+/// `status` pairs.
+console::ConsoleOptions console_options_for(const Options& options, const ConsoleStream& stream,
+                                            Robot& robot) {
+  const bool terminal = options.pty || stream.tty_fd >= 0 || isatty(STDIN_FILENO) == 1;
+  console::ConsoleOptions console_options;
+  console_options.echo = terminal ? console::EchoMode::automatic : console::EchoMode::off;
+  console_options.crlf = terminal;
+  console_options.banner = true;
+  console_options.status_pairs = &linux_status_pairs;  // tick_rt, lateness, dropped edges, ...
+  console_options.status_context = &robot;
+  return console_options;
+}
+
+/// The control tick's rate the loop's configuration asks for, Hz.
+std::uint32_t control_rate_hz(const Robot& robot) {
+  return static_cast<std::uint32_t>(robot.loop->config().control_hz + 0.5f);
+}
+
+/// Starts the encoder-event thread, the console (which loads the saved parameters), then the
+/// control tick at the rate they give, `rate_hz`, and enables the motor driver; warns when the
+/// threads are not real-time. @return false (the reason printed) when a thread cannot start.
+bool start_robot(Robot& robot, const LinuxConfig& config, console::Console& console,
+                 std::uint32_t& rate_hz) {
+  SetupResult started = robot.encoders->start(config.event_priority, config.event_holdback_us);
+  if (!started.ok()) {
+    std::fprintf(stderr, "odocal-linux: %s\n", started.message.c_str());
+    return false;
+  }
+  static_cast<void>(console.start(robot.clock.now_us()));
+  rate_hz = control_rate_hz(robot);
+  if (robot.tick->start(rate_hz, &Robot::on_tick, &robot) == 0u) {
+    std::fprintf(stderr, "odocal-linux: control tick: %s\n", robot.tick->error().c_str());
+    return false;
+  }
+  robot.enable.set(true);
+  if (!robot.encoders->realtime() || !robot.tick->stats().realtime || config.tick_priority == 0) {
+    std::fprintf(stderr, "odocal-linux: threads not on SCHED_FIFO (%s); see `status`\n",
+                 config.tick_priority == 0 ? "priority 0 configured"
+                                           : "needs root, CAP_SYS_NICE or an rtprio limit");
+  }
+  return true;
+}
+
+/// Serves the console until SIGINT or SIGTERM, or the end of its input (stdio, a serial port),
+/// restarting the tick when `set control_hz` changes the rate it started at, `rate_hz`.
+void serve_console(Robot& robot, console::Console& console, const ConsoleStream& stream,
+                   std::uint32_t rate_hz) {
+  struct sigaction action {};
+  action.sa_handler = on_signal;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+  std::uint32_t last_rate_check_us = robot.clock.now_us();
+  while (!stop_requested.load()) {
+    pollfd wait{stream.input_fd, POLLIN, 0};
+    // Short sleeps: `stream odom` lines and queued output are due without input.
+    static_cast<void>(poll(&wait, 1, console.idle() ? 5 : 0));
+    const std::uint32_t now_us = robot.clock.now_us();
+    console.poll(now_us);
+    if (now_us - last_rate_check_us > 100000u) {
+      last_rate_check_us = now_us;
+      const std::uint32_t wanted = control_rate_hz(robot);
+      if (wanted != rate_hz) {  // `set control_hz` took effect in the loop: follow it
+        rate_hz = wanted;
+        static_cast<void>(robot.tick->start(rate_hz, &Robot::on_tick, &robot));
+      }
+    }
+    const auto& fd_stream = stream.fd_stream;
+    if (fd_stream && (fd_stream->end_of_input() || fd_stream->output_broken()) && console.idle()) {
+      break;
+    }
+  }
+}
+
+int run(const Options& options, const LinuxConfig& config) {
+  Robot robot;
+  if (!open_robot(robot, config)) {
+    return kExitSetup;
+  }
   if (options.check) {
     std::fprintf(stderr, "odocal-linux: --check: every line and channel set up\n");
     robot.shut_down();
@@ -191,95 +313,24 @@ int run(const Options& options, const LinuxConfig& config) {
   }
   params::ParamStore store(flash);
 
-  // The console stream: stdio, a pty or a serial port.
-  std::unique_ptr<posix::FdByteStream> fd_stream;
-  std::unique_ptr<posix::PtyByteStream> pty_stream;
-  hal::ByteStream* raw = nullptr;
-  int input_fd = -1;
-  int tty_fd = -1;
-  if (options.pty) {
-    pty_stream = std::make_unique<posix::PtyByteStream>();
-    if (!pty_stream->open(error)) {
-      std::fprintf(stderr, "odocal-linux: pty: %s\n", error.c_str());
-      robot.shut_down();
-      return kExitSetup;
-    }
-    std::fprintf(stderr, "odocal-linux: console on %s\n", pty_stream->slave_name().c_str());
-    raw = pty_stream.get();
-    input_fd = pty_stream->input_fd();
-  } else {
-    if (!options.tty.empty()) {
-      tty_fd = open_tty(options.tty, error);
-      if (tty_fd < 0) {
-        std::fprintf(stderr, "odocal-linux: console %s\n", error.c_str());
-        robot.shut_down();
-        return kExitSetup;
-      }
-    }
-    fd_stream = std::make_unique<posix::FdByteStream>(tty_fd >= 0 ? tty_fd : STDIN_FILENO,
-                                                      tty_fd >= 0 ? tty_fd : STDOUT_FILENO);
-    raw = fd_stream.get();
-    input_fd = fd_stream->input_fd();
-  }
-  const bool terminal = options.pty || tty_fd >= 0 || isatty(STDIN_FILENO) == 1;
-  console::ConsoleOptions console_options;
-  console_options.echo = terminal ? console::EchoMode::automatic : console::EchoMode::off;
-  console_options.crlf = terminal;
-  console_options.banner = true;
-  console_options.status_pairs = &linux_status_pairs;  // tick_rt, lateness, dropped edges, ...
-  console_options.status_context = &robot;
-  console::Console console(*raw, *robot.loop, store, console_options);
-
-  SetupResult started = robot.encoders->start(config.event_priority, config.event_holdback_us);
-  if (!started.ok()) {
-    std::fprintf(stderr, "odocal-linux: %s\n", started.message.c_str());
+  ConsoleStream stream;
+  if (!open_console_stream(options, stream)) {
     robot.shut_down();
     return kExitSetup;
   }
-  static_cast<void>(console.start(robot.clock.now_us()));
-  auto rate_of = [&robot] {
-    return static_cast<std::uint32_t>(robot.loop->config().control_hz + 0.5f);
-  };
-  std::uint32_t rate_hz = rate_of();
-  if (robot.tick->start(rate_hz, &Robot::on_tick, &robot) == 0u) {
-    std::fprintf(stderr, "odocal-linux: control tick: %s\n", robot.tick->error().c_str());
+  const console::ConsoleOptions console_options = console_options_for(options, stream, robot);
+  console::Console console(*stream.raw, *robot.loop, store, console_options);
+
+  std::uint32_t rate_hz = 0u;
+  if (!start_robot(robot, config, console, rate_hz)) {
     robot.shut_down();
     return kExitSetup;
   }
-  robot.enable.set(true);
-  if (!robot.encoders->realtime() || !robot.tick->stats().realtime || config.tick_priority == 0) {
-    std::fprintf(stderr, "odocal-linux: threads not on SCHED_FIFO (%s); see `status`\n",
-                 config.tick_priority == 0 ? "priority 0 configured"
-                                           : "needs root, CAP_SYS_NICE or an rtprio limit");
-  }
-
-  struct sigaction action {};
-  action.sa_handler = on_signal;
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
-  std::uint32_t last_rate_check_us = robot.clock.now_us();
-  while (!stop_requested.load()) {
-    pollfd wait{input_fd, POLLIN, 0};
-    // Short sleeps: `stream odom` lines and queued output are due without input.
-    static_cast<void>(poll(&wait, 1, console.idle() ? 5 : 0));
-    const std::uint32_t now_us = robot.clock.now_us();
-    console.poll(now_us);
-    if (now_us - last_rate_check_us > 100000u) {
-      last_rate_check_us = now_us;
-      const std::uint32_t wanted = rate_of();
-      if (wanted != rate_hz) {  // `set control_hz` took effect in the loop: follow it
-        rate_hz = wanted;
-        static_cast<void>(robot.tick->start(rate_hz, &Robot::on_tick, &robot));
-      }
-    }
-    if (fd_stream && (fd_stream->end_of_input() || fd_stream->output_broken()) && console.idle()) {
-      break;
-    }
-  }
+  serve_console(robot, console, stream, rate_hz);
   robot.shut_down();
-  if (tty_fd >= 0) {
-    fd_stream.reset();
-    ::close(tty_fd);
+  if (stream.tty_fd >= 0) {
+    stream.fd_stream.reset();
+    ::close(stream.tty_fd);
   }
   return 0;
 }

@@ -1,3 +1,5 @@
+// The control tick: the pipeline from encoders to motors, its faults and its braking (the main
+// loop's requests and reads: control_loop_requests.cpp).
 #include "odocal/drive/control_loop.hpp"
 
 #include <cmath>
@@ -243,35 +245,32 @@ void ControlLoop::drive_motors(float left_duty, float right_duty) {
   right_pwm_->set_duty(std::fabs(right_duty));
 }
 
-void ControlLoop::tick(std::uint32_t now_us) {
-  // 1. Snapshot the encoders and take the main loop's requests, in one short critical section.
-  EncoderSnapshot left_snap;
-  EncoderSnapshot right_snap;
-  Taken inbox;
-  {
-    hal::CriticalGuard guard(critical_);
-    left_snap = left_decoder_.snapshot();
-    right_snap = right_decoder_.snapshot();
-    inbox.config_pending = inbox_.config_pending;
-    if (inbox_.config_pending) {
-      config_ = inbox_.config;  // applied below, outside the critical section
-      inbox_.config_pending = false;
-    }
-    inbox.command = inbox_.command;
-    inbox.twist = inbox_.twist;
-    inbox.duration_ms = inbox_.duration_ms;
-    inbox.reset_pose = inbox_.reset_pose;
-    inbox_.command = Command::none;
-    inbox_.reset_pose = false;
+void ControlLoop::take_inbox(EncoderSnapshot& left, EncoderSnapshot& right, Taken& inbox) {
+  hal::CriticalGuard guard(critical_);
+  left = left_decoder_.snapshot();
+  right = right_decoder_.snapshot();
+  inbox.config_pending = inbox_.config_pending;
+  if (inbox_.config_pending) {
+    config_ = inbox_.config;  // applied by the tick, outside the critical section
+    inbox_.config_pending = false;
   }
+  inbox.command = inbox_.command;
+  inbox.twist = inbox_.twist;
+  inbox.duration_ms = inbox_.duration_ms;
+  inbox.reset_pose = inbox_.reset_pose;
+  inbox_.command = Command::none;
+  inbox_.reset_pose = false;
+}
 
+std::uint32_t ControlLoop::advance_clock(std::uint32_t now_us, const EncoderSnapshot& left,
+                                         const EncoderSnapshot& right) {
   if (!started_) {
     started_ = true;
     last_tick_us_ = now_us;
-    left_wheel_.speed.reset(left_snap, now_us);
-    right_wheel_.speed.reset(right_snap, now_us);
-    left_wheel_.illegal_base = left_snap.illegal;
-    right_wheel_.illegal_base = right_snap.illegal;
+    left_wheel_.speed.reset(left, now_us);
+    right_wheel_.speed.reset(right, now_us);
+    left_wheel_.illegal_base = left.illegal;
+    right_wheel_.illegal_base = right.illegal;
   }
   std::uint32_t dt_us = now_us - last_tick_us_;
   last_tick_us_ = now_us;
@@ -279,17 +278,14 @@ void ControlLoop::tick(std::uint32_t now_us) {
   if (dt_us > kMaxTickGap_us) {
     dt_us = kMaxTickGap_us;
   }
-  const float dt_s = static_cast<float>(dt_us) * 1e-6f;
   ++ticks_;
+  return dt_us;
+}
 
-  if (inbox.config_pending) {
-    apply_config(config_);
-  }
-  take_command(inbox, left_snap, right_snap);
-
-  // 2. Estimate wheel speeds. 3. Odometry from the wheel increments.
-  left_wheel_.speed.update(left_snap, now_us);
-  right_wheel_.speed.update(right_snap, now_us);
+void ControlLoop::estimate(const EncoderSnapshot& left, const EncoderSnapshot& right,
+                           std::uint32_t now_us) {
+  left_wheel_.speed.update(left, now_us);
+  right_wheel_.speed.update(right, now_us);
   odometry_.update(
       static_cast<float>(left_wheel_.speed.delta_counts()) * kinematics_.left_m_per_count(),
       static_cast<float>(right_wheel_.speed.delta_counts()) * kinematics_.right_m_per_count(),
@@ -297,6 +293,78 @@ void ControlLoop::tick(std::uint32_t now_us) {
       // rates (M/T speeds: a tick's 0-3 counts would quantise the weight and bias it).
       kinematics_.wheelbase_for_rates_m(left_wheel_.speed.speed_radps(),
                                         right_wheel_.speed.speed_radps()));
+}
+
+bool ControlLoop::wheel_duties(float dt_s, std::uint32_t dt_us, float& left_duty,
+                               float& right_duty) {
+  if (mode_ == Mode::fault) {
+    left_wheel_.controller.reset();
+    right_wheel_.controller.reset();
+    left_wheel_.brake_sign = 0;  // a fault parks the motors: no braking either
+    right_wheel_.brake_sign = 0;
+    return false;
+  }
+  const Twist twist = twist_for_mode(dt_s, dt_us);
+  WheelRates rates = kinematics_.inverse(twist);
+  float scale = 1.0f;
+  const bool clipped = limit_wheel_speeds(rates, config_.max_wheel_radps, scale);
+  if (rates.left_radps == 0.0f && rates.right_radps == 0.0f) {
+    // Nothing to drive. After a drive or a `stop`, brake each wheel to rest under proportional
+    // speed control to zero (a robot told to stop stops: about a third of the distance it would
+    // roll out on its shorted windings); then, and otherwise (idle, settling between path
+    // segments), release the motors, instead of a velocity loop that would wind up and creep
+    // backwards.
+    brake_us_ += dt_us;
+    left_duty = brake_duty(left_wheel_);
+    right_duty = brake_duty(right_wheel_);
+  } else {
+    left_wheel_.brake_sign = 0;
+    right_wheel_.brake_sign = 0;
+    left_duty =
+        left_wheel_.controller.update(rates.left_radps, left_wheel_.speed.speed_radps(), dt_s);
+    right_duty =
+        right_wheel_.controller.update(rates.right_radps, right_wheel_.speed.speed_radps(), dt_s);
+  }
+  return clipped;
+}
+
+void ControlLoop::publish(const EncoderSnapshot& left, const EncoderSnapshot& right,
+                          float left_duty, float right_duty, bool clipped) {
+  hal::CriticalGuard guard(critical_);
+  LoopStatus& status = published_.status;
+  status.mode = mode_;
+  status.path = mode_ == Mode::path ? motion_.path_id() : PathId::none;
+  status.segment = motion_.segment_index();
+  status.faults = faults_;
+  status.ticks = ticks_;
+  status.illegal_left = left.illegal;
+  status.illegal_right = right.illegal;
+  status.left_radps = left_wheel_.speed.speed_radps();
+  status.right_radps = right_wheel_.speed.speed_radps();
+  status.left_duty = left_duty;
+  status.right_duty = right_duty;
+  status.trial_open = trial_.open();
+  status.pose_resets = pose_resets_;
+  status.clipped = clipped;
+  published_.counts = WheelCounts{clock_us_, left_wheel_.speed.position_counts(),
+                                  right_wheel_.speed.position_counts()};
+}
+
+void ControlLoop::tick(std::uint32_t now_us) {
+  // 1. Snapshot the encoders and take the main loop's requests, in one short critical section.
+  EncoderSnapshot left_snap;
+  EncoderSnapshot right_snap;
+  Taken inbox;
+  take_inbox(left_snap, right_snap, inbox);
+  const std::uint32_t dt_us = advance_clock(now_us, left_snap, right_snap);
+  const float dt_s = static_cast<float>(dt_us) * 1e-6f;
+  if (inbox.config_pending) {
+    apply_config(config_);
+  }
+  take_command(inbox, left_snap, right_snap);
+
+  // 2. Estimate wheel speeds. 3. Odometry from the wheel increments.
+  estimate(left_snap, right_snap, now_us);
 
   // Faults are sticky and park the motors.
   check_faults(left_snap, right_snap, dt_us);
@@ -310,35 +378,7 @@ void ControlLoop::tick(std::uint32_t now_us) {
   // keeps the curvature. 6. Wheel PI. 7. Outputs.
   float left_duty = 0.0f;
   float right_duty = 0.0f;
-  bool clipped = false;
-  if (mode_ == Mode::fault) {
-    left_wheel_.controller.reset();
-    right_wheel_.controller.reset();
-    left_wheel_.brake_sign = 0;  // a fault parks the motors: no braking either
-    right_wheel_.brake_sign = 0;
-  } else {
-    const Twist twist = twist_for_mode(dt_s, dt_us);
-    WheelRates rates = kinematics_.inverse(twist);
-    float scale = 1.0f;
-    clipped = limit_wheel_speeds(rates, config_.max_wheel_radps, scale);
-    if (rates.left_radps == 0.0f && rates.right_radps == 0.0f) {
-      // Nothing to drive. After a drive or a `stop`, brake each wheel to rest under proportional
-      // speed control to zero (a robot told to stop stops: about a third of the distance it would
-      // roll out on its shorted windings); then, and otherwise (idle, settling between path
-      // segments), release the motors, instead of a velocity loop that would wind up and creep
-      // backwards.
-      brake_us_ += dt_us;
-      left_duty = brake_duty(left_wheel_);
-      right_duty = brake_duty(right_wheel_);
-    } else {
-      left_wheel_.brake_sign = 0;
-      right_wheel_.brake_sign = 0;
-      left_duty =
-          left_wheel_.controller.update(rates.left_radps, left_wheel_.speed.speed_radps(), dt_s);
-      right_duty =
-          right_wheel_.controller.update(rates.right_radps, right_wheel_.speed.speed_radps(), dt_s);
-    }
-  }
+  const bool clipped = wheel_duties(dt_s, dt_us, left_duty, right_duty);
   drive_motors(left_duty, right_duty);
 
   // 8. Trial bookkeeping: a trial closes once the robot is at rest after its motion.
@@ -349,146 +389,7 @@ void ControlLoop::tick(std::uint32_t now_us) {
                                   std::fmax(config_.settle_ms, kMinStill_ms)));
 
   // 9. Publish for the main loop.
-  hal::CriticalGuard guard(critical_);
-  LoopStatus& status = published_.status;
-  status.mode = mode_;
-  status.path = mode_ == Mode::path ? motion_.path_id() : PathId::none;
-  status.segment = motion_.segment_index();
-  status.faults = faults_;
-  status.ticks = ticks_;
-  status.illegal_left = left_snap.illegal;
-  status.illegal_right = right_snap.illegal;
-  status.left_radps = left_wheel_.speed.speed_radps();
-  status.right_radps = right_wheel_.speed.speed_radps();
-  status.left_duty = left_duty;
-  status.right_duty = right_duty;
-  status.trial_open = trial_.open();
-  status.pose_resets = pose_resets_;
-  status.clipped = clipped;
-  published_.counts = WheelCounts{clock_us_, left_wheel_.speed.position_counts(),
-                                  right_wheel_.speed.position_counts()};
-}
-
-ConfigCheck ControlLoop::configure(const DriveConfig& config) {
-  const ConfigCheck result = check(config);
-  if (!result) {
-    return result;
-  }
-  hal::CriticalGuard guard(critical_);
-  inbox_.config = config;
-  inbox_.config_pending = true;
-  // The wiring at once, here (no edge or tick runs inside the section): the tick that takes the
-  // rest of the configuration does no more work for it.
-  apply_wiring(config.wiring_fix);
-  return result;
-}
-
-DriveConfig ControlLoop::config() const {
-  hal::CriticalGuard guard(critical_);
-  return inbox_.config;
-}
-
-bool ControlLoop::drive(const Twist& twist, std::uint32_t duration_ms) {
-  if (!std::isfinite(twist.v_mps) || !std::isfinite(twist.w_radps)) {
-    return false;
-  }
-  hal::CriticalGuard guard(critical_);
-  if (published_.status.faults != fault_none) {
-    return false;
-  }
-  inbox_.command = Command::drive;
-  inbox_.twist = twist;
-  inbox_.duration_ms = duration_ms;
-  return true;
-}
-
-bool ControlLoop::run(const Path& path) {
-  if (path.count == 0u) {
-    return false;
-  }
-  hal::CriticalGuard guard(critical_);
-  if (published_.status.faults != fault_none) {
-    return false;
-  }
-  inbox_.command = Command::run;
-  // The tick is held off (critical section) and the loop is not in a fault (mode_ is fault exactly
-  // when the published faults are set): one copy, straight where it runs. The next tick starts it,
-  // or cancels it when a later command replaces this one first.
-  motion_.load(path);
-  return true;
-}
-
-void ControlLoop::stop() {
-  hal::CriticalGuard guard(critical_);
-  inbox_.command = Command::stop;
-}
-
-Pose ControlLoop::pose() const {
-  Odometry copy;
-  {
-    hal::CriticalGuard guard(critical_);
-    if (inbox_.reset_pose) {
-      return Pose{};  // the next tick resets the odometry: it reads zero from now on
-    }
-    copy = odometry_;  // the tick's own, read under the critical section (no published copy)
-  }
-  return copy.pose();
-}
-
-void ControlLoop::reset_pose() {
-  hal::CriticalGuard guard(critical_);
-  inbox_.reset_pose = true;
-}
-
-LoopStatus ControlLoop::status() const {
-  hal::CriticalGuard guard(critical_);
-  LoopStatus status = published_.status;
-  // A command the tick has not taken yet reads as taken (as `config()` does): `run` then `status`
-  // says mode=path even when no tick came between the two lines.
-  switch (inbox_.command) {
-    case Command::run:
-      status.mode = Mode::path;
-      status.path = motion_.path().id;  // run() loaded it already
-      status.segment = 0u;
-      status.trial_open = true;
-      break;
-    case Command::drive:
-      status.mode = Mode::drive;
-      status.path = PathId::none;
-      status.segment = 0u;
-      status.trial_open = inbox_.duration_ms > 0u;
-      break;
-    case Command::stop:
-      status.mode = Mode::idle;
-      status.path = PathId::none;
-      status.segment = 0u;
-      status.faults = fault_none;
-      status.trial_open = false;
-      break;
-    case Command::none:
-      break;
-  }
-  return status;
-}
-
-TrialRecord ControlLoop::last_trial() const {
-  hal::CriticalGuard guard(critical_);
-  return trial_.last();
-}
-
-WheelCounts ControlLoop::wheel_counts() const {
-  hal::CriticalGuard guard(critical_);
-  return published_.counts;
-}
-
-void ControlLoop::note_tick_duration_us(float duration_us) {
-  hal::CriticalGuard guard(critical_);
-  LoopStatus& status = published_.status;
-  // Exponential average over about 64 ticks, and the largest seen since start-up.
-  status.tick_us_avg += (duration_us - status.tick_us_avg) * (1.0f / 64.0f);
-  if (duration_us > status.tick_us_max) {
-    status.tick_us_max = duration_us;
-  }
+  publish(left_snap, right_snap, left_duty, right_duty, clipped);
 }
 
 }  // namespace odocal::drive

@@ -148,13 +148,29 @@ bool prepare(const CommonOptions& o, RobotSpec& spec, bool& svg_created) {
   return load_robot(o, spec) && check_svg(o, svg_created);
 }
 
-}  // namespace
+/// Why a Monte Carlo run failed: how many robots could not be calibrated and the first one's
+/// reason; empty when every robot was.
+std::string montecarlo_error(const MonteCarloReport& report) {
+  std::size_t failed = 0;
+  const MonteCarloRobot* first_failure = nullptr;
+  for (const MonteCarloRobot& r : report.robots) {
+    if (!r.ok) {
+      ++failed;
+      if (first_failure == nullptr) {
+        first_failure = &r;
+      }
+    }
+  }
+  return first_failure == nullptr ? std::string()
+                                  : "montecarlo: " + std::to_string(failed) + " of " +
+                                        std::to_string(report.robots.size()) +
+                                        " robots could not be calibrated (robot " +
+                                        std::to_string(first_failure - report.robots.data()) +
+                                        ": " + first_failure->error + ")";
+}
 
-void register_sim_commands(CLI::App& app, int& exit_code) {
-  auto* sim = app.add_subcommand("sim", "Simulated calibration procedures on the simulated robot");
-  sim->require_subcommand(1);
-
-  // The option storage lives as long as the app (the callbacks run from app.parse).
+/// `odocal sim umbmark`: UMBmark on the simulated robot, solved, applied and repeated.
+void add_sim_umbmark(CLI::App* sim, int& exit_code) {
   auto common_u = std::make_shared<CommonOptions>();
   auto umb = std::make_shared<UmbmarkOptions>();
   auto umb_side_mm = std::make_shared<double>(umb->side_m * 1e3);
@@ -183,7 +199,10 @@ void register_sim_commands(CLI::App& app, int& exit_code) {
         finish(*common_u, svg_created, report.ok, umbmark_report_json(report),
                umbmark_report_text(report), umbmark_report_svg(report), "umbmark: " + report.error);
   });
+}
 
+/// `odocal sim validate`: Maddahi and Zareinia: straight trials and unseen path.
+void add_sim_validate(CLI::App* sim, int& exit_code) {
   auto common_v = std::make_shared<CommonOptions>();
   auto val = std::make_shared<ValidateOptions>();
   auto* v = sim->add_subcommand(
@@ -216,7 +235,10 @@ void register_sim_commands(CLI::App& app, int& exit_code) {
                        validate_report_text(report), validate_report_svg(report),
                        "validate: " + report.error);
   });
+}
 
+/// `odocal sim extended`: extended UMBmark, with and without cables under one wheel.
+void add_sim_extended(CLI::App* sim, int& exit_code) {
   auto common_e = std::make_shared<CommonOptions>();
   auto ext = std::make_shared<ExtendedOptions>();
   auto ext_side_mm = std::make_shared<double>(ext->side_m * 1e3);
@@ -246,7 +268,10 @@ void register_sim_commands(CLI::App& app, int& exit_code) {
                        extended_report_text(report), extended_report_svg(report),
                        "extended: " + report.error);
   });
+}
 
+/// `odocal sim montecarlo`: many random robots calibrated by UMBmark.
+void add_sim_montecarlo(CLI::App* sim, int& exit_code) {
   auto common_m = std::make_shared<CommonOptions>();
   auto mc = std::make_shared<MonteCarloOptions>();
   mc->umbmark.side_m = 1.5;
@@ -274,26 +299,23 @@ void register_sim_commands(CLI::App& app, int& exit_code) {
       Progress progress;
       report = run_montecarlo(spec, common_m->seed, options, std::ref(progress));
     }
-    std::size_t failed = 0;
-    const MonteCarloRobot* first_failure = nullptr;
-    for (const MonteCarloRobot& r : report.robots) {
-      if (!r.ok) {
-        ++failed;
-        if (first_failure == nullptr) {
-          first_failure = &r;
-        }
-      }
-    }
-    const std::string error = first_failure == nullptr
-                                  ? std::string()
-                                  : "montecarlo: " + std::to_string(failed) + " of " +
-                                        std::to_string(report.robots.size()) +
-                                        " robots could not be calibrated (robot " +
-                                        std::to_string(first_failure - report.robots.data()) +
-                                        ": " + first_failure->error + ")";
-    exit_code = finish(*common_m, svg_created, failed == 0, montecarlo_report_json(report),
+    const std::string error = montecarlo_error(report);
+    exit_code = finish(*common_m, svg_created, error.empty(), montecarlo_report_json(report),
                        montecarlo_report_text(report), montecarlo_report_svg(report), error);
   });
+}
+
+}  // namespace
+
+void register_sim_commands(CLI::App& app, int& exit_code) {
+  auto* sim = app.add_subcommand("sim", "Simulated calibration procedures on the simulated robot");
+  sim->require_subcommand(1);
+  // Each adds its subcommand, whose option storage lives as long as the app (the callbacks run
+  // from app.parse).
+  add_sim_umbmark(sim, exit_code);
+  add_sim_validate(sim, exit_code);
+  add_sim_extended(sim, exit_code);
+  add_sim_montecarlo(sim, exit_code);
 }
 
 }  // namespace odocal::host

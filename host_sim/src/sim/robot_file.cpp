@@ -203,97 +203,85 @@ bool near_nominal(double true_mm, double nominal_mm, double tolerance) {
   return true_mm >= nominal_mm * (1.0 - tolerance) && true_mm <= nominal_mm * (1.0 + tolerance);
 }
 
-}  // namespace
-
-bool parse_robot(const std::string& text, const std::string& source, RobotSpec& spec,
-                 std::string& error) {
-  nlohmann::json doc;
-  JsonProblem problem;
-  if (!parse_json_strict(text, doc, problem)) {
-    if (problem.key.empty()) {
-      error = source + ": " + problem.message;
-      return false;
-    }
-    return fail(error, source, problem.key, problem.message);
-  }
-  if (!doc.is_object()) {
-    error = source + ": the robot file must be one flat JSON object";
-    return false;
-  }
-  RobotSpec out = default_robot();
-  for (auto it = doc.begin(); it != doc.end(); ++it) {
-    const std::string& key = it.key();
-    if (key == "encoder_fault") {
-      if (!it.value().is_string() || !parse_encoder_fault(it.value().get<std::string>(), out)) {
-        return fail(error, source, key,
-                    "must be one of \"none\", \"left_dead\", \"right_dead\", \"left_noisy\", "
-                    "\"right_noisy\"");
-      }
-      continue;
-    }
-    if (key == "wiring") {
-      bool known = false;
-      for (const WiringFault fault : kWiringFaults) {
-        if (it.value().is_string() && it.value().get<std::string>() == to_string(fault)) {
-          out.wiring = fault;
-          known = true;
-        }
-      }
-      if (!known) {
-        std::string allowed;
-        for (const WiringFault fault : kWiringFaults) {
-          allowed += std::string(allowed.empty() ? "\"" : ", \"") + to_string(fault) + "\"";
-        }
-        return fail(error, source, key, "must be one of " + allowed);
-      }
-      continue;
-    }
-    if (key == "encoder_fault_after_s") {
-      if (!it.value().is_number() || !(it.value().get<double>() >= 0.0) ||
-          !(it.value().get<double>() <= 1.0e6)) {
-        return fail(error, source, key, "must be a number of seconds from 0 to 1000000");
-      }
-      out.encoder_fault.after_s = it.value().get<double>();
-      continue;
-    }
-    RobotSpec probe;
-    if (!set_key(key, 1.0, probe)) {
-      return fail(error, source, key, unknown_key(key));
-    }
-    if (!it.value().is_number()) {
-      return fail(error, source, key, "must be a number");
-    }
-    const double value = it.value().get<double>();
-    if (!std::isfinite(value)) {
-      return fail(error, source, key, "must be finite");
-    }
-    if (key == "counts_per_rev" && !(value >= counts_per_rev_min && value <= counts_per_rev_max &&
-                                     std::floor(value) == value && std::fmod(value, 4.0) == 0.0)) {
+/// Reads one key of the robot file into `out`. @return false with `error` set when the key is
+/// unknown or its value is out of its form (the ranges that involve other keys come after).
+bool read_key(const std::string& key, const nlohmann::json& value, const std::string& source,
+              RobotSpec& out, std::string& error) {
+  if (key == "encoder_fault") {
+    if (!value.is_string() || !parse_encoder_fault(value.get<std::string>(), out)) {
       return fail(error, source, key,
-                  "must be a whole multiple of 4 from 100 to 1000000 (x4 counts per wheel turn)");
+                  "must be one of \"none\", \"left_dead\", \"right_dead\", \"left_noisy\", "
+                  "\"right_noisy\"");
     }
-    static_cast<void>(set_key(key, value, out));
+    return true;
   }
-  // A real robot not described in the file keeps the default robot's errors (E_d, E_b) around
-  // whatever nominal geometry the file gives: `{"wheel_diameter_mm": 80}` is an 80 mm robot
-  // with the default's 0.2 % wheel mismatch, not a 60 mm robot told it has 80 mm wheels.
-  {
-    const RobotSpec base = default_robot();
-    const double d_scale = static_cast<double>(out.nominal.wheel_diameter_mm) /
-                           static_cast<double>(base.nominal.wheel_diameter_mm);
-    const double b_scale = static_cast<double>(out.nominal.wheelbase_mm) /
-                           static_cast<double>(base.nominal.wheelbase_mm);
-    if (!doc.contains("true_left_diameter_mm")) {
-      out.truth.left_diameter_m = base.truth.left_diameter_m * d_scale;
+  if (key == "wiring") {
+    bool known = false;
+    for (const WiringFault fault : kWiringFaults) {
+      if (value.is_string() && value.get<std::string>() == to_string(fault)) {
+        out.wiring = fault;
+        known = true;
+      }
     }
-    if (!doc.contains("true_right_diameter_mm")) {
-      out.truth.right_diameter_m = base.truth.right_diameter_m * d_scale;
+    if (!known) {
+      std::string allowed;
+      for (const WiringFault fault : kWiringFaults) {
+        allowed += std::string(allowed.empty() ? "\"" : ", \"") + to_string(fault) + "\"";
+      }
+      return fail(error, source, key, "must be one of " + allowed);
     }
-    if (!doc.contains("true_wheelbase_mm")) {
-      out.truth.wheelbase_m = base.truth.wheelbase_m * b_scale;
-    }
+    return true;
   }
-  // Geometry the firmware is told.
+  if (key == "encoder_fault_after_s") {
+    if (!value.is_number() || !(value.get<double>() >= 0.0) || !(value.get<double>() <= 1.0e6)) {
+      return fail(error, source, key, "must be a number of seconds from 0 to 1000000");
+    }
+    out.encoder_fault.after_s = value.get<double>();
+    return true;
+  }
+  RobotSpec probe;
+  if (!set_key(key, 1.0, probe)) {
+    return fail(error, source, key, unknown_key(key));
+  }
+  if (!value.is_number()) {
+    return fail(error, source, key, "must be a number");
+  }
+  const double number = value.get<double>();
+  if (!std::isfinite(number)) {
+    return fail(error, source, key, "must be finite");
+  }
+  if (key == "counts_per_rev" && !(number >= counts_per_rev_min && number <= counts_per_rev_max &&
+                                   std::floor(number) == number && std::fmod(number, 4.0) == 0.0)) {
+    return fail(error, source, key,
+                "must be a whole multiple of 4 from 100 to 1000000 (x4 counts per wheel turn)");
+  }
+  static_cast<void>(set_key(key, number, out));
+  return true;
+}
+
+/// A real robot not described in the file keeps the default robot's errors (E_d, E_b) around
+/// whatever nominal geometry the file gives: `{"wheel_diameter_mm": 80}` is an 80 mm robot
+/// with the default's 0.2 % wheel mismatch, not a 60 mm robot told it has 80 mm wheels.
+void scale_untold_truth(const nlohmann::json& doc, RobotSpec& out) {
+  const RobotSpec base = default_robot();
+  const double d_scale = static_cast<double>(out.nominal.wheel_diameter_mm) /
+                         static_cast<double>(base.nominal.wheel_diameter_mm);
+  const double b_scale = static_cast<double>(out.nominal.wheelbase_mm) /
+                         static_cast<double>(base.nominal.wheelbase_mm);
+  if (!doc.contains("true_left_diameter_mm")) {
+    out.truth.left_diameter_m = base.truth.left_diameter_m * d_scale;
+  }
+  if (!doc.contains("true_right_diameter_mm")) {
+    out.truth.right_diameter_m = base.truth.right_diameter_m * d_scale;
+  }
+  if (!doc.contains("true_wheelbase_mm")) {
+    out.truth.wheelbase_m = base.truth.wheelbase_m * b_scale;
+  }
+}
+
+/// Checks the geometry the firmware is told (wheel diameter, wheelbase) against the ranges the
+/// simulated firmware takes.
+bool check_nominal_geometry(const RobotSpec& out, const std::string& source, std::string& error) {
   const double wheel_mm = static_cast<double>(out.nominal.wheel_diameter_mm);
   const double wheelbase_mm = static_cast<double>(out.nominal.wheelbase_mm);
   if (!(wheel_mm >= wheel_diameter_min_mm && wheel_mm <= wheel_diameter_max_mm)) {
@@ -315,7 +303,14 @@ bool parse_robot(const std::string& text, const std::string& source, RobotSpec& 
   if (!drive::valid(out.nominal)) {
     return fail(error, source, "robot", "the firmware refuses this geometry");
   }
-  // The real robot, near what the firmware is told.
+  return true;
+}
+
+/// Checks the real robot's wheels and wheelbase against what the firmware is told: near enough
+/// for the calibrations, which correct errors of a few percent.
+bool check_true_geometry(const RobotSpec& out, const std::string& source, std::string& error) {
+  const double wheel_mm = static_cast<double>(out.nominal.wheel_diameter_mm);
+  const double wheelbase_mm = static_cast<double>(out.nominal.wheelbase_mm);
   const sim::RobotModel& t = out.truth;
   const std::pair<const char*, double> wheels[] = {
       {"true_left_diameter_mm", t.left_diameter_m * 1e3},
@@ -352,6 +347,12 @@ bool parse_robot(const std::string& text, const std::string& source, RobotSpec& 
                     "wheelbase (" +
                     mm(true_wheelbase_mm) + ")");
   }
+  return true;
+}
+
+/// Checks the real robot's noise and floor (slip, bumps, the calibrator's noise) and the model
+/// as a whole.
+bool check_true_noise(const sim::RobotModel& t, const std::string& source, std::string& error) {
   if (!(t.slip_sigma >= 0.0 && t.slip_sigma < 0.5)) {
     return fail(error, source, "slip_sigma", "must be in [0, 0.5)");
   }
@@ -369,6 +370,37 @@ bool parse_robot(const std::string& text, const std::string& source, RobotSpec& 
   }
   if (sim::check(t) != sim::ModelError::none) {
     return fail(error, source, "robot", sim::to_string(sim::check(t)));
+  }
+  return true;
+}
+
+}  // namespace
+
+bool parse_robot(const std::string& text, const std::string& source, RobotSpec& spec,
+                 std::string& error) {
+  nlohmann::json doc;
+  JsonProblem problem;
+  if (!parse_json_strict(text, doc, problem)) {
+    if (problem.key.empty()) {
+      error = source + ": " + problem.message;
+      return false;
+    }
+    return fail(error, source, problem.key, problem.message);
+  }
+  if (!doc.is_object()) {
+    error = source + ": the robot file must be one flat JSON object";
+    return false;
+  }
+  RobotSpec out = default_robot();
+  for (auto it = doc.begin(); it != doc.end(); ++it) {
+    if (!read_key(it.key(), it.value(), source, out, error)) {
+      return false;
+    }
+  }
+  scale_untold_truth(doc, out);
+  if (!check_nominal_geometry(out, source, error) || !check_true_geometry(out, source, error) ||
+      !check_true_noise(out.truth, source, error)) {
+    return false;
   }
   spec = out;
   return true;

@@ -160,6 +160,24 @@ class ControlLoop {
   };
 
   void apply_config(const DriveConfig& config);
+  // The tick's stages, in its order (each called once, from `tick`; inlined there).
+  /// Snapshots the encoders and takes the main loop's requests, in one short critical section;
+  /// a new configuration goes straight to config_ (the tick applies it outside the section).
+  void take_inbox(EncoderSnapshot& left, EncoderSnapshot& right, Taken& inbox);
+  /// Advances the loop's clock to `now_us` (the first tick starts the estimators). @return the
+  /// period to integrate over, µs, at most kMaxTickGap_us.
+  [[nodiscard]] std::uint32_t advance_clock(std::uint32_t now_us, const EncoderSnapshot& left,
+                                            const EncoderSnapshot& right);
+  /// The wheels' speeds, and the odometry from their increments.
+  void estimate(const EncoderSnapshot& left, const EncoderSnapshot& right, std::uint32_t now_us);
+  /// The wheels' duties for this tick, by mode: 0 in a fault; braking when nothing is to be
+  /// driven; else motion -> twist -> inverse kinematics -> wheel PI. @return true when the set-
+  /// points were scaled to max_wheel_radps.
+  [[nodiscard]] bool wheel_duties(float dt_s, std::uint32_t dt_us, float& left_duty,
+                                  float& right_duty);
+  /// Publishes the status and the counts for the main loop, under the critical section.
+  void publish(const EncoderSnapshot& left, const EncoderSnapshot& right, float left_duty,
+               float right_duty, bool clipped);
   void take_command(const Taken& inbox, const EncoderSnapshot& left, const EncoderSnapshot& right);
   [[nodiscard]] Twist twist_for_mode(float dt_s, std::uint32_t dt_us);
   void check_faults(const EncoderSnapshot& left, const EncoderSnapshot& right, std::uint32_t dt_us);

@@ -210,6 +210,11 @@ bool feed_script(host::SimulatedRobot& robot, console::Console& console, Console
     while (!line_end && io.script->next(line, line_end)) {
       fed = true;
       io.scripted->feed(line);
+      // The console takes each piece before the next is read: endless input without a line end
+      // (/dev/zero) stays in constant memory, a piece at a time.
+      while (io.scripted->pending() > 0u) {
+        console.poll(robot.plant().clock().now_us());
+      }
     }
     if (fed) {
       pacer.rebase(robot.simulated_s());

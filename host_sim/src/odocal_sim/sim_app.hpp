@@ -27,6 +27,8 @@ class ScriptedStream final : public hal::ByteStream {
   explicit ScriptedStream(hal::ByteStream& inner) : inner_(inner) {}
   /// Queues script bytes for the console to read.
   void feed(const std::string& bytes) { pending_ += bytes; }
+  /// Bytes fed and not yet read by the console.
+  [[nodiscard]] std::size_t pending() const { return pending_.size() - taken_; }
 
  private:
   std::size_t do_read(std::uint8_t* out, std::size_t capacity) override;

@@ -47,15 +47,11 @@ std::string tick_log_csv(const RunRecord& r) {
   return out.str();
 }
 
-Outcome run_fit(Context& c) {
-  const std::size_t n = c.options.runs.value_or(6);
-  const double length_m = c.options.side_m.value_or(1.5);
-  c.need_measurements(n, "the fit (" + std::to_string(n) + " runs)");
-  c.planned = n;
-  FitNominal nominal;
-  nominal.wheel_diameter_mm = c.get("wheel_diameter_mm");
-  nominal.wheelbase_mm = c.get("wheelbase_mm");
-  nominal.counts_per_rev = c.get("counts_per_rev");
+namespace {
+
+/// The fit's runs: a line, a left arc, a right arc, repeated, each logged with `stream ticks`;
+/// their tick logs (the measured stop point on each log's last row).
+std::vector<TickLog> drive_fit_runs(Context& c, std::size_t n, double length_m) {
   const double cruise = c.get("v_max_mps");
   c.log << "Fit: " << n << " runs logged with 'stream ticks' (a " << fmt::format("{:.2f}", length_m)
         << " m line, a left arc, a right arc, repeated); measure the stop point of each, with "
@@ -81,27 +77,15 @@ Outcome run_fit(Context& c) {
     c.write_file(name, tick_log_csv(r));
     logs.push_back(read_tick_log(c.options.out_dir + "/" + name));
   }
+  return logs;
+}
 
-  FitOptions options;
-  options.seed = c.options.seed;
-  options.progress = [&c](const std::string& message) { c.log << "  " << message << "\n"; };
-  const FitOutcome fitted = fit_geometry(logs, nominal, options);
-  if (!fitted) {
-    throw std::runtime_error("fit: " + fitted.error.message + " (nothing applied)");
-  }
-  const FitResult& result = *fitted.result;
-  Outcome outcome;
-  // The JSON of `odocal fit` on these logs (noise included): what `odocal ros2 --from` reads.
-  const NoiseEstimate noise = noise_for_fit(logs, result, options);
-  outcome.result = fit_json(result, noise);
-  outcome.text = fit_text(result, noise);
-  c.log << outcome.text;
-  // Change only what the runs show wrong: a parameter whose interval holds the value in force
-  // keeps it (a fit of a few runs must not replace a better UMBmark result by its noise).
-  const Factors in_force = c.factors();
-  const double d = nominal.wheel_diameter_mm;
-  // The geometry in force, as the robot's odometry has it (the one model: F_lat and F_lon fold
-  // into the diameters and scale the wheelbases).
+/// What the fit changes: a parameter whose interval holds the value in force keeps it (a fit of
+/// a few runs must not replace a better UMBmark result by its noise); `shown` says which, `text`
+/// why. The geometry in force is the robot odometry's (the one model: F_lat and F_lon fold into
+/// the diameters and scale the wheelbases). `any`: something is to change.
+Factors fit_choice(const FitResult& result, const Factors& in_force, double d,
+                   nlohmann::json& shown, bool& any, std::ostream& text) {
   const drive::model::Geometry<double> now = geometry_in_force(in_force, d);
   struct Choice {
     const char* name;
@@ -117,9 +101,8 @@ Outcome run_fit(Context& c) {
       {"wheelbase_mm", result.geometry.wheelbase_mm, now.wheelbase, result.ci_wheelbase_mm},
   };
   double chosen[3];
-  nlohmann::json shown = nlohmann::json::object();
-  bool any = false;
-  std::ostringstream text;
+  shown = nlohmann::json::object();
+  any = false;
   for (std::size_t i = 0; i < 3; ++i) {
     const Choice& k = choices[i];
     const bool is_shown = !k.ci || k.in_force < k.ci->lo || k.in_force > k.ci->hi;
@@ -130,20 +113,53 @@ Outcome run_fit(Context& c) {
                         k.in_force,
                         is_shown ? "changed (outside the interval)" : "kept (inside the interval)");
   }
-  outcome.result["shown"] = shown;
   const bool arc_model = result.geometry.model == FitModelKind::arc_wheelbase;
-  const Factors next = factors_for_fit(
+  if (arc_model) {
+    any = true;  // the data chose a second wheelbase (held-out prediction): it goes in force
+  }
+  return factors_for_fit(
       drive::model::Geometry<double>{chosen[0], chosen[1], chosen[2],
                                      arc_model ? result.geometry.second_wheelbase_mm : 0.0},
       d);
+}
+
+}  // namespace
+
+Outcome run_fit(Context& c) {
+  const std::size_t n = c.options.runs.value_or(6);
+  const double length_m = c.options.side_m.value_or(1.5);
+  c.need_measurements(n, "the fit (" + std::to_string(n) + " runs)");
+  c.planned = n;
+  FitNominal nominal;
+  nominal.wheel_diameter_mm = c.get("wheel_diameter_mm");
+  nominal.wheelbase_mm = c.get("wheelbase_mm");
+  nominal.counts_per_rev = c.get("counts_per_rev");
+  const std::vector<TickLog> logs = drive_fit_runs(c, n, length_m);
+
+  FitOptions options;
+  options.seed = c.options.seed;
+  options.progress = [&c](const std::string& message) { c.log << "  " << message << "\n"; };
+  const FitOutcome fitted = fit_geometry(logs, nominal, options);
+  if (!fitted) {
+    throw std::runtime_error("fit: " + fitted.error.message + " (nothing applied)");
+  }
+  const FitResult& result = *fitted.result;
+  Outcome outcome;
+  // The JSON of `odocal fit` on these logs (noise included): what `odocal ros2 --from` reads.
+  const NoiseEstimate noise = noise_for_fit(logs, result, options);
+  outcome.result = fit_json(result, noise);
+  outcome.text = fit_text(result, noise);
+  c.log << outcome.text;
+  std::ostringstream text;
+  nlohmann::json shown;
+  bool any = false;
+  const Factors next = fit_choice(result, c.factors(), nominal.wheel_diameter_mm, shown, any, text);
+  outcome.result["shown"] = shown;
   const std::string refusal = implausible_factors(next, c.initial.wheelbase_mm);
   if (!refusal.empty()) {
     throw std::runtime_error(
         "fit: " + refusal +
         ". Nothing applied: check the wiring (docs/wiring.md) and the measurements.");
-  }
-  if (result.geometry.model == FitModelKind::arc_wheelbase) {
-    any = true;  // the data chose a second wheelbase (held-out prediction): it goes in force
   }
   if (!any) {
     text << "The runs show nothing wrong with the geometry in force: nothing changed.\n";
@@ -151,7 +167,7 @@ Outcome run_fit(Context& c) {
     outcome.text += text.str();
     return outcome;
   }
-  // `fit apply` puts the three in force at once with provenance `fit` (docs/console.md), the
+  // `fit apply` puts the geometry in force at once with provenance `fit` (docs/console.md), the
   // session's date and its runs.
   if (apply_fit(c, next, text)) {
     outcome.result["f_reset"] = true;

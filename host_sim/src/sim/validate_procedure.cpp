@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "odocal/drive/robot_model.hpp"
 #include "odocal/host/sim_procedures.hpp"
 #include "odocal/host/svg_plot.hpp"
 
@@ -82,6 +83,21 @@ bool run_cf(SimulatedRobot& robot, const drive::DriveConfig& base, const Validat
 }
 
 /// Runs one floor: the straight calibration trials, the two estimates, and the unseen path.
+/// The wheelbase to tell the firmware so that it drives the paper's eq. 7 as printed, where F_lat
+/// and F_lon multiply the turn terms too, with the wheelbase l = `c.wheelbase_mm`. odocal's
+/// drive keeps turn angles under F_lat, F_lon (the one model's composition rule,
+/// drive::model::geometry_in_force: the wheelbase in force is s·wheelbase_mm); the protocol
+/// reproduces the paper's drive, so the firmware is told l/s, which puts l itself in force
+/// (docs/results.md, "Maddahi & Zareinia protocol"). With F_lat = F_lon = 1, s = 1: l unchanged.
+float paper_wheelbase(const drive::DriveConfig& c) {
+  const double l = static_cast<double>(c.wheelbase_mm);
+  const drive::model::Geometry<double> in_force =
+      drive::model::geometry_in_force(drive::model::Parameters<double>{
+          static_cast<double>(c.wheel_diameter_mm), l, 0.0, static_cast<double>(c.c_l),
+          static_cast<double>(c.c_r), static_cast<double>(c.f_lat), static_cast<double>(c.f_lon)});
+  return static_cast<float>(l / (in_force.wheelbase / l));
+}
+
 /// 1. Straight trials with no correction (Maddahi section II): the end point and the wheel
 ///    rotations give one training row each, Ẋ = displacement / T and θ̇ = wheel angle / T. The
 ///    cruise speed is spread over the trials so that the regression sees a range of Ẋ.
@@ -103,6 +119,7 @@ bool straight_trials(SimulatedRobot& robot, const drive::DriveConfig& base,
     // proportional to ẋ and eq. 10 could not tell the wheels apart.
     const double g = std::fmod(static_cast<double>(i) * 0.6180339887498949, 1.0) * 2.0 - 1.0;
     c.f_lat = static_cast<float>(1.0 + o.trial_lateral_spread * g);
+    c.wheelbase_mm = paper_wheelbase(c);
     if (!robot.configure(c)) {
       error = "trial configuration refused";
       return false;
@@ -215,6 +232,7 @@ bool unseen_scenarios(SimulatedRobot& robot, const drive::DriveConfig& base,
     c.c_l = static_cast<float>(s.c_l);
     c.c_r = static_cast<float>(s.c_r);
     c.wheelbase_mm = static_cast<float>(s.wheelbase_mm);
+    c.wheelbase_mm = paper_wheelbase(c);
     if (!robot.configure(c)) {
       error = std::string(name) + " factors outside the firmware's range";
       return false;

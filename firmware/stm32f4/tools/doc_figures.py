@@ -29,8 +29,10 @@ import subprocess
 import sys
 
 # Relative. Six runs on a 2-core host at load 5-10 gave max 929-940, average 766-787; the
-# figures docs/stm32f4.md had before (same code, load unknown) were 940 and 741.
-TICK_MAX_TOLERANCE = 0.03
+# figures docs/stm32f4.md had before (same code, load unknown) were 940 and 741. Under load 12-14
+# the same image gave max 935-1024 (a USART interrupt landing inside the longest tick: its byte
+# arrives in real time, so the maximum depends on the host): 12 % holds those.
+TICK_MAX_TOLERANCE = 0.12
 TICK_AVG_TOLERANCE = 0.10
 ROOT = pathlib.Path(__file__).resolve().parents[3]
 TOOLS = pathlib.Path(__file__).resolve().parent

@@ -22,7 +22,7 @@ import tempfile
 import time
 
 HERE = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-STUDY = os.path.join(HERE, "tests", "session", "auto_study.py")
+STUDY = os.path.join(HERE, "tests", "host_sim", "session", "auto_study.py")
 _spec = importlib.util.spec_from_file_location("auto_study", STUDY)
 study = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(study)

@@ -6,8 +6,8 @@
 #include <numbers>
 
 #include "norm.hpp"
-#include "odocal/math/bounded_trig.hpp"
 #include "odocal/drive/robot_model.hpp"
+#include "odocal/math/bounded_trig.hpp"
 
 namespace odocal::calib {
 namespace {

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "odocal/math/bounded_trig.hpp"
 #include "odocal/drive/robot_model.hpp"
+#include "odocal/math/bounded_trig.hpp"
 
 namespace odocal::drive {
 namespace {

@@ -36,7 +36,8 @@ class TrialRecorder {
   static constexpr std::uint32_t max_settle_ms = 3000u;
 
   /// A trial starts: @param counts_l, counts_r wide positions now; @param length_m its argument.
-  [[gnu::noinline]] void begin(PathId path, float length_m, std::int64_t counts_l, std::int64_t counts_r);
+  [[gnu::noinline]] void begin(PathId path, float length_m, std::int64_t counts_l,
+                               std::int64_t counts_r);
   /// The motion was abandoned: no trial is recorded.
   void abandon() { phase_ = Phase::none; }
   /// One tick. @param moving true while the path or drive still commands motion; @param dt_us the

@@ -20,7 +20,6 @@ namespace odocal::host {
 /// same levels, same instants, same channel faults as sim::EncoderWiring.
 using DecoderWiring = sim::BasicEncoderWiring<drive::QuadratureDecoder&>;
 
-
 /// One path driven from the origin, as seen by the truth, the firmware and the measurement.
 struct RunOutcome {
   sim::WorldPose truth{};       ///< ground truth at the end, m / rad

@@ -1,7 +1,7 @@
 #pragma once
 /// @file
-/// A minimal SVG plotter for the `--svg` pictures of `odocal sim` and the session's report.html: side-by-side panels with
-/// equal-aspect axes, markers, polylines and a legend. No dependencies.
+/// A minimal SVG plotter for the `--svg` pictures of `odocal sim` and the session's report.html:
+/// side-by-side panels with equal-aspect axes, markers, polylines and a legend. No dependencies.
 
 #include <deque>
 #include <string>

@@ -60,6 +60,8 @@ class Context {
   nlohmann::json partial = nlohmann::json::object();
   /// The factors in force as last read from the robot (session.json's `factors`).
   std::optional<Factors> last_factors;
+  /// The factors in force during each run of `runs` (unset: a run taken over on --resume).
+  std::vector<std::optional<Factors>> run_factors;
 
   /// The session's UNIX time (provenance `date`).
   [[nodiscard]] std::uint64_t date() const;
@@ -109,6 +111,9 @@ class Context {
   void rewrite_journal();
 
  private:
+  /// The measurement of the run `r` (index: 0-based over the session), checked before it is
+  /// taken (reading_check.hpp) against the factors `in_force` and the repeats of its command.
+  SessionPose measure(const RunRecord& r, std::size_t index, const Factors& in_force);
   /// Appends `r`'s measurement (run `number`) to measurements.csv and flushes it to the disk.
   void journal(const RunRecord& r, std::size_t number);
 };

@@ -1,5 +1,6 @@
 // Where a session's measurements come from: the simulator's tape measure, a CSV file, a person.
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <istream>
@@ -44,6 +45,7 @@ class RobotMeasure final : public MeasurementSource {
     return std::numeric_limits<std::size_t>::max();
   }
   std::string describe() const override { return "the simulator's tape measure ('measure')"; }
+  bool by_hand() const override { return false; }
 
  private:
   RobotClient& robot_;
@@ -139,35 +141,71 @@ class FileMeasure final : public MeasurementSource {
   std::vector<SessionPose> rows_;
 };
 
+/// Whether `line` has a comma between two digits (a decimal comma, or numbers typed without a
+/// space after the comma).
+bool comma_between_digits(const std::string& line) {
+  for (std::size_t i = 1; i + 1 < line.size(); ++i) {
+    if (line[i] == ',' && std::isdigit(static_cast<unsigned char>(line[i - 1])) != 0 &&
+        std::isdigit(static_cast<unsigned char>(line[i + 1])) != 0) {
+      return true;
+    }
+  }
+  return false;
+}
+
 class PromptMeasure final : public MeasurementSource {
  public:
   PromptMeasure(std::istream& in, std::ostream& prompt, bool echo)
       : in_(in), prompt_(prompt), echo_(echo) {}
+  bool check_next(const ReadingCheck& check, bool heading_needed) override {
+    check_ = check;
+    heading_needed_ = heading_needed;
+    return true;
+  }
   SessionPose take(const RunRecord& run, std::size_t index, std::size_t planned) override {
     prompt_ << "\nRun " << index + 1 << "/" << planned << " (" << run.label << ", trial "
             << run.trial
             << ") has stopped. The robot's odometry says x=" << fmt::format("{:.1f}", run.odom.x_mm)
             << " y=" << fmt::format("{:.1f}", run.odom.y_mm) << " mm, heading "
             << fmt::format("{:.1f}", run.odom.theta_deg.value_or(0.0)) << " deg.\n";
+    const std::string ask =
+        heading_needed_
+            ? "Measured stop point from the start mark, mm, and the heading, deg (this run needs "
+              "it): x (ahead) y (left) heading (counter-clockwise +): "
+            : "Measured stop point from the start mark, mm: x (ahead) y (left) [heading deg]: ";
+    std::optional<SessionPose> questioned;  // a reading the check showed back, awaiting y
     for (;;) {
-      prompt_ << "Measured stop point from the start mark, mm: x (ahead) y (left) [heading deg]: "
+      prompt_ << (questioned ? "Type the reading again, or y to take it as it is: " : ask)
               << std::flush;
-      std::string line;
-      if (!session::read_typed_line(in_, line)) {
-        throw InputError("terminal", 0, "",
-                         "no measurement for run " + std::to_string(index + 1) +
-                             " (end of input); nothing was saved");
-      }
-      if (echo_) {
-        prompt_ << line << "\n";  // input from a file or pipe: show what was read
+      const std::string line = read_line(index);
+      if (questioned && (line == "y" || line == "yes" || line == "Y")) {
+        prompt_ << "  Taken as typed.\n";
+        return *questioned;
       }
       SessionPose pose;
       std::string why;
-      if (parse_measurement_line(line, pose, why)) {
+      if (!parse_measurement_line(line, pose, why)) {
+        prompt_ << "  Not taken: " << why
+                << ". Type two numbers (x_mm y_mm) or three (x_mm y_mm theta_deg), e.g. -12.5 40"
+                << (comma_between_digits(line) ? " ('.' is the decimal point: a comma separates "
+                                                 "numbers)"
+                                               : "")
+                << "\n";
+        continue;
+      }
+      if (heading_needed_ && !pose.theta_deg) {
+        prompt_ << "  Not taken: this run needs the heading too (the third number, degrees, "
+                   "counter-clockwise positive), e.g. "
+                << fmt::format("{:.1f} {:.1f} -12", pose.x_mm, pose.y_mm) << "\n";
+        questioned.reset();
+        continue;
+      }
+      const ReadingVerdict verdict = check_ ? check_(pose, line) : ReadingVerdict{};
+      if (verdict.plausible) {
         return pose;
       }
-      prompt_ << "  Not taken: " << why
-              << ". Type two numbers (x_mm y_mm) or three (x_mm y_mm theta_deg), e.g. -12.5 40\n";
+      prompt_ << verdict.explained();
+      questioned = pose;
     }
   }
   std::size_t available(std::size_t) const override {
@@ -176,9 +214,27 @@ class PromptMeasure final : public MeasurementSource {
   std::string describe() const override { return "the terminal (you type them)"; }
 
  private:
+  /// One typed line, shown when it came from a pipe; the end of the input ends the session.
+  std::string read_line(std::size_t index) {
+    std::string line;
+    if (!session::read_typed_line(in_, line)) {
+      throw InputError("terminal", 0, "",
+                       "no measurement for run " + std::to_string(index + 1) +
+                           " (end of input); nothing was saved");
+    }
+    if (echo_) {
+      prompt_ << line << "\n";  // input from a file or pipe: show what was read
+    }
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) {
+      line.pop_back();
+    }
+    return line;
+  }
   std::istream& in_;
   std::ostream& prompt_;
   bool echo_;
+  ReadingCheck check_;
+  bool heading_needed_ = false;
 };
 
 }  // namespace

@@ -11,8 +11,10 @@
 
 #include <fmt/format.h>
 
+#include "model_in_force.hpp"
 #include "odocal/host/csv.hpp"
 #include "odocal/toolkit/numbers.hpp"
+#include "reading_check.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
@@ -114,7 +116,65 @@ void read_trial(RobotClient& robot, const std::map<std::string, std::string>& do
   r.odom.theta_deg = trial.number("theta_deg");
 }
 
+/// Whether a run's measurement needs its heading: the self-test's (which way the robot turned
+/// tells the fault) and a turn in place's (the heading is all it shows).
+bool heading_needed(const RunRecord& r, const std::optional<drive::Path>& path) {
+  if (r.label.rfind("selftest", 0) == 0) {
+    return true;
+  }
+  return path && path->count == 1 && path->segments[0].distance_m == 0.0f &&
+         path->segments[0].angle_rad != 0.0f;
+}
+
 }  // namespace
+
+SessionPose Context::measure(const RunRecord& r, std::size_t index, const Factors& in_force) {
+  ReadingFacts facts;
+  facts.odom = r.odom;
+  const std::optional<drive::Path> path = path_of_command(r.command);
+  if (path) {
+    facts.allowance = allowance_of(*path, geometry_in_force(in_force, get("wheel_diameter_mm")));
+    facts.extent = extent_of(*path);
+  }
+  facts.heading_needed = heading_needed(r, path);
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    if (runs[i].command == r.command && path) {
+      const std::optional<Factors>& then = i < run_factors.size() ? run_factors[i] : std::nullopt;
+      const bool same = then && then->c_l == in_force.c_l && then->c_r == in_force.c_r &&
+                        then->wheelbase_mm == in_force.wheelbase_mm &&
+                        then->wheelbase_arc_mm == in_force.wheelbase_arc_mm &&
+                        then->f_lat == in_force.f_lat && then->f_lon == in_force.f_lon;
+      facts.earlier.push_back(EarlierReading{runs[i].odom, runs[i].measured, same});
+    }
+  }
+  const ReadingCheck check = [facts](const SessionPose& pose, const std::string& typed) {
+    return judge_reading(facts, pose, typed);
+  };
+  const bool checked = source.check_next(check, facts.heading_needed);
+  const SessionPose pose = source.take(r, index, planned);
+  if (checked) {
+    return pose;
+  }
+  const ReadingVerdict verdict = check(pose, std::string());
+  if (verdict.plausible) {
+    return pose;
+  }
+  if (!source.by_hand()) {
+    log << fmt::format("  (note: the reading check questions {}'s reading of run {}: {})\n",
+                       source.describe(), index + 1, verdict.problem);
+    return pose;
+  }
+  log << fmt::format("Run {}'s reading from {}:\n", index + 1, source.describe())
+      << verdict.explained();
+  if (!ask_yes_no(*this, fmt::format("Take run {}'s reading from {} as it is?", index + 1,
+                                     source.describe()))) {
+    throw InputError(source.describe(), 0, "",
+                     fmt::format("run {}: {} (correct the reading and give the file again, or "
+                                 "--resume with measurements.csv corrected)",
+                                 index + 1, verdict.problem));
+  }
+  return pose;
+}
 
 void Context::wait_for_enter(const std::string& prompt, const std::string& before) {
   if (options.start_in == nullptr) {
@@ -146,6 +206,7 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
                                    index + 1, r.command, r.label, command, label));
     }
     r.replayed = true;
+    run_factors.emplace_back(std::nullopt);
     log << fmt::format("Run {}/{}: {} - measured before the interruption, not driven again\n",
                        index + 1, planned, label);
     runs.push_back(r);
@@ -180,7 +241,9 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
     const double end_ms = std::max(r.ticks.back().t_ms + 20.0, first.t_ms + r.duration_ms);
     r.ticks.push_back(TickSample{end_ms, first.count_l + r.count_l, first.count_r + r.count_r});
   }
-  r.measured = source.take(r, runs.size(), planned);
+  const Factors in_force = factors();
+  r.measured = measure(r, index, in_force);
+  run_factors.emplace_back(in_force);
   log << fmt::format(
       "  run {} {} (trial {}, {:.1f} s): odometry {:.1f}, {:.1f} mm; measured {:.1f}, {:.1f} mm\n",
       runs.size() + 1, label, r.trial, r.duration_ms / 1000.0, plain(r.odom.x_mm),

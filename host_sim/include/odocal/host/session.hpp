@@ -6,6 +6,7 @@
 /// or a person at the terminal); then compute, show, apply, and save only when allowed.
 
 #include <cstdint>
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <optional>
@@ -60,10 +61,36 @@ class SessionEnded : public std::runtime_error {
   int exit_status_;
 };
 
+/// How a reading compares with what the run can have done (docs/calibration.md, "Readings are
+/// checked").
+struct ReadingVerdict {
+  bool plausible = true;
+  std::string problem;                    ///< what is off, by how much, and what it can be
+  std::string likely;                     ///< the slip that explains it ("" when none does)
+  std::optional<SessionPose> suggestion;  ///< the reading that slip would have been
+  std::string comma;                      ///< a note on a comma typed between digits
+  /// The lines that show it back to the person who typed it ("" when plausible).
+  [[nodiscard]] std::string explained() const;
+};
+
+/// Judges a reading of the run being measured: the pose as read, and the line as typed ("" when
+/// it did not come from a keyboard).
+using ReadingCheck = std::function<ReadingVerdict(const SessionPose&, const std::string&)>;
+
 /// Where the measurements come from.
 class MeasurementSource {
  public:
   virtual ~MeasurementSource() = default;
+  /// The check of the next take(), and whether that run needs a heading. A source that asks a
+  /// person shows a questioned reading back and asks again (or takes it confirmed), and returns
+  /// true; the others return false and the session judges what they return.
+  virtual bool check_next(const ReadingCheck& check, bool heading_needed) {
+    static_cast<void>(check);
+    static_cast<void>(heading_needed);
+    return false;
+  }
+  /// Whether its readings are a person's (typed, or from a file): the simulator's tape is not.
+  [[nodiscard]] virtual bool by_hand() const { return true; }
   /// The measured stop pose of `run` (index: 0-based over the whole session). Throws
   /// InputError / LinkError when there is none.
   virtual SessionPose take(const RunRecord& run, std::size_t index, std::size_t planned) = 0;

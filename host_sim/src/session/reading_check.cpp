@@ -1,0 +1,368 @@
+#include "reading_check.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <numbers>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "odocal/toolkit/numbers.hpp"
+
+namespace odocal::host::session {
+
+std::string pose_text(const SessionPose& p) {
+  std::string text = fmt::format("{:.1f} {:.1f}", p.x_mm, p.y_mm);
+  if (p.theta_deg) {
+    text += fmt::format(" {:.1f}", *p.theta_deg);
+  }
+  return text;
+}
+
+namespace {
+
+constexpr double deg_per_rad = 180.0 / std::numbers::pi;
+
+/// The wheels' travel of one segment as the odometry of `g` drives it (mm): the turn wheelbase
+/// is the one the arc weight of those travels picks (a fixed point, reached in a few steps).
+std::array<double, 2> travels(const drive::Segment& s, const drive::model::Geometry<double>& g) {
+  const double ds = 1e3 * static_cast<double>(s.distance_m);
+  const double dtheta = static_cast<double>(s.angle_rad);
+  double b = g.wheelbase;
+  for (int i = 0; i < 4; ++i) {
+    const double l = ds - 0.5 * dtheta * b;
+    const double r = ds + 0.5 * dtheta * b;
+    b = drive::model::wheelbase_for(g.wheelbase, g.wheelbase_arc, l, r);
+  }
+  return {ds - 0.5 * dtheta * b, ds + 0.5 * dtheta * b};
+}
+
+/// Where the robot ends when its wheels are `k_l`, `k_r` times the size the odometry believes and
+/// its wheelbases `k_b` times, the odometry having driven `path` exactly.
+drive::model::PoseOf<double> end_with(const drive::Path& path,
+                                      const drive::model::Geometry<double>& g, double k_l,
+                                      double k_r, double k_b) {
+  drive::model::PoseOf<double> pose;
+  for (std::uint8_t i = 0; i < path.count; ++i) {
+    const std::array<double, 2> lr = travels(path.segments[i], g);
+    const double l = k_l * lr[0];
+    const double r = k_r * lr[1];
+    drive::model::advance(
+        pose, l, r, drive::model::wheelbase_for(k_b * g.wheelbase, k_b * g.wheelbase_arc, l, r));
+  }
+  return pose;
+}
+
+std::optional<double> number(const std::string& word) {
+  return toolkit::parse_real(word);
+}
+
+/// The residual of a reading (reading − odometry): position mm, heading deg wrapped to ±180.
+struct Residual {
+  double x_mm = 0.0;
+  double y_mm = 0.0;
+  std::optional<double> theta_deg;
+};
+
+Residual residual(const SessionPose& reading, const SessionPose& odom) {
+  Residual r{reading.x_mm - odom.x_mm, reading.y_mm - odom.y_mm, std::nullopt};
+  if (reading.theta_deg && odom.theta_deg) {
+    r.theta_deg = std::remainder(*reading.theta_deg - *odom.theta_deg, 360.0);
+  }
+  return r;
+}
+
+/// Empty when `reading` can be the run's stop; else what is off.
+std::string problem_of(const ReadingFacts& f, const SessionPose& reading) {
+  if (f.heading_needed && !reading.theta_deg) {
+    return "this run needs the heading (the third number, degrees, counter-clockwise positive)";
+  }
+  const Residual r = residual(reading, f.odom);
+  const double off_mm = std::hypot(r.x_mm, r.y_mm);
+  if (f.allowance) {
+    if (off_mm > f.allowance->position_mm) {
+      return fmt::format(
+          "the stop point {:.1f}, {:.1f} mm is {:.0f} mm from where the odometry says the robot "
+          "stopped ({:.1f}, {:.1f} mm); this run can end at most {:.0f} mm from it",
+          reading.x_mm, reading.y_mm, off_mm, f.odom.x_mm, f.odom.y_mm, f.allowance->position_mm);
+    }
+    if (r.theta_deg && std::fabs(*r.theta_deg) > f.allowance->heading_deg) {
+      return fmt::format(
+          "the heading {:.1f} deg is {:.1f} deg from the odometry's ({:.1f} deg); this run can "
+          "end at most {:.1f} deg from it",
+          *reading.theta_deg, std::fabs(*r.theta_deg), *f.odom.theta_deg, f.allowance->heading_deg);
+    }
+  }
+  if (reading.theta_deg && std::fabs(*reading.theta_deg) > 180.0) {
+    return fmt::format(
+        "the heading {:.1f} deg is more than half a turn (headings are typed from -180 "
+        "to 180)",
+        *reading.theta_deg);
+  }
+  // The same run driven before: its stop differs from this one's by the noise, or (a calibration
+  // applied between them) by at most what that calibration corrected.
+  for (const EarlierReading& e : f.earlier) {
+    const Residual before = residual(e.measured, e.odom);
+    const double share = e.same_factors ? 0.0 : 1.0;
+    const double allow_mm = 2.0 * reading_noise::position_mm +
+                            2.0 * reading_noise::position_per_mm * f.extent.length_mm +
+                            share * std::hypot(before.x_mm, before.y_mm);
+    const double apart_mm = std::hypot(r.x_mm - before.x_mm, r.y_mm - before.y_mm);
+    if (apart_mm > allow_mm) {
+      return fmt::format(
+          "it is {:.0f} mm from where the same run stopped before ({}), measured against the "
+          "odometry; repeats differ by at most {:.0f} mm",
+          apart_mm, pose_text(e.measured), allow_mm);
+    }
+    if (r.theta_deg && before.theta_deg) {
+      const double allow_deg = 1.5 * reading_noise::heading_deg +
+                               2.0 * reading_noise::heading_per_deg * f.extent.turned_deg +
+                               share * std::fabs(*before.theta_deg);
+      const double apart_deg = std::fabs(std::remainder(*r.theta_deg - *before.theta_deg, 360.0));
+      if (apart_deg > allow_deg) {
+        return fmt::format(
+            "its heading is {:.1f} deg from the same run's before ({:.1f} deg), measured against "
+            "the odometry; repeats differ by at most {:.1f} deg",
+            apart_deg, *e.measured.theta_deg, allow_deg);
+      }
+    }
+  }
+  return std::string();
+}
+
+/// The reading typed with a decimal comma read as a decimal point ("12,5 3" -> 12.5 3), when the
+/// line has a comma between two digits; nullopt otherwise.
+std::optional<SessionPose> decimal_comma(const std::string& typed) {
+  std::string fixed = typed;
+  bool changed = false;
+  for (std::size_t i = 1; i + 1 < fixed.size(); ++i) {
+    if (fixed[i] == ',' && std::isdigit(static_cast<unsigned char>(fixed[i - 1])) != 0 &&
+        std::isdigit(static_cast<unsigned char>(fixed[i + 1])) != 0) {
+      fixed[i] = '.';
+      changed = true;
+    }
+  }
+  SessionPose pose;
+  std::string why;
+  if (!changed || !parse_measurement_line(fixed, pose, why)) {
+    return std::nullopt;
+  }
+  return pose;
+}
+
+/// A slip a person makes reading a tape or typing it, and the reading it would have been.
+struct Slip {
+  const char* what;
+  std::function<std::optional<SessionPose>(const SessionPose&, const ReadingFacts&)> undo;
+};
+
+const std::vector<Slip>& slips() {
+  static const std::vector<Slip> list = {
+      {"the heading's sign",
+       [](const SessionPose& p, const ReadingFacts&) -> std::optional<SessionPose> {
+         if (!p.theta_deg || *p.theta_deg == 0.0) {
+           return std::nullopt;
+         }
+         SessionPose q = p;
+         q.theta_deg = -*p.theta_deg;
+         return q;
+       }},
+      {"a heading a whole turn off",
+       [](const SessionPose& p, const ReadingFacts&) -> std::optional<SessionPose> {
+         if (!p.theta_deg || std::fabs(*p.theta_deg) <= 180.0) {
+           return std::nullopt;
+         }
+         SessionPose q = p;
+         q.theta_deg = std::remainder(*p.theta_deg, 360.0);
+         return q;
+       }},
+      {"x and y swapped",
+       [](const SessionPose& p, const ReadingFacts&) -> std::optional<SessionPose> {
+         return SessionPose{p.y_mm, p.x_mm, p.theta_deg};
+       }},
+      {"x and y swapped, and the sign of y",
+       [](const SessionPose& p, const ReadingFacts&) -> std::optional<SessionPose> {
+         return SessionPose{p.y_mm, -p.x_mm, p.theta_deg};
+       }},
+      {"x and y swapped, and the sign of x",
+       [](const SessionPose& p, const ReadingFacts&) -> std::optional<SessionPose> {
+         return SessionPose{-p.y_mm, p.x_mm, p.theta_deg};
+       }},
+      {"the sign of y (y is positive to the left)",
+       [](const SessionPose& p, const ReadingFacts&) -> std::optional<SessionPose> {
+         return SessionPose{p.x_mm, -p.y_mm, p.theta_deg};
+       }},
+      {"the sign of x (x is positive ahead)",
+       [](const SessionPose& p, const ReadingFacts&) -> std::optional<SessionPose> {
+         return SessionPose{-p.x_mm, p.y_mm, p.theta_deg};
+       }},
+      {"metres for millimetres",
+       [](const SessionPose& p, const ReadingFacts&) -> std::optional<SessionPose> {
+         return SessionPose{1e3 * p.x_mm, 1e3 * p.y_mm, p.theta_deg};
+       }},
+      {"centimetres for millimetres",
+       [](const SessionPose& p, const ReadingFacts&) -> std::optional<SessionPose> {
+         return SessionPose{10.0 * p.x_mm, 10.0 * p.y_mm, p.theta_deg};
+       }},
+      {"the difference from the odometry typed instead of the stop point",
+       [](const SessionPose& p, const ReadingFacts& f) -> std::optional<SessionPose> {
+         SessionPose q{f.odom.x_mm + p.x_mm, f.odom.y_mm + p.y_mm, p.theta_deg};
+         if (p.theta_deg && f.odom.theta_deg) {
+           q.theta_deg = std::remainder(*f.odom.theta_deg + *p.theta_deg, 360.0);
+         }
+         return q;
+       }},
+  };
+  return list;
+}
+
+}  // namespace
+
+std::optional<drive::Path> path_of_command(const std::string& command) {
+  std::vector<std::string> words;
+  std::string word;
+  for (char c : command + " ") {
+    if (c == ' ') {
+      if (!word.empty()) {
+        words.push_back(word);
+      }
+      word.clear();
+    } else {
+      word += c;
+    }
+  }
+  if (words.size() == 2 && words[0] == "run" && words[1] == "unseen") {
+    return drive::make_unseen_path();
+  }
+  if (words.size() == 3 && words[0] == "run") {
+    const std::optional<double> length_m = number(words[2]);
+    if (!length_m || !(*length_m > 0.0)) {
+      return std::nullopt;
+    }
+    const auto length = static_cast<float>(*length_m);
+    if (words[1] == "line") {
+      return drive::make_line(length);
+    }
+    if (words[1] == "umbmark-cw" || words[1] == "umbmark-ccw") {
+      return drive::make_umbmark_square(words[1] == "umbmark-cw", length);
+    }
+    return std::nullopt;
+  }
+  if (words.size() == 4 && words[0] == "drive") {
+    const std::optional<double> v = number(words[1]), w = number(words[2]), ms = number(words[3]);
+    if (!v || !w || !ms) {
+      return std::nullopt;
+    }
+    drive::Path path;
+    const double t_s = *ms / 1000.0;
+    static_cast<void>(
+        path.push(drive::Segment{static_cast<float>(*v * t_s), static_cast<float>(*w * t_s)}));
+    return path;
+  }
+  return std::nullopt;
+}
+
+PathExtent extent_of(const drive::Path& path) {
+  PathExtent e;
+  for (std::uint8_t i = 0; i < path.count; ++i) {
+    e.length_mm += 1e3 * std::fabs(static_cast<double>(path.segments[i].distance_m));
+    e.turned_deg += deg_per_rad * std::fabs(static_cast<double>(path.segments[i].angle_rad));
+  }
+  return e;
+}
+
+ReadingAllowance allowance_of(const drive::Path& path,
+                              const drive::model::Geometry<double>& in_force_mm) {
+  const drive::model::PoseOf<double> planned = end_with(path, in_force_mm, 1.0, 1.0, 1.0);
+  ReadingAllowance reach;
+  for (const double s : {-reading_box::scale, 0.0, reading_box::scale}) {
+    for (const double d : {-reading_box::ratio, 0.0, reading_box::ratio}) {
+      for (const double e : {-reading_box::wheelbase, 0.0, reading_box::wheelbase}) {
+        const drive::model::PoseOf<double> p =
+            end_with(path, in_force_mm, 1.0 + s - 0.5 * d, 1.0 + s + 0.5 * d, 1.0 + e);
+        reach.position_mm =
+            std::max(reach.position_mm, std::hypot(p.x - planned.x, p.y - planned.y));
+        reach.heading_deg =
+            std::max(reach.heading_deg, deg_per_rad * std::fabs(p.theta - planned.theta));
+      }
+    }
+  }
+  const PathExtent extent = extent_of(path);
+  reach.position_mm +=
+      reading_noise::position_mm + reading_noise::position_per_mm * extent.length_mm;
+  reach.heading_deg +=
+      reading_noise::heading_deg + reading_noise::heading_per_deg * extent.turned_deg;
+  return reach;
+}
+
+ReadingVerdict judge_reading(const ReadingFacts& facts, const SessionPose& reading,
+                             const std::string& typed) {
+  ReadingVerdict verdict;
+  const std::string problem = problem_of(facts, reading);
+  if (problem.empty()) {
+    return verdict;
+  }
+  verdict.plausible = false;
+  verdict.problem = problem;
+  if (facts.heading_needed && !reading.theta_deg) {
+    return verdict;  // nothing to explain: a number is missing
+  }
+  // The slips that would explain it: a decimal comma read as a separator alone, one slip, or a
+  // decimal comma and one slip.
+  const std::optional<SessionPose> comma = decimal_comma(typed);
+  if (comma) {
+    verdict.comma = "a comma between digits separates numbers here ('.' is the decimal point)";
+    if (problem_of(facts, *comma).empty()) {
+      verdict.likely = "a comma for a decimal point";
+      verdict.suggestion = *comma;
+      return verdict;
+    }
+  }
+  for (const auto& [base_what, base] :
+       {std::pair<std::string, std::optional<SessionPose>>{"", reading},
+        std::pair<std::string, std::optional<SessionPose>>{"a comma for a decimal point, and ",
+                                                           comma}}) {
+    if (!base) {
+      continue;
+    }
+    for (const Slip& slip : slips()) {
+      const std::optional<SessionPose> undone = slip.undo(*base, facts);
+      if (undone && problem_of(facts, *undone).empty()) {
+        verdict.likely = base_what + slip.what;
+        verdict.suggestion = *undone;
+        return verdict;
+      }
+    }
+  }
+  return verdict;
+}
+
+}  // namespace odocal::host::session
+
+namespace odocal::host {
+
+std::string ReadingVerdict::explained() const {
+  if (plausible) {
+    return std::string();
+  }
+  std::string text = "  Check this reading: " + problem + ".\n";
+  if (!comma.empty()) {
+    text += "  Note: " + comma + ".\n";
+  }
+  if (suggestion) {
+    text += "  Likely " + likely + ": did you mean " + session::pose_text(*suggestion) + "?\n";
+  } else if (!likely.empty()) {
+    text += "  Likely " + likely + ".\n";
+  } else {
+    text +=
+        "  No single slip (a sign, x and y swapped, metres, a decimal comma) explains it: "
+        "measure again.\n";
+  }
+  return text;
+}
+
+}  // namespace odocal::host

@@ -1,0 +1,82 @@
+#pragma once
+// Internal to the session: a reading is checked before it is taken. It is compared with where the
+// robot's odometry says the run stopped, allowing what the robot can be (its geometry anywhere in
+// the reading box below around the model in force) and its noise, and with the readings of the
+// same run driven before in this session. A reading that cannot be is shown back with the slip
+// that would explain it (docs/calibration.md, "Readings are checked").
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "odocal/drive/motion_executor.hpp"
+#include "odocal/drive/robot_model.hpp"
+#include "odocal/host/session.hpp"
+
+namespace odocal::host::session {
+
+/// How far the real robot's geometry can be from the model in force, relative: the mean wheel
+/// diameter (a tyre's size), the right-to-left diameter ratio, the wheelbases. Wider than any
+/// robot that drives straight enough to calibrate, narrower than the plausible ranges of a result
+/// (which also take robots told a wrong size).
+namespace reading_box {
+inline constexpr double scale = 0.05;
+inline constexpr double ratio = 0.02;
+inline constexpr double wheelbase = 0.08;
+}  // namespace reading_box
+
+/// The run-to-run noise a reading is allowed on top of the geometry: a tape's few millimetres, a
+/// share of the distance driven (slip), a share of the turning (a turn in place's slip).
+namespace reading_noise {
+inline constexpr double position_mm = 10.0;
+inline constexpr double position_per_mm = 0.01;
+inline constexpr double heading_deg = 2.0;
+inline constexpr double heading_per_deg = 0.005;
+}  // namespace reading_noise
+
+/// How far a run's real stop can be from where its odometry says it stopped.
+struct ReadingAllowance {
+  double position_mm = 0.0;
+  double heading_deg = 0.0;
+};
+
+/// The path a console command drives: `run line L`, `run umbmark-cw|ccw S`, `run unseen`, a timed
+/// `drive v w ms`. nullopt for any other command (the self-test's wheel drives).
+[[nodiscard]] std::optional<drive::Path> path_of_command(const std::string& command);
+
+/// Length (mm) and turning (deg, every turn counted) of a path.
+struct PathExtent {
+  double length_mm = 0.0;
+  double turned_deg = 0.0;
+};
+[[nodiscard]] PathExtent extent_of(const drive::Path& path);
+
+/// The geometry box's reach (the largest change of the end pose over the box's corners, the path
+/// driven by the odometry of `in_force`, mm) plus the noise allowance.
+[[nodiscard]] ReadingAllowance allowance_of(const drive::Path& path,
+                                            const drive::model::Geometry<double>& in_force_mm);
+
+/// A run of the same command measured before in this session.
+struct EarlierReading {
+  SessionPose odom;
+  SessionPose measured;
+  bool same_factors = false;  ///< the same factors were in force (else a calibration came between)
+};
+
+/// What the check knows about the run being measured.
+struct ReadingFacts {
+  SessionPose odom;
+  std::optional<ReadingAllowance> allowance;  ///< none: the command's path is unknown
+  PathExtent extent;
+  std::vector<EarlierReading> earlier;
+  bool heading_needed = false;
+};
+
+/// "x y [theta]" as a person would type it back.
+[[nodiscard]] std::string pose_text(const SessionPose& pose);
+
+/// Judges `reading` (typed as `typed`, "" when it came from a file).
+[[nodiscard]] ReadingVerdict judge_reading(const ReadingFacts& facts, const SessionPose& reading,
+                                           const std::string& typed);
+
+}  // namespace odocal::host::session

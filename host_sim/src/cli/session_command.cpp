@@ -316,6 +316,9 @@ int run(const SessionFlags& given, const CLI::App& cmd) {
     prepare_out_dir(options.out_dir, false);
   } else {
     options.replay = recorded_runs(interrupted, options.out_dir);
+    for (const std::string& line : take_edited_journal(options.replay, options.out_dir)) {
+      std::cerr << "Resume: " << line << "\n";
+    }
     if (interrupted.contains("result") && interrupted["result"].is_object()) {
       options.resumed_result = interrupted["result"];
     }

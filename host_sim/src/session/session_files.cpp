@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <memory>
 #include <optional>
 #include <sstream>
 
@@ -241,6 +242,46 @@ std::vector<RunRecord> recorded_runs(const nlohmann::json& session, const std::s
     }
   }
   return runs;
+}
+
+std::vector<std::string> take_edited_journal(std::vector<RunRecord>& runs, const std::string& dir) {
+  const std::string path = dir + "/measurements.csv";
+  std::vector<std::string> said;
+  if (::access(path.c_str(), F_OK) != 0) {
+    return said;
+  }
+  std::size_t lines = 0;  // the header alone: an interruption before the first measurement
+  std::istringstream text(read_text_file(path));
+  for (std::string line; std::getline(text, line);) {
+    lines += line.find_first_not_of(" \t\r") != std::string::npos ? 1u : 0u;
+  }
+  if (lines <= 1) {
+    return said;
+  }
+  const std::unique_ptr<MeasurementSource> journal = file_measurements(path);
+  const std::size_t rows = journal->available(0);
+  const auto differs = [](double a, double b) { return std::fabs(a - b) > 0.0005; };
+  for (std::size_t i = 0; i < runs.size() && i < rows; ++i) {
+    const SessionPose edited = journal->take(runs[i], i, runs.size());
+    SessionPose& kept = runs[i].measured;
+    const bool theta_changed = edited.theta_deg.has_value() != kept.theta_deg.has_value() ||
+                               (edited.theta_deg && differs(*edited.theta_deg, *kept.theta_deg));
+    if (differs(edited.x_mm, kept.x_mm) || differs(edited.y_mm, kept.y_mm) || theta_changed) {
+      const auto text = [](const SessionPose& p) {
+        return fmt::format("{:.3f} {:.3f} {}", p.x_mm, p.y_mm,
+                           p.theta_deg ? fmt::format("{:.3f}", *p.theta_deg) : "(no heading)");
+      };
+      said.push_back(fmt::format("run {}: {} from measurements.csv (session.json had {})", i + 1,
+                                 text(edited), text(kept)));
+      kept = edited;
+    }
+  }
+  if (rows < runs.size()) {
+    said.push_back(fmt::format(
+        "measurements.csv has {} of the {} runs measured: the others as session.json has them",
+        rows, runs.size()));
+  }
+  return said;
 }
 
 }  // namespace odocal::host

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -84,6 +85,28 @@ Diagnosis diagnose(Context& c, const std::string& seen) {
                          "invert_left_encoder"};
 }
 
+/// The fix checked by a motion it predicts: each side's wheel driven alone again, forward as the
+/// fixed wiring now drives it, must turn the robot as a wheel going forward does (the left one
+/// clockwise, the right one counter-clockwise). A heading typed with the wrong sign in the
+/// diagnosis proposes the wrong fix, and this motion then turns the other way.
+void check_fix(Context& c, const std::vector<std::string>& sides) {
+  for (const std::string& side : sides) {
+    c.robot.drain(300);
+    const RunRecord r = c.run("selftest check " + side, "selftest " + side, 1.2);
+    const bool counter_clockwise = r.measured.theta_deg.value_or(0.0) > 0.0;
+    const bool as_predicted = side == "right" ? counter_clockwise : !counter_clockwise;
+    if (!as_predicted) {
+      throw std::runtime_error(fmt::format(
+          "the fix does not hold: with it the {} wheel should turn the robot {} (heading {} 0), "
+          "but the heading measured was {:.1f} deg. A heading typed with the wrong sign in the "
+          "self-test proposes the wrong fix: the fix is taken back; run the self-test again and "
+          "read each heading counter-clockwise positive",
+          side, side == "right" ? "counter-clockwise" : "clockwise", side == "right" ? ">" : "<",
+          r.measured.theta_deg.value_or(0.0)));
+    }
+  }
+}
+
 /// --resume: the self-test the interrupted session finished is not driven again. Its measured
 /// runs are taken over and its fix (put back by the interruption) is applied again.
 std::optional<Outcome> replayed(Context& c) {
@@ -140,10 +163,12 @@ Outcome run_selftest(Context& c) {
   nlohmann::json faults = nlohmann::json::array();
   std::uint32_t bits = 0u;
   std::vector<std::string> fixes;
+  std::vector<std::string> sides;  // the wheels whose fix a motion checks
   std::ostringstream text;
   for (const std::string& seen : fault_list(first)) {
     if (seen == "left_reversed" || seen == "right_reversed" || seen == "crossed") {
       const Diagnosis d = diagnose(c, seen);
+      sides.push_back(seen == "right_reversed" ? "right" : "left");
       faults.push_back(d.fault);
       bits |= d.bit;
       fixes.push_back(d.fix);
@@ -175,6 +200,8 @@ Outcome run_selftest(Context& c) {
       out.applied = true;
       const std::vector<std::string> after = fault_list(selftest(c, "selftest"));
       out.result["after"] = after;
+      check_fix(c, sides);
+      out.result["checked_by_motion"] = sides;
       text << fmt::format("Applied wiring_fix {} ({}); the self-test again: {}\n", value, names,
                           after.empty() ? std::string("no fault")
                                         : fmt::format("{}", after.size()) + " fault(s) left");

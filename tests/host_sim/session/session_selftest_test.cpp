@@ -73,7 +73,11 @@ TEST(SessionSelftest, EveryWiringFaultIsNamedFixedSavedAndGoneOnTheNextTest) {
     EXPECT_EQ(doc["result"]["after"], json::array());
     EXPECT_TRUE(doc["applied"].get<bool>());
     EXPECT_TRUE(doc["saved"].get<bool>());
-    EXPECT_EQ(doc["runs"].size(), 1u);  // one wheel alone, measured, told the look-alikes apart
+    // One wheel alone, measured, told the look-alikes apart; the same wheel again with the fix
+    // turned the robot the way the fix predicts.
+    EXPECT_EQ(doc["runs"].size(), 2u);
+    const std::string side = std::string(c.wiring).rfind("right", 0) == 0 ? "right" : "left";
+    EXPECT_EQ(doc["result"]["checked_by_motion"], json::array({side}));
     EXPECT_NE(r.err.find("Fault: " + std::string(c.wiring)), std::string::npos) << r.err;
   }
 }
@@ -86,6 +90,33 @@ TEST(SessionSelftest, WithoutYesOrATerminalTheFixIsOnlyProposed) {
   EXPECT_EQ(doc["result"]["fixed"], json::object());
   EXPECT_FALSE(doc["applied"].get<bool>());
   EXPECT_NE(r.err.find("set wiring_fix 4"), std::string::npos) << r.err;
+}
+
+TEST(SessionSelftest, AHeadingTypedWithTheWrongSignIsCaughtByTheMotionTheFixPredicts) {
+  // A reversed left encoder. The person types the diagnosis run's heading with the wrong sign:
+  // the session proposes a reversed left motor, and the check motion (the left wheel driven
+  // again, with that fix) turns the robot counter-clockwise, where a fixed robot turns
+  // clockwise. The fix is taken back; exit 2.
+  const std::string robot = temp("wrong_sign.json");
+  std::ofstream(robot) << R"({"slip_sigma": 0, "bump_height_mm": 0, "wiring": )"
+                       << R"("left_encoder_reversed"})";
+  const std::string store = temp("wrong_sign.store");
+  std::remove(store.c_str());
+  // What the tape shows: the left wheel alone turned the robot clockwise (a reversed encoder,
+  // the wheel went forward); typed +12.0 instead of -12.0. Then, the wrong fix applied, the
+  // left wheel goes backwards: counter-clockwise, +12.0.
+  const std::string readings = temp("wrong_sign.csv");
+  std::ofstream(readings) << "x_mm,y_mm,theta_deg\n-2.0,3.0,12.0\n2.0,-3.0,12.0\n";
+  const std::string out = temp("wrong_sign_out");
+  std::system(("rm -rf " + out).c_str());
+  const Result r = shell(bin("odocal") + " session --sim " + robot + " --store " + store +
+                         " --procedure selftest --yes --measurements " + readings + " --out " +
+                         out + " </dev/null");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("the fix does not hold"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("wrong sign"), std::string::npos) << r.err;
+  // Nothing kept: the robot's wiring_fix is what it was (0).
+  EXPECT_EQ(odocal_session_test::stored(robot, store, "wiring_fix"), 0.0);
 }
 
 }  // namespace

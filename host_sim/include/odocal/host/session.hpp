@@ -180,6 +180,13 @@ struct SessionReport {
 [[nodiscard]] std::vector<RunRecord> recorded_runs(const nlohmann::json& session,
                                                    const std::string& dir);
 
+/// --resume: the measurements of `runs` (an interrupted session's, from recorded_runs) as the
+/// owner may have corrected them in `dir`/measurements.csv, the record they may edit. Returns one
+/// line per reading taken from it that differs from session.json's (empty: none, or no file);
+/// throws InputError naming the file, line and field of a row it cannot read.
+[[nodiscard]] std::vector<std::string> take_edited_journal(std::vector<RunRecord>& runs,
+                                                           const std::string& dir);
+
 /// Checks `dir` for a new session (refuses one that already holds a session.json, or a path that
 /// is not a directory) and, with `create`, makes it and its parents. Throws InputError.
 void prepare_out_dir(const std::string& dir, bool create);

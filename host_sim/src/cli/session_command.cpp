@@ -57,6 +57,7 @@ struct SessionFlags {
   std::string procedure;
   std::optional<double> side_m;
   std::optional<double> target_mm;
+  std::optional<std::uint64_t> max_measurements;
   std::optional<std::uint64_t> runs;
   std::string measurements;
   bool yes = false;
@@ -143,6 +144,8 @@ nlohmann::json recorded_options(const SessionFlags& f) {
           {"side_m", f.side_m ? nlohmann::json(*f.side_m) : nlohmann::json(nullptr)},
           {"target_mm", f.target_mm ? nlohmann::json(*f.target_mm) : nlohmann::json(nullptr)},
           {"runs", f.runs ? nlohmann::json(*f.runs) : nlohmann::json(nullptr)},
+          {"max_measurements",
+           f.max_measurements ? nlohmann::json(*f.max_measurements) : nlohmann::json(nullptr)},
           {"passes", f.passes ? nlohmann::json(*f.passes) : nlohmann::json(nullptr)},
           {"exact", f.exact},
           {"seed", f.seed},
@@ -207,9 +210,11 @@ SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
     real("--side-m", "side_m", f.side_m);
     real("--target", "target_mm", f.target_mm);
     const auto whole = [&](const char* flag, const char* key, std::optional<std::uint64_t>& value) {
+      // Sessions from before --max-measurements have no such key: none was given.
       const std::optional<std::uint64_t> recorded =
-          o.at(key).is_null() ? std::nullopt
-                              : std::optional<std::uint64_t>(o.at(key).get<std::uint64_t>());
+          !o.contains(key) || o.at(key).is_null()
+              ? std::nullopt
+              : std::optional<std::uint64_t>(o.at(key).get<std::uint64_t>());
       if (cmd.count(flag) != 0u && value != recorded) {
         conflict(flag, recorded ? std::to_string(*recorded) : "", std::to_string(*value));
       }
@@ -217,6 +222,7 @@ SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
     };
     whole("--runs", "runs", f.runs);
     whole("--passes", "passes", f.passes);
+    whole("--max-measurements", "max_measurements", f.max_measurements);
     const std::uint64_t seed = o.at("seed").get<std::uint64_t>();
     if (cmd.count("--seed") != 0u && f.seed != seed) {
       conflict("--seed", std::to_string(seed), std::to_string(f.seed));
@@ -262,10 +268,8 @@ SessionOptions options_of(const SessionFlags& f) {
   }
   if (f.runs && options.procedure == Procedure::automatic) {
     throw InputError("--runs", 0, "",
-                     "--procedure auto chooses its runs (at most " +
-                         std::to_string(session::auto_max_runs) + " and " +
-                         std::to_string(session::auto_verify_runs) +
-                         " to verify); use --target to ask for more or less precision");
+                     "--procedure auto chooses its runs; use --target to ask for more or less "
+                     "precision and --max-measurements to bound them");
   }
   if (f.runs) {
     check_runs(options.procedure, *f.runs);
@@ -276,6 +280,12 @@ SessionOptions options_of(const SessionFlags& f) {
       throw InputError("--passes", 0, "", "only for --procedure umbmark");
     }
     options.passes = static_cast<std::size_t>(*f.passes);
+  }
+  if (f.max_measurements) {
+    if (options.procedure != Procedure::automatic) {
+      throw InputError("--max-measurements", 0, "", "only for --procedure auto");
+    }
+    options.max_measurements = static_cast<std::size_t>(*f.max_measurements);
   }
   if (f.target_mm) {
     if (options.procedure != Procedure::automatic) {
@@ -403,6 +413,10 @@ void register_session_command(CLI::App& app, int& exit_code) {
                   "auto: measure until the factors leave at most this end error on the unseen "
                   "path, mm (1 sigma; default 2: one tape measurement's error)")
       ->check(toolkit::range_check(0.1, 1000.0, "mm"));
+  cmd->add_option("--max-measurements", flags->max_measurements,
+                  "auto: every tape measurement the session may take, self-test and "
+                  "verification included (default 20; at least 10)")
+      ->check(toolkit::whole_check(10u, 1000u));
   cmd->add_option("--resume", flags->resume,
                   "continue the interrupted session in this directory: runs already measured "
                   "are not driven again; options come from its session.json");

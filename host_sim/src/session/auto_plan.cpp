@@ -349,4 +349,40 @@ Precision precision_of(const FitResult& r, const FitNominal& nominal,
   return out;
 }
 
+Expectation expected_before_runs(const Plan& plan, const FitNominal& nominal, double target_mm,
+                                 std::size_t first_round, std::size_t room) {
+  // Before any run the robot is its nominal geometry known to a few per cent (the plausible
+  // ranges' scale: 3 % on each log-parameter), and each run's measurement is a tape's.
+  Geometry g;
+  g.d_l = g.d_r = nominal.wheel_diameter_mm;
+  g.b = nominal.wheelbase_mm;
+  Eigen::MatrixXd c = Eigen::MatrixXd::Identity(3, 3) * (0.03 * 0.03);
+  const Eigen::MatrixXd gu = end_jacobian(unseen_moves(), g, 3, false);
+  const Kind first[] = {Kind::line, Kind::spin_ccw, Kind::arc_left,
+                        Kind::line, Kind::spin_cw,  Kind::arc_right};
+  Expectation e;
+  for (std::size_t i = 0; i < first_round && i < std::size(first); ++i) {
+    c = with_run(c, first[i], plan, g);
+  }
+  e.runs = first_round;
+  const Kind kinds[] = {Kind::line, Kind::spin_ccw, Kind::spin_cw, Kind::arc_left, Kind::arc_right};
+  while (sigma_sys(gu, c) > target_mm && e.runs < room) {
+    Eigen::MatrixXd best_c = c;
+    double best = HUGE_VAL;
+    for (Kind k : kinds) {
+      const Eigen::MatrixXd next = with_run(c, k, plan, g);
+      const double s = sigma_sys(gu, next);
+      if (s < best) {
+        best = s;
+        best_c = next;
+      }
+    }
+    c = best_c;
+    ++e.runs;
+  }
+  e.sigma_sys_mm = sigma_sys(gu, c);
+  e.reached = e.sigma_sys_mm <= target_mm;
+  return e;
+}
+
 }  // namespace odocal::host::session::auto_plan

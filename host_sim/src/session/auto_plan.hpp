@@ -19,7 +19,9 @@ namespace odocal::host::session::auto_plan {
 constexpr double kPi = std::numbers::pi;
 constexpr double kMeasureSigmaMm = 2.0;        ///< a tape over a few metres (docs/calibration.md)
 constexpr double kHeadingLengthMm = 286.4789;  ///< 2 mm per 0.4 degree, as odocal fit
-constexpr std::size_t kTotalMeasurements = 12;
+/// --max-measurements' default: every tape measurement of the session (self-test, calibration,
+/// verification). docs/calibration.md "The budget" says where it comes from.
+constexpr std::size_t kDefaultMaxMeasurements = 20;
 /// --target's default: the factors add no more to the unseen path's end than one tape
 /// measurement's error (docs/calibration.md).
 constexpr double kDefaultTargetMm = 2.0;
@@ -69,5 +71,16 @@ const FitCandidate* candidate_of(const FitResult& r, FitModelKind kind);
 Precision precision_of(const FitResult& r, const FitNominal& nominal,
                        const std::vector<TickLog>& logs, const Plan& plan,
                        std::optional<double> target, std::size_t room, std::size_t arc_count);
+
+/// What the target likely takes before anything was measured: the first round and then the
+/// runs auto would choose, on the nominal geometry known to 3 % and a tape's noise (a robot that
+/// scatters more than the tape needs more; the count is updated after every run).
+struct Expectation {
+  std::size_t runs = 0;       ///< calibration runs (at most `room`)
+  double sigma_sys_mm = 0.0;  ///< what they leave on the unseen path
+  bool reached = false;       ///< the target within `room`
+};
+Expectation expected_before_runs(const Plan& plan, const FitNominal& nominal, double target_mm,
+                                 std::size_t first_round, std::size_t room);
 
 }  // namespace odocal::host::session::auto_plan

@@ -69,6 +69,8 @@ class AutoSession {
   Plan plan_;
   std::size_t selftest_runs_ = 0;
   std::size_t budget_ = 0;
+  std::size_t max_measurements_ = 0;
+  nlohmann::json expected_runs_ = nullptr;  ///< before the first run: runs the target likely takes
   std::vector<TickLog> logs_;
   std::size_t arc_runs_ = 0;
   nlohmann::json chosen_ = nlohmann::json::array();
@@ -192,20 +194,41 @@ void AutoSession::measure_until_known(Outcome& out) {
   nominal_.wheelbase_mm = c_.get("wheelbase_mm");
   nominal_.counts_per_rev = c_.get("counts_per_rev");
   plan_ = plan_for(c_, nominal_.wheelbase_mm);
-  budget_ = std::min(auto_max_runs, kTotalMeasurements - auto_verify_runs -
-                                        std::min<std::size_t>(selftest_runs_, 2));
+  // The budget: every tape measurement of the session (--max-measurements), the self-test's
+  // and the verification's included; the first round always fits.
+  const std::size_t total = c_.options.max_measurements.value_or(kDefaultMaxMeasurements);
+  const std::size_t spent = selftest_runs_ + auto_verify_runs;
+  budget_ = std::max(auto_first_round, total > spent ? total - spent : 0);
   c_.planned = selftest_runs_ + auto_first_round + auto_verify_runs;
+  const double target = c_.options.target_mm.value_or(kDefaultTargetMm);
+  const Expectation likely = expected_before_runs(plan_, nominal_, target, auto_first_round, 200);
+  const Expectation at_budget =
+      expected_before_runs(plan_, nominal_, target, auto_first_round, budget_);
   c_.log << fmt::format(
       "Auto: {} measured runs first (a {:.2f} m line, {:.0f} turns in place each way, arcs of "
-      "{:.2f} m radius each way, a second line), more only where they buy precision (at most {} "
-      "calibration runs), then {} runs of the unseen path to verify.\n"
-      "How to measure: mark the start on the floor and two points on the robot, one over the "
-      "middle of the axle and one ahead of it (as far as the robot allows). After each run, "
-      "measure the axle mark's position from the start mark along the start line (x, ahead) "
-      "and across it (y, left), and the heading: the angle of the line through the two marks "
-      "(atan2 of their across and along differences), in degrees, counter-clockwise positive.\n",
-      auto_first_round, plan_.line_m, plan_.spin_turns, plan_.arc_radius_m, budget_,
-      auto_verify_runs);
+      "{:.2f} m radius each way, a second line), more only where they buy precision, then {} "
+      "runs of the unseen path to verify.\n"
+      "Budget: {} measurements in all (--max-measurements): {} for the self-test, {} to "
+      "calibrate, {} to verify. A robot this size that scatters no more than the tape would "
+      "reach the target ({:.1f} mm on the unseen path, 1 sigma) in about {} calibration runs{}; "
+      "a robot that slips more needs more, and the count is updated after every run.\n",
+      auto_first_round, plan_.line_m, plan_.spin_turns, plan_.arc_radius_m, auto_verify_runs,
+      std::max(total, spent + budget_), selftest_runs_, budget_, auto_verify_runs, target,
+      likely.runs,
+      likely.reached ? (likely.runs > budget_
+                            ? fmt::format(": more than the budget, which leaves about {:.1f} mm "
+                                          "(--max-measurements {} would do)",
+                                          at_budget.sigma_sys_mm, likely.runs + spent)
+                            : std::string())
+                     : std::string(" or more (not within 200)"));
+  expected_runs_ = likely.reached ? nlohmann::json(likely.runs) : nlohmann::json(nullptr);
+  max_measurements_ = std::max(total, spent + budget_);
+  c_.log << "How to measure: mark the start on the floor and two points on the robot, one over "
+            "the middle of the axle and one ahead of it (as far as the robot allows). After each "
+            "run, measure the axle mark's position from the start mark along the start line (x, "
+            "ahead) and across it (y, left), and the heading: the angle of the line through the "
+            "two marks (atan2 of their across and along differences), in degrees, "
+            "counter-clockwise positive.\n";
   const Kind first_round[auto_first_round] = {Kind::line, Kind::spin_ccw, Kind::arc_left,
                                               Kind::line, Kind::spin_cw,  Kind::arc_right};
   for (Kind k : first_round) {
@@ -234,11 +257,31 @@ void AutoSession::measure_until_known(Outcome& out) {
   out.result["precision"] = progress_;
   out.result["target_mm"] = p_.target_mm;
   out.result["target_met"] = p_.sigma_sys_mm <= p_.target_mm;
+  out.result["max_measurements"] = max_measurements_;
+  out.result["expected_runs_before"] = expected_runs_;
   if (!(p_.sigma_sys_mm <= p_.target_mm)) {
+    // How many more the target would take: the same choice of runs, with room.
+    const Precision beyond =
+        precision_of(fitted_, nominal_, logs_, plan_, c_.options.target_mm, 500, arc_runs_);
+    const bool reachable = beyond.more < 500;
+    out.result["runs_to_target"] =
+        reachable ? nlohmann::json(beyond.more) : nlohmann::json(nullptr);
+    const double expect = std::hypot(p_.sigma_sys_mm, p_.sigma_random_mm);
     c_.log << fmt::format(
-        "Note: {} runs leave {:.1f} mm, above the target {:.1f} mm; the factors are still the "
-        "best the runs give (a longer --side-m helps the wheel ratio most).\n",
-        logs_.size(), p_.sigma_sys_mm, p_.target_mm);
+        "Target not met: the {} calibration runs the budget allows leave about {:.1f} mm (1 "
+        "sigma) on the unseen path, against the target {:.1f} mm. With the robot's own drift "
+        "({}), expect the unseen path to end about {:.1f} mm RMS from where it should. {}\n"
+        "The factors are still the best these runs give.\n",
+        logs_.size(), p_.sigma_sys_mm, p_.target_mm,
+        p_.sigma_random_mm > 0.05 ? fmt::format("about {:.1f} mm", p_.sigma_random_mm)
+                                  : std::string("not estimated"),
+        expect,
+        reachable ? fmt::format("About {} more calibration runs would reach the target "
+                                "(--max-measurements {}).",
+                                beyond.more, max_measurements_ + beyond.more)
+                  : std::string("More than 500 more calibration runs would be needed: the "
+                                "target is out of practical reach on this robot (a longer "
+                                "--side-m helps the wheel ratio most)."));
   }
 }
 

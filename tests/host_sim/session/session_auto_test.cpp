@@ -21,6 +21,7 @@ namespace {
 
 using nlohmann::json;
 using odocal_session_test::bin;
+using odocal_session_test::exists;
 using odocal_session_test::Result;
 using odocal_session_test::shell;
 
@@ -62,7 +63,7 @@ constexpr const char* kRobot =
         "true_left_diameter_mm": 70.2, "true_right_diameter_mm": 69.85,
         "true_wheelbase_mm": 163.2})";
 
-TEST(SessionAuto, CalibratesWithinTwelveMeasurementsAndTheTruthIsInsideItsIntervals) {
+TEST(SessionAuto, CalibratesWithinItsBudgetAndTheTruthIsInsideItsIntervals) {
   const Auto a = auto_session("basic", kRobot, "--yes --seed 7");
   ASSERT_EQ(a.r.status, 0) << a.r.err;
   ASSERT_TRUE(a.doc.is_object());
@@ -70,7 +71,7 @@ TEST(SessionAuto, CalibratesWithinTwelveMeasurementsAndTheTruthIsInsideItsInterv
   EXPECT_TRUE(a.doc["complete"].get<bool>());
   EXPECT_TRUE(a.doc["saved"].get<bool>());
   const auto measurements = a.doc["measurements"].get<std::size_t>();
-  EXPECT_LE(measurements, 12u);
+  EXPECT_LE(measurements, 20u);  // the default budget
   EXPECT_EQ(measurements, a.doc["runs"].size());
   const json& result = a.doc["result"];
   EXPECT_EQ(result["selftest"]["faults"], json::array());
@@ -121,8 +122,12 @@ TEST(SessionAuto, SaysWhatToDoBeforeEachRunAndHowManyMoreItExpects) {
   EXPECT_NE(a.r.err.find("two points on the robot"), std::string::npos);
   EXPECT_NE(a.r.err.find("Next: a straight line of 3.00 m"), std::string::npos) << a.r.err;
   EXPECT_NE(a.r.err.find("more measurements"), std::string::npos);
-  // Run lines count over the whole session: the last is run 12 of 12 at most.
-  EXPECT_EQ(a.r.err.find("Run 13/"), std::string::npos);
+  // Before the first run: the budget and the count the target likely takes.
+  EXPECT_NE(a.r.err.find("Budget: 20 measurements in all (--max-measurements)"), std::string::npos)
+      << a.r.err;
+  EXPECT_LT(a.r.err.find("a robot that slips more needs more"), a.r.err.find("Run 1/")) << a.r.err;
+  // Run lines count over the whole session: the last is run 20 of 20 at most.
+  EXPECT_EQ(a.r.err.find("Run 21/"), std::string::npos);
 }
 
 TEST(SessionAuto, AMiswiredRobotIsFixedFirstThenCalibrated) {
@@ -134,10 +139,35 @@ TEST(SessionAuto, AMiswiredRobotIsFixedFirstThenCalibrated) {
   EXPECT_EQ(selftest["faults"], json::array({"left_encoder_reversed"}));
   EXPECT_FALSE(selftest["fixed"].empty());
   EXPECT_EQ(selftest["after"], json::array());
-  // One measured run told the reversed encoder from a reversed motor: it counts within the 12.
-  EXPECT_LE(a.doc["measurements"].get<std::size_t>(), 12u);
+  // One measured run told the reversed encoder from a reversed motor, one checked the fix: they
+  // count within the budget.
+  EXPECT_LE(a.doc["measurements"].get<std::size_t>(), 20u);
   EXPECT_EQ(a.doc["runs"][0]["label"], "selftest left");
   EXPECT_NEAR(a.doc["factors"]["c_l"].get<double>(), 60.2 / 60.0, 0.004);
+}
+
+TEST(SessionAuto, AtTheBudgetWithTheTargetUnmetItSaysWhatWasReachedAndWhatMoreWouldTake) {
+  // A target no 12 measurements reach on this robot (1 mm on the unseen path).
+  const Auto a = auto_session("budget", kRobot, "--yes --seed 3 --target 1 --max-measurements 12");
+  ASSERT_EQ(a.r.status, 0) << a.r.err;
+  const json& result = a.doc["result"];
+  EXPECT_EQ(a.doc["measurements"].get<std::size_t>(), 12u);
+  EXPECT_EQ(a.r.err.find("Run 13/"), std::string::npos);
+  EXPECT_EQ(result["max_measurements"].get<std::size_t>(), 12u);
+  EXPECT_FALSE(result["target_met"].get<bool>());
+  const double left = result["precision"].back()["sigma_sys_mm"].get<double>();
+  EXPECT_GT(left, 1.0);
+  EXPECT_NE(a.r.err.find("Target not met"), std::string::npos) << a.r.err;
+  EXPECT_NE(a.r.err.find("expect the unseen path to end about"), std::string::npos) << a.r.err;
+  // How many more would reach it: the precision falls about as 1/sqrt(runs), so at least
+  // (left/target)^2 - 1 times the runs taken, within a factor of two of that rule.
+  ASSERT_TRUE(result["runs_to_target"].is_number_unsigned()) << result.dump();
+  const auto more = result["runs_to_target"].get<double>();
+  const double runs = static_cast<double>(result["precision"].back()["runs"].get<std::size_t>());
+  const double rule = (left * left / (1.0 * 1.0) - 1.0) * runs;
+  EXPECT_GT(more, 0.25 * rule) << "left " << left << " after " << runs;
+  EXPECT_LT(more, 2.0 * rule) << "left " << left << " after " << runs;
+  EXPECT_NE(a.r.err.find("more calibration runs would reach the target"), std::string::npos);
 }
 
 TEST(SessionAuto, AFaultNoParameterFixesStopsBeforeAnythingIsCalibrated) {
@@ -169,6 +199,16 @@ TEST(SessionAuto, OptionsThatDoNotApplyAreRefused) {
             out + " </dev/null");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.err.find("--target"), std::string::npos) << r.err;
+  // The budget: auto only, and room for the first round and the verification.
+  r = shell(bin("odocal") + " session --sim " + robot +
+            " --procedure fit --max-measurements 30 --out " + out + " </dev/null");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--max-measurements"), std::string::npos) << r.err;
+  r = shell(bin("odocal") + " session --sim " + robot +
+            " --procedure auto --max-measurements 9 --out " + out + " </dev/null");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("--max-measurements"), std::string::npos) << r.err;
+  EXPECT_FALSE(exists(out + "/session.json"));
 }
 
 TEST(SessionAuto, ALooseTargetStopsAfterTheFirstRound) {

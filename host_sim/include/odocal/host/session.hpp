@@ -125,6 +125,9 @@ struct SessionOptions {
   /// auto: stop measuring when the factors leave at most this much (mm, 1 sigma) of end error on
   /// the unseen path; unset: the documented default (docs/calibration.md).
   std::optional<double> target_mm;
+  /// auto: every tape measurement the session may take (self-test, calibration, verification);
+  /// unset: the documented default (docs/calibration.md, "The budget").
+  std::optional<std::size_t> max_measurements;
   std::optional<std::size_t> runs;
   std::size_t passes = 3;     ///< UMBmark passes at most (--passes)
   std::optional<bool> exact;  ///< --exact: always the exact square solve; unset: when it matters
@@ -150,10 +153,9 @@ struct SessionOptions {
 };
 
 namespace session {
-/// `--procedure auto`: the measured runs of its first round (its plan may add more, up to
-/// auto_max_runs), the calibration runs it takes at most, and the verification runs after them.
+/// `--procedure auto`: the measured runs of its first round (its plan may add more, within
+/// --max-measurements) and the verification runs after them.
 inline constexpr std::size_t auto_first_round = 6;
-inline constexpr std::size_t auto_max_runs = 10;
 inline constexpr std::size_t auto_verify_runs = 2;
 }  // namespace session
 

@@ -76,6 +76,18 @@ Residual residual(const SessionPose& reading, const SessionPose& odom) {
   return r;
 }
 
+/// The run-to-run scatter a reading is allowed, heading: a floor and a share of the turning.
+double noise_heading_deg(const PathExtent& e) {
+  return reading_noise::heading_deg + reading_noise::heading_per_deg * e.turned_deg;
+}
+
+/// Position: a floor, a share of the distance, and the heading's scatter carried over half the
+/// path (a heading error made on the way moves the stop by the distance driven after it).
+double noise_position_mm(const PathExtent& e) {
+  return reading_noise::position_mm + reading_noise::position_per_mm * e.length_mm +
+         noise_heading_deg(e) / deg_per_rad * 0.5 * e.length_mm;
+}
+
 /// Empty when `reading` can be the run's stop; else what is off.
 std::string problem_of(const ReadingFacts& f, const SessionPose& reading) {
   if (f.heading_needed && !reading.theta_deg) {
@@ -108,9 +120,8 @@ std::string problem_of(const ReadingFacts& f, const SessionPose& reading) {
   for (const EarlierReading& e : f.earlier) {
     const Residual before = residual(e.measured, e.odom);
     const double share = e.same_factors ? 0.0 : 1.0;
-    const double allow_mm = 2.0 * reading_noise::position_mm +
-                            2.0 * reading_noise::position_per_mm * f.extent.length_mm +
-                            share * std::hypot(before.x_mm, before.y_mm);
+    const double allow_mm =
+        2.0 * noise_position_mm(f.extent) + share * std::hypot(before.x_mm, before.y_mm);
     const double apart_mm = std::hypot(r.x_mm - before.x_mm, r.y_mm - before.y_mm);
     if (apart_mm > allow_mm) {
       return fmt::format(
@@ -119,9 +130,8 @@ std::string problem_of(const ReadingFacts& f, const SessionPose& reading) {
           apart_mm, pose_text(e.measured), allow_mm);
     }
     if (r.theta_deg && before.theta_deg) {
-      const double allow_deg = 1.5 * reading_noise::heading_deg +
-                               2.0 * reading_noise::heading_per_deg * f.extent.turned_deg +
-                               share * std::fabs(*before.theta_deg);
+      const double allow_deg =
+          2.0 * noise_heading_deg(f.extent) + share * std::fabs(*before.theta_deg);
       const double apart_deg = std::fabs(std::remainder(*r.theta_deg - *before.theta_deg, 360.0));
       if (apart_deg > allow_deg) {
         return fmt::format(
@@ -292,10 +302,8 @@ ReadingAllowance allowance_of(const drive::Path& path,
     }
   }
   const PathExtent extent = extent_of(path);
-  reach.position_mm +=
-      reading_noise::position_mm + reading_noise::position_per_mm * extent.length_mm;
-  reach.heading_deg +=
-      reading_noise::heading_deg + reading_noise::heading_per_deg * extent.turned_deg;
+  reach.position_mm += noise_position_mm(extent);
+  reach.heading_deg += noise_heading_deg(extent);
   return reach;
 }
 

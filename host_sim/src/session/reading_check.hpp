@@ -26,7 +26,8 @@ inline constexpr double wheelbase = 0.08;
 }  // namespace reading_box
 
 /// The run-to-run noise a reading is allowed on top of the geometry: a tape's few millimetres, a
-/// share of the distance driven (slip), a share of the turning (a turn in place's slip).
+/// share of the distance driven (slip), a share of the turning (a turn in place's slip), and the
+/// heading's scatter carried over half the path's length.
 namespace reading_noise {
 inline constexpr double position_mm = 10.0;
 inline constexpr double position_per_mm = 0.01;

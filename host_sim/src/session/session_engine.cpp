@@ -273,7 +273,8 @@ SessionReport finish(Context& c, const session::Outcome& outcome, bool saved) {
        << (outcome.applied ? (saved ? " (applied, saved)" : " (applied, NOT saved)")
                            : " (unchanged)")
        << "\nFiles: " << options.out_dir
-       << "/ (report.html, session.json, measurements.csv, runs.csv, runs.svg, ...)\n";
+       << "/ (report.html, session.json, measurements.csv, runs.csv, runs.svg, ...)\n"
+       << "Report: " << options.out_dir << "/report.html (open it in a browser)\n";
   report.text = text.str();
   return report;
 }

@@ -138,7 +138,9 @@ SessionPose Context::measure(const RunRecord& r, std::size_t index, const Factor
   }
   facts.heading_needed = heading_needed(r, path);
   for (std::size_t i = 0; i < runs.size(); ++i) {
-    if (runs[i].command == r.command && path) {
+    // The same run: the same command for the same purpose (the extended UMBmark's runs over
+    // cables repeat its bump-free squares' command, not their conditions).
+    if (runs[i].command == r.command && runs[i].label == r.label && path) {
       const std::optional<Factors>& then = i < run_factors.size() ? run_factors[i] : std::nullopt;
       const bool same = then && then->c_l == in_force.c_l && then->c_r == in_force.c_r &&
                         then->wheelbase_mm == in_force.wheelbase_mm &&

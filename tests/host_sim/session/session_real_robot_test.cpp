@@ -187,7 +187,7 @@ TEST(SessionOnARealRobot, EndOfInputAtTheMomentBeforeARunStopsAndPutsBack) {
   const double cruise = value_of(ask_robot(sim.path(), "get v_max_mps", "v_max_mps"), "v_max_mps");
   // Enter, a reading, then the input ends where the next Enter should come.
   const Result r = session("--port " + sim.path() + " --procedure lateral --runs 3 --out " + out,
-                           write("eof.txt", "\n0 0\n"));
+                           write("eof.txt", "\n1001 -3\n"));
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_NE(r.err.find("end of input while waiting for Enter before run 2"), std::string::npos)
       << r.err;

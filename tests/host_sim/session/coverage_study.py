@@ -1,0 +1,198 @@
+#!/usr/bin/env python3
+"""auto tells the truth about what it leaves (issue 32): on robots this script generates at
+random (sizes from a micromouse to a cart, slip from the default to 10 times it), one
+`odocal session --procedure auto` each, then the unseen path driven RUNS times with the factors it
+saved and RUNS times with the true geometry in force (the oracle, the same seed), and checks:
+
+- systematic: the mean end of the calibrated robot's runs minus the oracle's is within
+  2 sqrt(sigma_sys^2 + 2 sd^2 / RUNS) of zero (sigma_sys: what auto said its factors leave; the
+  second term the two means' own scatter), in at least 90 % of the sessions: failed only when
+  the count is below what 90 % coverage gives with probability 2.5 % (one-sided binomial);
+- random drift: the scatter of the calibrated robot's runs about their mean (RMS radius) is within
+  a factor of 2 of what auto predicted (sigma_random_mm), in at least 90 % of the sessions, the
+  same binomial rule (a scatter from RUNS runs is itself unsure by about 1/sqrt(2 (RUNS - 1)));
+- the sessions that met their target: unseen-path RMS within 1.3x of the oracle's in the median
+  and 1.6x at worst;
+- no reading of the simulator's tape (every one correct) is questioned by the reading check.
+
+Usage: coverage_study.py BIN_DIR [--robots N] [--seed S] [--runs N] [--check] [--json]
+"""
+import argparse
+import json
+import math
+import os
+import random
+import statistics
+import subprocess
+import sys
+import tempfile
+
+VERIFY_SEED = 3000
+
+
+def generate_robot(rng):
+    """Wheels 30-160 mm, wheelbase 1.8-5 diameters, each true wheel within 0.5 % of nominal, the
+    true wheelbase within 3 %, sometimes an arc wheelbase up to 1.5 % above it, slip from the
+    default (0.0005) to 10 times it, a few encoder resolutions."""
+    d = round(math.exp(rng.uniform(math.log(30.0), math.log(160.0))), 1)
+    b = round(d * rng.uniform(1.8, 5.0), 1)
+    doc = {
+        "wheel_diameter_mm": d,
+        "wheelbase_mm": b,
+        "counts_per_rev": rng.choice([360, 1024, 1440, 2048, 4096]),
+        "true_left_diameter_mm": round(d * (1.0 + rng.uniform(-0.005, 0.005)), 3),
+        "true_right_diameter_mm": round(d * (1.0 + rng.uniform(-0.005, 0.005)), 3),
+        "true_wheelbase_mm": round(b * (1.0 + rng.uniform(-0.03, 0.03)), 2),
+        "slip_sigma": round(0.0005 * math.exp(rng.uniform(0.0, math.log(10.0))), 6),
+    }
+    if rng.random() < 0.3:
+        doc["true_wheelbase_arc_mm"] = round(
+            doc["true_wheelbase_mm"] * (1.0 + rng.uniform(0.002, 0.015)), 2)
+    return doc
+
+
+def run(cmd):
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        raise RuntimeError(" ".join(cmd) + "\n" + p.stderr[-2000:])
+    return p.stdout, p.stderr
+
+
+def oracle_store(bindir, doc, robot, store):
+    d = doc["wheel_diameter_mm"]
+    script = "set c_l %.6f\nset c_r %.6f\nset wheelbase_mm %.4f\n" % (
+        doc["true_left_diameter_mm"] / d, doc["true_right_diameter_mm"] / d,
+        doc["true_wheelbase_mm"])
+    if "true_wheelbase_arc_mm" in doc:
+        script += "set wheelbase_arc_mm %.4f\n" % doc["true_wheelbase_arc_mm"]
+    script += "save\n"
+    subprocess.run([bindir + "/odocal-sim", "--robot", robot, "--store", store],
+                   input=script, capture_output=True, text=True, check=True)
+
+
+def stops(bindir, robot, store, runs, out):
+    """The unseen path's end errors (x, y mm) of `runs` runs with `store`'s factors."""
+    run([bindir + "/odocal", "session", "--sim", robot, "--store", store, "--seed",
+         str(VERIFY_SEED), "--procedure", "verify", "--runs", str(runs), "--json", "--out", out])
+    errors = []
+    with open(os.path.join(out, "accuracy.csv")) as f:
+        for line in f.read().splitlines()[1:]:
+            name, _, x, y = line.split(",")
+            if name == "after":
+                errors.append((float(x), float(y)))
+    return errors
+
+
+def mean_and_scatter(errors):
+    n = len(errors)
+    mx = sum(e[0] for e in errors) / n
+    my = sum(e[1] for e in errors) / n
+    sd = math.sqrt(sum((e[0] - mx) ** 2 + (e[1] - my) ** 2 for e in errors) / (n - 1))
+    rms = math.sqrt(sum(e[0] ** 2 + e[1] ** 2 for e in errors) / n)
+    return (mx, my), sd, rms
+
+
+def binomial_floor(n, p, alpha=0.025):
+    """The smallest count k with P(X < k) <= alpha for X ~ Binomial(n, p): fewer than k successes
+    say the coverage is below p."""
+    cdf = 0.0
+    for k in range(n + 1):
+        term = math.comb(n, k) * p ** k * (1.0 - p) ** (n - k)
+        if cdf + term > alpha:
+            return k
+        cdf += term
+    return n
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("bindir")
+    ap.add_argument("--robots", type=int, default=30)
+    ap.add_argument("--seed", type=int, default=32, help="the generator's seed")
+    ap.add_argument("--runs", type=int, default=10, help="unseen-path runs per robot and oracle")
+    ap.add_argument("--check", action="store_true")
+    ap.add_argument("--json", action="store_true")
+    a = ap.parse_args()
+    rng = random.Random(a.seed)
+    rows = []
+    with tempfile.TemporaryDirectory() as work:
+        for k in range(a.robots):
+            doc = generate_robot(rng)
+            robot = os.path.join(work, "robot-%d.json" % k)
+            with open(robot, "w") as f:
+                json.dump(doc, f)
+            store = os.path.join(work, "robot-%d.store" % k)
+            out, err = run([a.bindir + "/odocal", "session", "--sim", robot, "--store", store,
+                            "--seed", str(100 + k), "--procedure", "auto", "--yes", "--json",
+                            "--out", os.path.join(work, "auto-%d" % k)])
+            session = json.loads(out)
+            last = session["result"]["precision"][-1]
+            oracle = os.path.join(work, "oracle-%d.store" % k)
+            oracle_store(a.bindir, doc, robot, oracle)
+            mine = stops(a.bindir, robot, store, a.runs, os.path.join(work, "v-%d" % k))
+            best = stops(a.bindir, robot, oracle, a.runs, os.path.join(work, "o-%d" % k))
+            m, sd, rms = mean_and_scatter(mine)
+            mo, sd_o, rms_o = mean_and_scatter(best)
+            systematic = math.hypot(m[0] - mo[0], m[1] - mo[1])
+            allowed = 2.0 * math.sqrt(last["sigma_sys_mm"] ** 2 +
+                                      (sd * sd + sd_o * sd_o) / a.runs)
+            predicted = last["sigma_random_mm"]
+            row = {
+                "robot": doc,
+                "measurements": session["measurements"],
+                "target_met": session["result"]["target_met"],
+                "sigma_sys_mm": last["sigma_sys_mm"],
+                "sigma_random_mm": predicted,
+                "systematic_mm": systematic,
+                "systematic_allowed_mm": allowed,
+                "systematic_ok": systematic <= allowed,
+                "scatter_mm": sd,
+                "scatter_ok": predicted > 0.0 and 0.5 <= sd / predicted <= 2.0,
+                "unseen_rms_mm": rms,
+                "oracle_rms_mm": rms_o,
+                "ratio": rms / rms_o,
+                "questioned": err.count("reading check questions"),
+            }
+            rows.append(row)
+            print("robot %2d (d %.0f b %.0f slip %.4f): %d meas, target %s, sys %.1f mm (said "
+                  "%.1f, allowed %.1f)%s, scatter %.1f mm (said %.1f)%s, %.2fx oracle%s"
+                  % (k, doc["wheel_diameter_mm"], doc["wheelbase_mm"], doc["slip_sigma"],
+                     row["measurements"], "met" if row["target_met"] else "not met", systematic,
+                     row["sigma_sys_mm"], allowed, "" if row["systematic_ok"] else " MISS", sd,
+                     predicted, "" if row["scatter_ok"] else " MISS", row["ratio"],
+                     "" if not row["questioned"] else ", %d readings questioned"
+                     % row["questioned"]), file=sys.stderr)
+    n = len(rows)
+    floor = binomial_floor(n, 0.9)
+    sys_ok = sum(r["systematic_ok"] for r in rows)
+    scatter_ok = sum(r["scatter_ok"] for r in rows)
+    met = [r["ratio"] for r in rows if r["target_met"]]
+    questioned = sum(r["questioned"] for r in rows)
+    failures = []
+    if sys_ok < floor:
+        failures.append("systematic within 2 sigma_sys in %d of %d sessions (at least %d needed)"
+                        % (sys_ok, n, floor))
+    if scatter_ok < floor:
+        failures.append("scatter within 2x of sigma_random in %d of %d sessions (at least %d "
+                        "needed)" % (scatter_ok, n, floor))
+    if met and (statistics.median(met) > 1.3 or max(met) > 1.6):
+        failures.append("sessions that met the target: median %.2fx, worst %.2fx of the oracle "
+                        "(1.3x, 1.6x allowed)" % (statistics.median(met), max(met)))
+    if questioned:
+        failures.append("%d correct readings questioned by the reading check" % questioned)
+    summary = ("coverage_study: %d robots; systematic within 2 sigma_sys %d/%d, scatter within 2x "
+               "of the prediction %d/%d (at least %d each); target met %d/%d%s; readings "
+               "questioned %d" % (n, sys_ok, n, scatter_ok, n, floor, len(met), n,
+                                  ", median %.2fx, worst %.2fx of the oracle"
+                                  % (statistics.median(met), max(met)) if met else "",
+                                  questioned))
+    print(summary, file=sys.stderr)
+    for f in failures:
+        print("  FAIL: " + f, file=sys.stderr)
+    if a.json:
+        print(json.dumps({"rows": rows, "failures": failures}, indent=1))
+    return 1 if a.check and failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -251,10 +251,11 @@ struct FitResult {
 /// Why the data cannot give a result.
 struct FitError {
   /// The parameter the data cannot determine: "wheelbase_mm", "wheel_diameter_left_mm",
-  /// "wheel_diameter_right_mm", "scale" (all three together: the overall size), or "" for other
-  /// failures (no runs, the fit diverged).
+  /// "wheel_diameter_right_mm", "scale" (all three together: the overall size), a model's second
+  /// wheelbase ("wheelbase_arc_mm", "wheelbase_at_1radps_mm"), or "" for other failures (no
+  /// runs, the fit diverged).
   std::string parameter;
-  std::string message;  ///< one line, names the parameter and why
+  std::string message;  ///< one line: names the parameter and the cause found in the runs' design
 };
 
 /// A result or the reason there is none.

@@ -2,6 +2,7 @@
 // one-wheelbase fit, the model, its fit, the scores, the intervals and the time lag.
 
 #include <cmath>
+#include <optional>
 
 #include "fit_steps.hpp"
 #include "odocal/host/fit.hpp"
@@ -40,6 +41,30 @@ FitResult result_of(const Solved& main, const fit_detail::Determination& d,
     }
   }
   return r;
+}
+
+/// What the design leaves open at the nominal geometry: for one wheelbase, and for the model
+/// asked for when it has more parameters.
+std::optional<FitError> undetermined_at_start(const std::vector<Unit>& units,
+                                              const FitNominal& nominal, const FitOptions& o,
+                                              const fit_detail::Design& design,
+                                              const Params& start) {
+  std::vector<FitModelKind> kinds{FitModelKind::one_wheelbase};
+  if (o.model && *o.model != FitModelKind::one_wheelbase) {
+    kinds.push_back(*o.model);
+  }
+  for (const FitModelKind kind : kinds) {
+    Solved at;
+    at.p = fit_detail::start_for(kind, start);
+    at.heading_length_mm = o.heading_length_mm;
+    at.normal = fit_detail::normal_equations(units, fit_detail::every_unit(units.size()), at.p,
+                                             spec_for(kind, nominal), o.heading_length_mm, true);
+    const fit_detail::Determination d = fit_detail::determination(at, o, kind, &design);
+    if (!d.ok) {
+      return d.error;
+    }
+  }
+  return std::nullopt;
 }
 
 /// Whether the fit with the counts shifted by the estimated lag stays inside the intervals.
@@ -116,62 +141,67 @@ FitOutcome fit_geometry(const std::vector<TickLog>& runs, const FitNominal& nomi
   }
   if (!(nominal.wheel_diameter_mm > 0.0 && nominal.wheelbase_mm > 0.0 &&
         nominal.counts_per_rev > 0.0) ||
-      !(o.level > 0.0 && o.level < 1.0) || !(o.heading_length_mm >= 0.0)) {
+      !(o.level > 0.0 && o.level < 1.0) || !(o.heading_length_mm >= 0.0) ||
+      !(o.noise_floor_mm > 0.0 && o.noise_floor_deg > 0.0)) {
     out.error = FitError{"", "the nominal geometry and options must be positive"};
     return out;
   }
   const ModelSpec one_spec = fit_detail::spec_for(FitModelKind::one_wheelbase, nominal);
   const std::vector<Unit> units = fit_detail::whole_runs(runs);
   const std::vector<std::size_t> all = fit_detail::every_unit(units.size());
-  const double turned_rad = fit_detail::turning_of(runs, nominal).total_rad;
+  const fit_detail::Design design = fit_detail::design_of(runs, nominal);
   Params start(3);
   start << nominal.wheel_diameter_mm, nominal.wheel_diameter_mm, nominal.wheelbase_mm;
-  // What the runs can determine, judged first at the nominal geometry: where a parameter is
-  // undetermined the fit may wander along it and hide which one it was.
-  Solved at_start;
-  at_start.p = start;
-  at_start.normal =
-      fit_detail::normal_equations(units, all, start, one_spec, o.heading_length_mm, true);
-  if (const fit_detail::Determination first =
-          fit_detail::determination(at_start, o, FitModelKind::one_wheelbase, turned_rad, false);
-      !first.ok) {
-    out.error = first.error;
+  // What the runs' design can determine, judged first at the nominal geometry: where a parameter
+  // is undetermined the fit may wander along it and hide which one it was.
+  if (const std::optional<FitError> open =
+          undetermined_at_start(units, nominal, o, design, start)) {
+    out.error = *open;
     return out;
   }
-  const Solved one = fit_detail::solve(units, all, start, one_spec, o.heading_length_mm);
+  Solved one = fit_detail::solve(units, all, start, one_spec, o.heading_length_mm);
   if (!one.ok) {
     out.error = FitError{"",
                          "the fit did not converge to a physical geometry (check the logs' "
                          "units: counts, mm, degrees)"};
     return out;
   }
-  const FitModelChoice choice = fit_detail::choose_model(runs, nominal, o, units, one.p);
+  // Heading against position: estimated from the runs where they can tell, then used throughout.
+  const FitWeighting weighting = fit_detail::choose_weighting(units, one_spec, o, design, one);
+  FitOptions ow = o;
+  ow.heading_length_mm = weighting.heading_length_mm;
+  const FitModelChoice choice = fit_detail::choose_model(runs, nominal, ow, units, one.p);
   const FitModelKind kind = choice.kind;
   const ModelSpec k = fit_detail::spec_for(kind, nominal);
   const Solved main = kind == FitModelKind::one_wheelbase
                           ? one
                           : fit_detail::solve(units, all, fit_detail::start_for(kind, one.p), k,
-                                              o.heading_length_mm);
+                                              ow.heading_length_mm);
   if (!main.ok) {
     out.error = FitError{"", std::string("the ") + model_name(kind) +
                                  " fit did not converge to a physical geometry"};
     return out;
   }
-  const fit_detail::Determination d = fit_detail::determination(main, o, kind, turned_rad);
+  fit_detail::Determination d = fit_detail::determination(main, ow, kind, &design);
   if (!d.ok) {
     out.error = d.error;
     return out;
   }
-  FitResult r = result_of(main, d, choice, nominal, o);
-  r.fit = score_runs(runs, nominal, r.geometry, o.heading_length_mm);
-  if (!holdout.empty()) {
-    r.holdout = score_runs(holdout, nominal, r.geometry, o.heading_length_mm);
+  fit_detail::add_scatter(d, main, ow, kind, fit_detail::noise_in_force(weighting, main, ow));
+  FitResult r = result_of(main, d, choice, nominal, ow);
+  r.weighting = weighting;
+  if (!d.warning.empty()) {
+    r.warnings.push_back(d.warning);
   }
-  if (!fit_detail::add_intervals(r, runs, main, k, o, out.error)) {
+  r.fit = score_runs(runs, nominal, r.geometry, ow.heading_length_mm);
+  if (!holdout.empty()) {
+    r.holdout = score_runs(holdout, nominal, r.geometry, ow.heading_length_mm);
+  }
+  if (!fit_detail::add_intervals(r, runs, main, k, ow, out.error)) {
     return out;
   }
   if (o.estimate_lag) {
-    r.lag = fit_detail::estimate_lag(runs, main.p, k, o, main.normal.cost);
+    r.lag = fit_detail::estimate_lag(runs, main.p, k, ow, main.normal.cost);
     check_lag_within_intervals(r, fit_detail::parameter_count(kind));
   }
   out.result = r;

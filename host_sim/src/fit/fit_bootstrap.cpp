@@ -66,7 +66,7 @@ bool replicate(const std::vector<Unit>& units, const Params& start, const ModelS
       u = random.below(static_cast<std::uint32_t>(units.size()));
     }
     const Solved s = solve(units, pick, start, k, o.heading_length_mm);
-    if (s.ok && determination(s, o, k.kind, HUGE_VAL).ok) {
+    if (s.ok && determination(s, o, k.kind, nullptr).ok) {
       p = s.p;
       return true;
     }

@@ -1,5 +1,6 @@
 // `odocal fit`: what the logs determine, from the eigen-decomposition of the column-scaled JᵀJ
-// (the scaled Jacobian's SVD), and why a parameter is not determined, in the user's words.
+// (the scaled Jacobian's SVD). The design is judged at the noise floor (a refusal); the residual
+// scatter only widens the covariance (a warning).
 
 #include <algorithm>
 #include <cmath>
@@ -10,84 +11,56 @@
 namespace odocal::host::fit_detail {
 namespace {
 
-/// Why the logs fix a parameter direction `dir` (eigenvector of the scaled JᵀJ) only to the
-/// relative standard deviation `sd`: the parameter it moves most, and what to add to the runs.
-FitError undetermined(const Params& dir, double sd, FitModelKind kind, double turned_rad) {
-  FitError error;
-  const double along_scale = std::fabs(dir.head(3).sum()) / std::sqrt(3.0);
-  char amount[64];
-  if (std::isfinite(sd) && sd < 1e6) {
-    std::snprintf(amount, sizeof amount, "±%.3g %%", 100.0 * sd);
-  } else {
-    std::snprintf(amount, sizeof amount, "not at all");
-  }
-  if (along_scale >= 0.8) {
-    error.parameter = "scale";
-    error.message =
-        std::string(
-            "the logs cannot determine the overall scale (wheel_diameter_left_mm, "
-            "wheel_diameter_right_mm and wheelbase_mm together): they fix it only ") +
-        amount +
-        " — closed loops measured only at the end look the same at any size; add straight "
-        "runs of known length or ground truth along the path";
-    return error;
-  }
-  Eigen::Index worst = 0;
-  dir.cwiseAbs().maxCoeff(&worst);
-  const char* name = parameter_name(kind, static_cast<int>(worst));
-  error.parameter = name;
-  std::string why;
-  if (worst == 3) {
-    why = kind == FitModelKind::arc_wheelbase
-              ? " — the logs hold only one kind of turning (turns in place or arcs): "
-                "drive both to tell their wheelbases apart"
-              : " — the logs turn at too narrow a range of turn rates";
-  } else if (turned_rad < 0.5 * pi) {
-    why =
-        " — the runs hardly turn (straight lines alone say nothing about the "
-        "wheelbase); add turns, squares or loops";
-  } else if (std::fabs(dir[2]) > 0.3 && std::fabs(dir[0] - dir[1]) > 0.3) {
-    // Turning at one curvature: the heading fixes (D_R − D_L)/b, the path's length the
-    // mean diameter, and nothing tells the wheel difference from the wheelbase.
-    why =
-        " — the runs turn, but always at one curvature (one arc or circle): that fixes "
-        "the ratio of the wheels' difference to the wheelbase, not each; add turns in "
-        "place, straight lines or arcs of another radius";
-  } else {
-    why = " — add runs that move each wheel over a known distance";
-  }
-  error.message =
-      std::string("the logs cannot determine ") + name + ": they fix it only " + amount + why;
-  return error;
+/// JᵀJ of ∂r/∂ln p with position residuals divided by `noise.position_mm` and heading residuals
+/// (rad) by `noise.heading_rad`: the inverse of the relative covariance.
+Square information(const Solved& s, const Noise& noise) {
+  const Normal& n = s.normal;
+  const Square scale = s.p.asDiagonal();
+  const double hl = s.heading_length_mm;
+  const Square position = n.jtj - hl * hl * n.jtj_theta;
+  const Square raw = position / (noise.position_mm * noise.position_mm) +
+                     n.jtj_theta / (noise.heading_rad * noise.heading_rad);
+  return scale * raw * scale;
+}
+
+/// The loosest direction of `a`: its relative standard deviation and eigenvector.
+struct Loosest {
+  double sd = 0.0;
+  Params dir;
+};
+
+Loosest loosest(const Square& a) {
+  const int np = static_cast<int>(a.rows());
+  Eigen::SelfAdjointEigenSolver<Square> eig(a);
+  const Params values = eig.eigenvalues();  // ascending
+  const double largest = std::max(values[np - 1], 1e-300);
+  const double v = values[0];
+  return Loosest{v > largest * 1e-24 ? 1.0 / std::sqrt(v) : HUGE_VAL, eig.eigenvectors().col(0)};
 }
 
 }  // namespace
 
 Determination determination(const Solved& s, const FitOptions& o, FitModelKind kind,
-                            double turned_rad, bool use_residuals) {
+                            const Design* design) {
   Determination d;
-  const int np = static_cast<int>(s.p.size());
-  const Square scale = s.p.asDiagonal();
-  const Square a = scale * s.normal.jtj * scale;  // JᵀJ of ∂r/∂ln p
-  const std::size_t m = s.normal.residuals;
-  const auto dofs = static_cast<std::size_t>(np);
-  const double rms = m > dofs ? std::sqrt(s.normal.cost / static_cast<double>(m - dofs)) : 0.0;
-  const double sigma = use_residuals ? std::max(rms, o.noise_floor_mm) : o.noise_floor_mm;
-  Eigen::SelfAdjointEigenSolver<Square> eig(a);
-  const Params values = eig.eigenvalues();  // ascending
-  const double largest = std::max(values[np - 1], 1e-300);
-  for (int j = 0; j < np; ++j) {
-    const double v = values[j];
-    const double sd = v > largest * 1e-24 ? sigma / std::sqrt(v) : HUGE_VAL;
-    if (!(sd <= o.max_relative_sd)) {  // NaN too
-      d.ok = false;
-      d.error = undetermined(eig.eigenvectors().col(j), sd, kind, turned_rad);
-      break;
+  const Noise floor{o.noise_floor_mm, o.noise_floor_deg * pi / 180.0};
+  const Loosest worst = loosest(information(s, floor));
+  if (!(worst.sd <= o.max_relative_sd)) {  // NaN too
+    d.ok = false;
+    if (design != nullptr) {
+      d.error = undetermined(worst.dir, worst.sd, kind, *design);
     }
   }
+  return d;
+}
+
+void add_scatter(Determination& d, const Solved& s, const FitOptions& o, FitModelKind kind,
+                 const Noise& noise) {
+  const int np = static_cast<int>(s.p.size());
+  const Square a = information(s, noise);
   const Eigen::FullPivLU<Square> lu(a);
   if (lu.isInvertible()) {
-    const Square cov = lu.inverse() * sigma * sigma;
+    const Square cov = lu.inverse();
     for (int i = 0; i < np; ++i) {
       d.relative_sd[i] = std::sqrt(std::max(cov(i, i), 0.0));
       for (int j = 0; j < np; ++j) {
@@ -99,7 +72,36 @@ Determination determination(const Solved& s, const FitOptions& o, FitModelKind k
       sd = HUGE_VAL;
     }
   }
-  return d;
+  const Loosest worst = loosest(a);
+  if (worst.sd <= o.max_relative_sd) {
+    return;
+  }
+  const double along_scale = std::fabs(worst.dir.head(3).sum()) / std::sqrt(3.0);
+  Eigen::Index index = 0;
+  worst.dir.cwiseAbs().maxCoeff(&index);
+  const std::string name = along_scale >= 0.8 ? std::string("the overall scale")
+                                              : parameter_name(kind, static_cast<int>(index));
+  // What the residuals are, as measured (RMS, not weighted): the scatter the warning names.
+  const Normal& n = s.normal;
+  const double hl2 = s.heading_length_mm * s.heading_length_mm;
+  const std::size_t position_residuals = n.residuals - n.theta_residuals;
+  const double position_rms = position_residuals > 0
+                                  ? std::sqrt(std::max(n.cost - hl2 * n.cost_theta, 0.0) /
+                                              static_cast<double>(position_residuals))
+                                  : 0.0;
+  const double heading_rms_deg =
+      n.theta_residuals > 0
+          ? std::sqrt(n.cost_theta / static_cast<double>(n.theta_residuals)) * 180.0 / pi
+          : 0.0;
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "large scatter: the runs scatter about the fit by %.3g mm in x and y and %.3g° in "
+                "heading (RMS; the noise floor is %.3g mm and %.3g°), which leaves %s known only "
+                "to ±%.3g %% (wide intervals); the runs' design determines it, so the result is "
+                "given: look for what varied between runs (slip, floor, measurement) or add runs",
+                position_rms, heading_rms_deg, o.noise_floor_mm, o.noise_floor_deg, name.c_str(),
+                100.0 * worst.sd);
+  d.warning = text;
 }
 
 }  // namespace odocal::host::fit_detail

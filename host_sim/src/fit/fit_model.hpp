@@ -161,6 +161,11 @@ struct Normal {
   std::size_t residuals = 0;
   Square jtj;
   Params jtr;
+  /// The heading part on its own, unweighted (rad): what other weightings are made from
+  /// (jtj = position part + heading_length_mm² · jtj_theta).
+  Square jtj_theta;
+  double cost_theta = 0.0;  ///< rad²
+  std::size_t theta_residuals = 0;
 };
 
 /// Heading difference wrapped to (−π, π]: unwrapped ground truth compares correctly.
@@ -174,6 +179,7 @@ inline Normal normal_equations(const std::vector<Unit>& units, const std::vector
   Normal n;
   n.jtj = Square::Zero(p.size(), p.size());
   n.jtr = Params::Zero(p.size());
+  n.jtj_theta = Square::Zero(p.size(), p.size());
   const auto add = [&](double r, const Params& j) {
     n.cost += r * r;
     ++n.residuals;
@@ -189,7 +195,13 @@ inline Normal normal_equations(const std::vector<Unit>& units, const std::vector
         add(s.y - row.y_mm, s.dy);
       }
       if (row.has_theta) {
-        add(heading_length_mm * heading_error(s.theta, row), heading_length_mm * s.dtheta);
+        const double e = heading_error(s.theta, row);
+        add(heading_length_mm * e, heading_length_mm * s.dtheta);
+        n.cost_theta += e * e;
+        ++n.theta_residuals;
+        if (jacobian) {
+          n.jtj_theta.noalias() += s.dtheta * s.dtheta.transpose();
+        }
       }
     });
   }

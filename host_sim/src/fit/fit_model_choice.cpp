@@ -90,13 +90,14 @@ std::string not_tried(FitModelKind kind, const Folds& folds, const Turning& turn
 /// A two-wheelbase candidate fitted on all the logs: `note` says why it cannot be compared at
 /// all; the result says why it may not be chosen though it is compared ("" when it may).
 std::string unsupported(FitModelKind kind, const std::vector<Unit>& units, const Params& start,
-                        const ModelSpec& spec, const FitOptions& o, const Turning& turning,
+                        const ModelSpec& spec, const FitOptions& o, const Design& design,
                         std::string& note) {
+  const Turning& turning = design.turning;
   std::string why;
   const Solved full = solve(units, every_unit(units.size()), start, spec, o.heading_length_mm);
   if (!full.ok) {
     note = "did not converge on all the logs";
-  } else if (const Determination d = determination(full, o, kind, turning.total_rad); !d.ok) {
+  } else if (const Determination d = determination(full, o, kind, &design); !d.ok) {
     note = d.error.message;
   } else {
     // Both wheelbases must be known from the scatter between runs, not only from the noise
@@ -190,26 +191,6 @@ void choose_among_candidates(FitModelChoice& choice, const FitOptions& o, std::s
 
 }  // namespace
 
-Turning turning_of(const std::vector<TickLog>& runs, const FitNominal& nominal) {
-  Turning t;
-  const double k = pi / nominal.counts_per_rev * nominal.wheel_diameter_mm;
-  for (const TickLog& log : runs) {
-    for (std::size_t i = 1; i < log.rows.size(); ++i) {
-      const double nl = log.rows[i].count_l - log.rows[i - 1].count_l;
-      const double nr = log.rows[i].count_r - log.rows[i - 1].count_r;
-      const double turn = std::fabs(k * (nr - nl) / nominal.wheelbase_mm);
-      const double w = arc_weight(nl, nr);
-      t.total_rad += turn;
-      if (w < 1.0 / 3.0) {
-        t.in_place_rad += turn;
-      } else if (w < 0.95) {
-        t.arcs_rad += turn;
-      }
-    }
-  }
-  return t;
-}
-
 std::vector<std::string> set_names(const std::vector<TickLog>& runs, const FitOptions& o) {
   if (o.sets.size() == runs.size()) {
     return o.sets;
@@ -239,7 +220,8 @@ FitModelChoice choose_model(const std::vector<TickLog>& runs, const FitNominal& 
   }
   const Folds folds = folds_of(runs, o);
   choice.unit = folds.unit;
-  const Turning turning = turning_of(runs, nominal);
+  const Design design = design_of(runs, nominal);
+  const Turning& turning = design.turning;
   const FitModelKind kinds[3] = {FitModelKind::one_wheelbase, FitModelKind::arc_wheelbase,
                                  FitModelKind::turn_rate_wheelbase};
   for (const FitModelKind kind : kinds) {
@@ -254,7 +236,7 @@ FitModelChoice choose_model(const std::vector<TickLog>& runs, const FitNominal& 
     const Params start = start_for(kind, one_start);
     // Determined too loosely to be chosen: still predicted, to compare.
     const std::string why_not = kind != FitModelKind::one_wheelbase
-                                    ? unsupported(kind, units, start, spec, o, turning, c.note)
+                                    ? unsupported(kind, units, start, spec, o, design, c.note)
                                     : std::string();
     PathScore total;
     if (c.note.empty()) {

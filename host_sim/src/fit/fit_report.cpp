@@ -137,6 +137,17 @@ nlohmann::json fit_result_json(const FitResult& r) {
         r.relative_sd[3];
   }
   j["heading_length_mm"] = r.heading_length_mm;
+  const FitWeighting& w = r.weighting;
+  const auto estimate = [&](double v) { return w.estimated ? nlohmann::json(v) : nullptr; };
+  j["weighting"] = {{"method", w.estimated ? "estimated" : "fixed"},
+                    {"heading_length_mm", w.heading_length_mm},
+                    {"runs", w.runs},
+                    {"position_sd_mm", estimate(w.position_sd_mm)},
+                    {"heading_sd_deg", estimate(w.heading_sd_deg)},
+                    {"position_dof", estimate(w.position_dof)},
+                    {"heading_dof", estimate(w.heading_dof)},
+                    {"reason", w.reason}};
+  j["warnings"] = r.warnings;
   j["iterations"] = r.iterations;
   return j;
 }
@@ -183,6 +194,17 @@ std::string fit_result_text(const FitResult& r) {
   } else {
     out << "  no bootstrap (B = 0): no intervals\n";
   }
+  if (r.weighting.estimated) {
+    out << line("Weighting: heading x %.1f mm/rad = position noise %.3g mm / heading noise %.3g°",
+                r.weighting.heading_length_mm, r.weighting.position_sd_mm,
+                r.weighting.heading_sd_deg)
+        << " (" << r.weighting.reason << ")\n";
+  } else if (!r.weighting.reason.empty()) {
+    out << "Weighting: " << r.weighting.reason << '\n';
+  }
+  for (const std::string& warning : r.warnings) {
+    out << "Warning: " << warning << '\n';
+  }
   out << "Model: " << model_name(r.model.kind) << " (" << r.model.reason << ")\n";
   for (const FitCandidate& c : r.model.candidates) {
     out << "  " << model_name(c.kind) << ": "
@@ -222,7 +244,10 @@ NoiseEstimate noise_for_fit(const std::vector<TickLog>& runs, const FitResult& f
   NoiseOptions noise_options;
   noise_options.seed = options.seed;
   noise_options.level = options.level;
-  noise_options.heading_length_mm = fit.heading_length_mm;
+  // The measurement noise's shape is the fixed one (a tape measure's 2 mm against 0.4°): the
+  // noise model tells measurement from drift itself, whatever weighting the geometry was fitted
+  // with.
+  noise_options.heading_length_mm = options.heading_length_mm;
   noise_options.replicates = options.replicates > 0u ? noise_options.replicates : 0u;
   return estimate_wheel_noise(runs, fit.nominal, fit.geometry, noise_options);
 }

@@ -19,6 +19,7 @@ const char* parameter_name(FitModelKind kind, int i) {
 Solved solve(const std::vector<Unit>& units, const std::vector<std::size_t>& pick,
              const Params& start, const ModelSpec& k, double heading_length_mm) {
   Solved out;
+  out.heading_length_mm = heading_length_mm;
   Params p = start;
   const Eigen::Index np = p.size();
   Normal n = normal_equations(units, pick, p, k, heading_length_mm, true);

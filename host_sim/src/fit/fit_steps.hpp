@@ -1,7 +1,8 @@
 #pragma once
 // Internal to host_sim/src/fit: the steps of `odocal fit`, which fit.cpp puts together. Solving
-// and the parameters of each model (fit_solve.cpp), what the logs determine
-// (fit_determination.cpp), which model describes the robot (fit_model_choice.cpp), the intervals
+// and the parameters of each model (fit_solve.cpp), what the runs drove (fit_design.cpp), what
+// they determine (fit_determination.cpp), how heading weighs against position
+// (fit_weighting.cpp), which model describes the robot (fit_model_choice.cpp), the intervals
 // (fit_bootstrap.cpp, over fit_interval.cpp's cluster algebra) and the time lag (fit_lag.cpp).
 
 #include <cstddef>
@@ -22,7 +23,8 @@ namespace odocal::host::fit_detail {
 struct Solved {
   bool ok = false;
   Params p;
-  Normal normal;  ///< at p, with the Jacobian
+  Normal normal;                   ///< at p, with the Jacobian
+  double heading_length_mm = 0.0;  ///< the weight `normal` was made with
   std::size_t iterations = 0;
 };
 
@@ -43,24 +45,7 @@ struct Solved {
 /// 0, 1, ..., count − 1: every unit.
 [[nodiscard]] std::vector<std::size_t> every_unit(std::size_t count);
 
-// -------------------------------------------- what the logs determine (fit_determination)
-
-/// Relative (log-parameter) covariance directions: what the data determine, and how well.
-struct Determination {
-  bool ok = true;
-  FitError error;
-  double relative_sd[4] = {0, 0, 0, 0};
-  double relative_cov[4][4] = {};
-};
-
-/// @param turned_rad how much the runs turn (nominal geometry), to say why the wheelbase is not
-///        determined.
-/// @param use_residuals take the residual scatter as the noise when it exceeds the floor (at the
-///        fitted geometry; at the nominal one the residuals are the systematic error itself).
-[[nodiscard]] Determination determination(const Solved& s, const FitOptions& o, FitModelKind kind,
-                                          double turned_rad, bool use_residuals = true);
-
-// ------------------------------------------------------------- the model (fit_model_choice)
+// ------------------------------------------------------- what was driven (fit_design)
 
 /// How the runs turn, by the nominal geometry: in place (arc weight below 1/3: radius under
 /// b/4), on arcs (weight 1/3 to 0.95: radius up to about 10 b), in total (rad).
@@ -71,6 +56,77 @@ struct Turning {
 };
 
 [[nodiscard]] Turning turning_of(const std::vector<TickLog>& runs, const FitNominal& nominal);
+
+/// What the runs drove and what was measured, by the nominal geometry: what a refusal's cause is
+/// read from (never from residuals).
+struct Design {
+  Turning turning;
+  std::size_t runs = 0;
+  std::size_t runs_with_xy = 0;  ///< runs with a position measured after their start
+  /// Runs whose truth after the start is only at their end (the wheels not moving between those
+  /// rows), measured in x and y, and that end within a tenth of their travel of where they
+  /// started: closed loops measured only at the end.
+  std::size_t closed_end_only = 0;
+  std::size_t path_truth = 0;     ///< runs with ground truth along the path (not only at the end)
+  std::size_t end_pose_runs = 0;  ///< runs measured at their end in x, y and heading
+  double travel_mm = 0.0;         ///< the centre's travel, summed over runs with x/y truth
+  double wheel_travel_mm = 0.0;   ///< the wheels' mean travel, over the same runs
+  double left_mm = 0.0;           ///< each wheel's travel, all runs
+  double right_mm = 0.0;
+  /// The count increments of every row in one proportion (one curvature: every row the same arc,
+  /// straight lines included): smallest over largest eigenvalue of Σ (n_L, n_R)(n_L, n_R)ᵀ.
+  double count_spread = 0.0;
+};
+
+[[nodiscard]] Design design_of(const std::vector<TickLog>& runs, const FitNominal& nominal);
+
+/// Why the design fixes the direction `dir` (eigenvector of the column-scaled JᵀJ) only to the
+/// relative standard deviation `sd` at the noise floor: the cause read from the design.
+[[nodiscard]] FitError undetermined(const Params& dir, double sd, FitModelKind kind,
+                                    const Design& design);
+
+// -------------------------------------------- what the logs determine (fit_determination)
+
+/// Relative (log-parameter) covariance directions: what the data determine, and how well.
+struct Determination {
+  bool ok = true;
+  FitError error;
+  double relative_sd[4] = {0, 0, 0, 0};
+  double relative_cov[4][4] = {};
+  /// The residual scatter leaves a direction looser than FitOptions::max_relative_sd (not a
+  /// refusal: the design determines it): one line naming the scatter, or "".
+  std::string warning;
+};
+
+/// The position and heading noise a fit's covariance is judged with.
+struct Noise {
+  double position_mm = 0.0;
+  double heading_rad = 0.0;
+};
+
+/// Whether the design determines every direction at the noise floor (FitOptions::noise_floor_mm,
+/// noise_floor_deg), whatever the weighting of `s` was. With `design`, a refusal names its
+/// cause; without (bootstrap resamples), only ok matters.
+[[nodiscard]] Determination determination(const Solved& s, const FitOptions& o, FitModelKind kind,
+                                          const Design* design);
+
+/// The covariance of the fit `s` with the noise in force (`noise`), and the warning when the
+/// scatter leaves a direction looser than FitOptions::max_relative_sd.
+void add_scatter(Determination& d, const Solved& s, const FitOptions& o, FitModelKind kind,
+                 const Noise& noise);
+
+// ------------------------------------------------------ heading against position (fit_weighting)
+
+/// The weighting (fixed, or estimated from the end residuals and refitted until it settles) and
+/// the one-wheelbase fit with it; `fit` is the fit with the fixed weight on entry.
+[[nodiscard]] FitWeighting choose_weighting(const std::vector<Unit>& units, const ModelSpec& spec,
+                                            const FitOptions& o, const Design& design, Solved& fit);
+
+/// The noise a fit's covariance uses: the estimates, or the residual RMS (at least the floor)
+/// shared by position and heading in the proportion of the fixed weight.
+[[nodiscard]] Noise noise_in_force(const FitWeighting& w, const Solved& s, const FitOptions& o);
+
+// ------------------------------------------------------------- the model (fit_model_choice)
 
 /// The data set of each run: FitOptions::sets, or the folder of the log's source.
 [[nodiscard]] std::vector<std::string> set_names(const std::vector<TickLog>& runs,

@@ -93,6 +93,14 @@ TEST(OdocalFitCommand, FitsSimulatedTapeMeasureRunsAndScoresTheHoldout) {
     EXPECT_LE(ci[0].get<double>(), j[key].get<double>()) << key;
     EXPECT_GE(ci[1].get<double>(), j[key].get<double>()) << key;
   }
+  // Eight runs measured at their end in x, y and heading: the heading weighed by the noise of
+  // each, estimated apart; the simulator's small, even noise leaves nothing to warn about.
+  EXPECT_EQ(j.at("weighting").at("method"), "estimated") << j["weighting"].dump();
+  EXPECT_EQ(j.at("weighting").at("runs").get<int>(), 8);
+  EXPECT_DOUBLE_EQ(j.at("heading_length_mm").get<double>(),
+                   j["weighting"]["heading_length_mm"].get<double>());
+  ASSERT_TRUE(j.at("warnings").is_array());
+  EXPECT_TRUE(j["warnings"].empty()) << j["warnings"].dump();
   for (const char* block : {"fit", "holdout"}) {
     const nlohmann::json& f = j[block];
     EXPECT_EQ(f["runs"].get<int>(), std::string(block) == "fit" ? 8 : 2);
@@ -130,6 +138,7 @@ TEST(OdocalFitCommand, RefusalsAndBadInputExitTwoNamingWhatIsWrong) {
   EXPECT_TRUE(out.empty());
   EXPECT_EQ(run_command(odocal + " fit --log" + join(files, 3, 7) + geometry, out, err), 2);
   EXPECT_NE(err.find("scale"), std::string::npos) << err;
+  EXPECT_NE(err.find("closed loops measured only at the end"), std::string::npos) << err;
   // A bad log names file, line and field.
   const std::string bad = ::testing::TempDir() + "fit_cmd_bad.csv";
   std::ofstream(bad) << "t_s,count_l,count_r,x_mm,y_mm,theta_deg\n0,0,0,,,\n0.1,5,abc,1,0,0\n";

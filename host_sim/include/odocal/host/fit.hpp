@@ -8,8 +8,9 @@
 /// an exact circular arc (as core/src/drive/odometry.cpp), with the parameters D_L, D_R, b. It
 /// starts at the ground-truth pose of the run's first row, or at (0, 0, 0) when that row has none.
 /// Residuals, at every row with ground truth: x and y in mm, and the heading (wrapped difference,
-/// so unwrapped logs work) times FitOptions::heading_length_mm. Levenberg-Marquardt with an
-/// analytic Jacobian. Host code: dynamic containers, exceptions only for unreadable input.
+/// so unwrapped logs work) times a length: the fixed FitOptions::heading_length_mm, or the ratio
+/// of the position and heading noise estimated from the runs (FitWeighting). Levenberg-Marquardt
+/// with an analytic Jacobian. Host code: dynamic containers, exceptions only for unreadable input.
 
 #include <cstddef>
 #include <cstdint>
@@ -107,16 +108,26 @@ struct FitOptions {
   std::uint32_t replicates = 500;  ///< bootstrap B (0: no intervals)
   std::uint64_t seed = 1;          ///< bootstrap resampling seed (same seed, same intervals)
   double level = 0.95;             ///< interval level, in (0, 1)
-  /// Heading residuals are scaled to mm by this length: 2 mm / 0.4° (UMBmark's calibrator), so
-  /// one degree of heading weighs as much as 5 mm of position.
+  /// The fixed weight: heading residuals are scaled to mm by this length, 2 mm / 0.4° (UMBmark's
+  /// calibrator), so one degree of heading weighs as much as 5 mm of position. Used where the
+  /// runs cannot tell their own position and heading noise (FitWeighting).
   double heading_length_mm = 286.4789;
-  /// Identifiability: the data must determine each parameter direction (in relative terms, from
-  /// the eigen-decomposition of the column-scaled JᵀJ, i.e. the scaled Jacobian's SVD) to this
-  /// relative standard deviation or better...
+  /// Weigh heading against position by the noise of each estimated from the runs' end residuals
+  /// where there are min_weighting_runs runs measured at their end in x, y and heading and no run
+  /// has ground truth along its path (docs/calibration.md "Weights").
+  bool estimate_weighting = true;
+  std::size_t min_weighting_runs = 6;
+  /// Identifiability: the design of the runs (what was driven, what was measured) must determine
+  /// each parameter direction (in relative terms, from the eigen-decomposition of the
+  /// column-scaled JᵀJ, i.e. the scaled Jacobian's SVD) to this relative standard deviation or
+  /// better...
   double max_relative_sd = 0.01;
-  /// ... with a measurement noise of this much (mm): judged at the nominal geometry with this
-  /// noise, then at the fitted one with the residual RMS if larger.
+  /// ... with measurements as good as a tape measure or motion capture can be (the noise floor):
+  /// this much in x and y (mm) and noise_floor_deg in heading. Judged at the nominal geometry and
+  /// at the fitted one. Residual scatter above the floor widens the intervals and adds a warning
+  /// (FitResult::warnings), never a refusal.
   double noise_floor_mm = 2.0;
+  double noise_floor_deg = 0.4;
   /// Bootstrap units: runs. When there are fewer than this many runs, runs with ground truth
   /// along the path are cut into pieces (each restarting at its first row's ground truth) so that
   /// there are about this many units to resample.
@@ -181,8 +192,28 @@ struct FitLag {
   bool within_intervals = true;                   ///< the shifted fit stays inside the intervals
 };
 
+/// How heading residuals are weighed against position residuals.
+struct FitWeighting {
+  /// True: from the runs' end residuals (position_sd_mm / heading_sd_deg); false: the fixed
+  /// FitOptions::heading_length_mm.
+  bool estimated = false;
+  double heading_length_mm = 0.0;  ///< in force: mm of position per rad of heading
+  std::size_t runs = 0;            ///< runs measured at their end in x, y and heading
+  /// The estimates (0 when not estimated): the end position's noise per axis and the heading's,
+  /// each at least the noise floor, with their degrees of freedom (residuals less leverage).
+  double position_sd_mm = 0.0;
+  double heading_sd_deg = 0.0;
+  double position_dof = 0.0;
+  double heading_dof = 0.0;
+  std::string reason;  ///< why estimated or fixed
+};
+
 struct FitResult {
   FitGeometry geometry;
+  FitWeighting weighting;
+  /// What the user should know about a result that is given anyway (e.g. residual scatter far
+  /// above the noise floor: wide intervals), one line each.
+  std::vector<std::string> warnings;
   FitModelChoice model;
   std::optional<FitInterval> ci_second_wheelbase_mm;  ///< the model's second wheelbase
   std::optional<FitLag> lag;
@@ -207,7 +238,7 @@ struct FitResult {
   double dof[4] = {0, 0, 0, 0};
   double level = 0.95;
   std::uint64_t seed = 0;
-  double heading_length_mm = 0.0;
+  double heading_length_mm = 0.0;        ///< the weight in force (= weighting.heading_length_mm)
   std::size_t iterations = 0;            ///< Levenberg-Marquardt iterations of the main fit
   double relative_sd[4] = {0, 0, 0, 0};  ///< D_L, D_R, b (, second) relative sd (linearised)
   /// Their covariance (of ln D_L, ln D_R, ln b, ln second; linearised, the same noise): what a
@@ -220,10 +251,11 @@ struct FitResult {
 /// Why the data cannot give a result.
 struct FitError {
   /// The parameter the data cannot determine: "wheelbase_mm", "wheel_diameter_left_mm",
-  /// "wheel_diameter_right_mm", "scale" (all three together: the overall size), or "" for other
-  /// failures (no runs, the fit diverged).
+  /// "wheel_diameter_right_mm", "scale" (all three together: the overall size), a model's second
+  /// wheelbase ("wheelbase_arc_mm", "wheelbase_at_1radps_mm"), or "" for other failures (no
+  /// runs, the fit diverged).
   std::string parameter;
-  std::string message;  ///< one line, names the parameter and why
+  std::string message;  ///< one line: names the parameter and the cause found in the runs' design
 };
 
 /// A result or the reason there is none.
@@ -235,9 +267,11 @@ struct FitOutcome {
 
 /// Fits D_L, D_R and b to `runs` (each checked as by check_tick_log beforehand), then bootstraps
 /// over runs, and scores `holdout` (may be empty: FitResult::holdout stays empty).
-/// Fails (no exception) when the data cannot determine a parameter (e.g. straight lines alone and
-/// the wheelbase; closed loops measured only at the end and the overall scale), or the fit does
-/// not converge to a physical geometry.
+/// Fails (no exception) when the design of the runs cannot determine a parameter at the noise
+/// floor (e.g. straight lines alone and the wheelbase; closed loops measured only at the end and
+/// the overall scale; one curvature and the wheels' difference against the wheelbase), or the fit
+/// does not converge to a physical geometry. Residual scatter never refuses: it widens the
+/// intervals and adds a warning.
 [[nodiscard]] FitOutcome fit_geometry(const std::vector<TickLog>& runs, const FitNominal& nominal,
                                       const FitOptions& options,
                                       const std::vector<TickLog>& holdout = {});

@@ -26,6 +26,8 @@ std::string pose_text(const SessionPose& p) {
 namespace {
 
 constexpr double deg_per_rad = 180.0 / std::numbers::pi;
+/// A typed heading past this is asked about (half a turn, and the odometry's wrap and noise).
+constexpr double max_typed_heading_deg = 200.0;
 
 /// The wheels' travel of one segment as the odometry of `g` drives it (mm): the turn wheelbase
 /// is the one the arc weight of those travels picks (a fixed point, reached in a few steps).
@@ -78,7 +80,10 @@ Residual residual(const SessionPose& reading, const SessionPose& odom) {
 
 /// The run-to-run scatter a reading is allowed, heading: a floor and a share of the turning.
 double noise_heading_deg(const PathExtent& e) {
-  return reading_noise::heading_deg + reading_noise::heading_per_deg * e.turned_deg;
+  return reading_noise::heading_deg + reading_noise::heading_per_deg * e.turned_deg +
+         (e.wheelbase_mm > 0.0
+              ? reading_noise::heading_per_wheelbase_deg * e.length_mm / e.wheelbase_mm
+              : 0.0);
 }
 
 /// Position: a floor, a share of the distance, and the heading's scatter carried over half the
@@ -109,13 +114,13 @@ std::string problem_of(const ReadingFacts& f, const SessionPose& reading) {
           *reading.theta_deg, std::fabs(*r.theta_deg), *f.odom.theta_deg, f.allowance->heading_deg);
     }
   }
-  if (reading.theta_deg && std::fabs(*reading.theta_deg) > 180.0) {
+  // Beyond half a turn (and the odometry's own wrap and noise: 200 degrees): the same direction
+  // as a heading a turn less, typed from another count of turns.
+  if (reading.theta_deg && std::fabs(*reading.theta_deg) > max_typed_heading_deg) {
     return fmt::format(
-        "the heading {:.1f} deg is more than half a turn (headings are typed from -180 "
-        "to 180)",
+        "the heading {:.1f} deg is more than half a turn (headings are typed from -180 to 180)",
         *reading.theta_deg);
-  }
-  // The same run driven before: its stop differs from this one's by the noise, or (a calibration
+  }  // The same run driven before: its stop differs from this one's by the noise, or (a calibration
   // applied between them) by at most what that calibration corrected.
   for (const EarlierReading& e : f.earlier) {
     const Residual before = residual(e.measured, e.odom);
@@ -183,7 +188,7 @@ const std::vector<Slip>& slips() {
        }},
       {"a heading a whole turn off",
        [](const SessionPose& p, const ReadingFacts&) -> std::optional<SessionPose> {
-         if (!p.theta_deg || std::fabs(*p.theta_deg) <= 180.0) {
+         if (!p.theta_deg || std::fabs(*p.theta_deg) <= max_typed_heading_deg) {
            return std::nullopt;
          }
          SessionPose q = p;
@@ -301,7 +306,8 @@ ReadingAllowance allowance_of(const drive::Path& path,
       }
     }
   }
-  const PathExtent extent = extent_of(path);
+  PathExtent extent = extent_of(path);
+  extent.wheelbase_mm = in_force_mm.wheelbase;
   reach.position_mm += noise_position_mm(extent);
   reach.heading_deg += noise_heading_deg(extent);
   return reach;

@@ -33,6 +33,9 @@ inline constexpr double position_mm = 10.0;
 inline constexpr double position_per_mm = 0.01;
 inline constexpr double heading_deg = 2.0;
 inline constexpr double heading_per_deg = 0.005;
+/// Per wheelbase of distance: the wheels' slip differs, and the heading wanders by their
+/// difference over the wheelbase (a small robot on a long line wanders most).
+inline constexpr double heading_per_wheelbase_deg = 0.1;
 }  // namespace reading_noise
 
 /// How far a run's real stop can be from where its odometry says it stopped.
@@ -49,6 +52,7 @@ struct ReadingAllowance {
 struct PathExtent {
   double length_mm = 0.0;
   double turned_deg = 0.0;
+  double wheelbase_mm = 0.0;  ///< the robot's (0: unknown; the per-wheelbase noise left out)
 };
 [[nodiscard]] PathExtent extent_of(const drive::Path& path);
 

@@ -133,8 +133,10 @@ SessionPose Context::measure(const RunRecord& r, std::size_t index, const Factor
   facts.odom = r.odom;
   const std::optional<drive::Path> path = path_of_command(r.command);
   if (path) {
-    facts.allowance = allowance_of(*path, geometry_in_force(in_force, get("wheel_diameter_mm")));
+    const drive::model::Geometry<double> g = geometry_in_force(in_force, get("wheel_diameter_mm"));
+    facts.allowance = allowance_of(*path, g);
     facts.extent = extent_of(*path);
+    facts.extent.wheelbase_mm = g.wheelbase;
   }
   facts.heading_needed = heading_needed(r, path);
   for (std::size_t i = 0; i < runs.size(); ++i) {

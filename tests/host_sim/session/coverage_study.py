@@ -110,14 +110,20 @@ def main():
     ap.add_argument("--robots", type=int, default=30)
     ap.add_argument("--seed", type=int, default=32, help="the generator's seed")
     ap.add_argument("--runs", type=int, default=10, help="unseen-path runs per robot and oracle")
+    ap.add_argument("--only", type=int, default=None, help="run only robot K (the others generated)")
+    ap.add_argument("--keep", default=None, help="write the sessions here and keep them")
     ap.add_argument("--check", action="store_true")
     ap.add_argument("--json", action="store_true")
     a = ap.parse_args()
     rng = random.Random(a.seed)
     rows = []
-    with tempfile.TemporaryDirectory() as work:
+    with tempfile.TemporaryDirectory() as scratch:
+        work = a.keep or scratch
+        os.makedirs(work, exist_ok=True)
         for k in range(a.robots):
             doc = generate_robot(rng)
+            if a.only is not None and k != a.only:
+                continue
             robot = os.path.join(work, "robot-%d.json" % k)
             with open(robot, "w") as f:
                 json.dump(doc, f)

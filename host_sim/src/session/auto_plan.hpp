@@ -72,6 +72,22 @@ Precision precision_of(const FitResult& r, const FitNominal& nominal,
                        const std::vector<TickLog>& logs, const Plan& plan,
                        std::optional<double> target, std::size_t room, std::size_t arc_count);
 
+/// A run whose measured end the fitted geometry cannot explain as it explains the others: a
+/// reading typed wrong (a heading's sign), or a run that went wrong (a wheel caught). Its end
+/// residual, in mm with the heading weighed as the fit weighs it (kHeadingLengthMm per radian),
+/// is more than kSuspectFactor times the runs' median and more than kSuspectFloorMm.
+struct SuspectRun {
+  std::size_t index = 0;     ///< into the logs
+  double position_mm = 0.0;  ///< measured − predicted, position
+  double heading_deg = 0.0;  ///< measured − predicted, heading (wrapped)
+  double residual_mm = 0.0;  ///< the two together
+  double typical_mm = 0.0;   ///< the runs' median residual
+};
+constexpr double kSuspectFactor = 6.0;
+constexpr double kSuspectFloorMm = 5.0 * kMeasureSigmaMm;
+std::vector<SuspectRun> suspect_runs(const std::vector<TickLog>& logs, const FitNominal& nominal,
+                                     const FitGeometry& geometry);
+
 /// What the target likely takes before anything was measured: the first round and then the
 /// runs auto would choose, on the nominal geometry known to 3 % and a tape's noise (a robot that
 /// scatters more than the tape needs more; the count is updated after every run).

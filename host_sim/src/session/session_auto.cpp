@@ -71,6 +71,7 @@ class AutoSession {
   std::size_t budget_ = 0;
   std::size_t max_measurements_ = 0;
   nlohmann::json expected_runs_ = nullptr;  ///< before the first run: runs the target likely takes
+  std::vector<SuspectRun> suspects_;        ///< runs the final fit cannot explain
   std::vector<TickLog> logs_;
   std::size_t arc_runs_ = 0;
   nlohmann::json chosen_ = nlohmann::json::array();
@@ -308,6 +309,25 @@ void AutoSession::apply_final_fit(Outcome& out) {
   }
   apply_fit(c_, next, c_.log);
   out.applied = true;
+  // A run the fitted geometry cannot explain as it explains the others: named, so that the
+  // owner checks its reading; the verification is then flagged whatever it shows.
+  suspects_ = suspect_runs(logs_, nominal_, fitted_.geometry);
+  nlohmann::json listed = nlohmann::json::array();
+  for (const SuspectRun& s : suspects_) {
+    const std::size_t number = selftest_runs_ + s.index + 1;
+    listed.push_back({{"run", number},
+                      {"label", c_.runs[number - 1].label},
+                      {"position_mm", s.position_mm},
+                      {"heading_deg", s.heading_deg},
+                      {"typical_mm", s.typical_mm}});
+    c_.log << fmt::format(
+        "WARNING: run {} ({}) does not agree with the others: its measured end is {:.0f} mm and "
+        "{:.1f} deg from what the fitted geometry predicts, where the runs typically miss by "
+        "{:.1f} mm. Check its reading in measurements.csv (a heading's sign, a typo) and "
+        "--resume with it corrected; the factors applied are bent by it.\n",
+        number, c_.runs[number - 1].label, s.position_mm, s.heading_deg, s.typical_mm);
+  }
+  out.result["suspect_runs"] = listed;
 }
 
 void AutoSession::verify(Outcome& out) {
@@ -345,10 +365,18 @@ void AutoSession::verify(Outcome& out) {
       "error comes on top).\n",
       logs_.size(), auto_verify_runs, c_.runs.size(), model_name(fitted_.geometry.model), rms,
       expected, p_.sigma_random_mm, p_.sigma_sys_mm);
-  if (expected > 0.0 && rms > 3.0 * std::max(expected, 2.0 * kMeasureSigmaMm)) {
+  const bool far_off = expected > 0.0 && rms > 3.0 * std::max(expected, 2.0 * kMeasureSigmaMm);
+  if (far_off) {
     text << "WARNING: the verification ends much further off than the runs predict: check the "
             "measurements (a heading typed with the wrong sign?) and the floor.\n";
   }
+  if (!suspects_.empty()) {
+    text << fmt::format(
+        "WARNING: the prediction is not to be trusted: {} run(s) disagree with the others "
+        "(result.suspect_runs); check their readings.\n",
+        suspects_.size());
+  }
+  out.result["verify"]["flagged"] = far_off || !suspects_.empty();
   c_.log << text.str();
   out.text += fit_text_for_auto(fitted_) + text.str();
 }

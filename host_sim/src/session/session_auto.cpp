@@ -301,18 +301,11 @@ void AutoSession::apply_final_fit(Outcome& out) {
           g.wheel_diameter_left_mm, g.wheel_diameter_right_mm, g.wheelbase_mm,
           g.model == FitModelKind::arc_wheelbase ? g.second_wheelbase_mm : 0.0},
       nominal_.wheel_diameter_mm);
-  const std::string refusal = implausible_factors(next, c_.initial.wheelbase_mm);
-  if (!refusal.empty()) {
-    throw std::runtime_error("auto: " + refusal +
-                             ". Nothing applied: check the wiring (docs/wiring.md) and the "
-                             "measurements (a heading typed with the wrong sign?).");
-  }
-  apply_fit(c_, next, c_.log);
-  out.applied = true;
   // A run the fitted geometry cannot explain as it explains the others: named, so that the
   // owner checks its reading; the verification is then flagged whatever it shows.
   suspects_ = suspect_runs(logs_, nominal_, fitted_.geometry);
   nlohmann::json listed = nlohmann::json::array();
+  std::string named;
   for (const SuspectRun& s : suspects_) {
     const std::size_t number = selftest_runs_ + s.index + 1;
     listed.push_back({{"run", number},
@@ -320,14 +313,30 @@ void AutoSession::apply_final_fit(Outcome& out) {
                       {"position_mm", s.position_mm},
                       {"heading_deg", s.heading_deg},
                       {"typical_mm", s.typical_mm}});
-    c_.log << fmt::format(
-        "WARNING: run {} ({}) does not agree with the others: its measured end is {:.0f} mm and "
-        "{:.1f} deg from what the fitted geometry predicts, where the runs typically miss by "
-        "{:.1f} mm. Check its reading in measurements.csv (a heading's sign, a typo) and "
-        "--resume with it corrected; the factors applied are bent by it.\n",
-        number, c_.runs[number - 1].label, s.position_mm, s.heading_deg, s.typical_mm);
+    named += fmt::format(
+        "{}run {} ({}: {:.0f} mm and {:.1f} deg off the fit, the runs typically "
+        "{:.1f} mm)",
+        named.empty() ? "" : "; ", number, c_.runs[number - 1].label, s.position_mm, s.heading_deg,
+        s.typical_mm);
   }
   out.result["suspect_runs"] = listed;
+  const std::string refusal = implausible_factors(next, c_.initial.wheelbase_mm);
+  if (!refusal.empty()) {
+    throw std::runtime_error(
+        "auto: " + refusal + ". Nothing applied: check the wiring (docs/wiring.md) and the " +
+        (named.empty() ? std::string("measurements (a heading typed with the wrong sign?).")
+                       : "readings of the runs that disagree with the others: " + named +
+                             " (correct them in measurements.csv and --resume)."));
+  }
+  apply_fit(c_, next, c_.log);
+  out.applied = true;
+  if (!named.empty()) {
+    c_.log << "WARNING: runs that do not agree with the others: " << named
+           << ". Check their readings (a heading's sign, a typo): the factors applied are bent by "
+              "them. Answer n to the save question and put the readings right in "
+              "measurements.csv: a new session with --measurements OUT/measurements.csv "
+              "drives the same runs and takes them from there.\n";
+  }
 }
 
 void AutoSession::verify(Outcome& out) {

@@ -5,6 +5,8 @@
 // wheelbase: an arc's end point moves with how far it turned), so that end points alone
 // determine all three.
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -14,6 +16,7 @@
 #include <fmt/format.h>
 
 #include "model_in_force.hpp"
+#include "odocal/calib/quantile.hpp"
 #include "odocal/host/fit.hpp"
 #include "odocal/host/fit_noise.hpp"
 #include "session_internal.hpp"
@@ -80,47 +83,67 @@ std::vector<TickLog> drive_fit_runs(Context& c, std::size_t n, double length_m) 
   return logs;
 }
 
-/// What the fit changes: a parameter whose interval holds the value in force keeps it (a fit of
-/// a few runs must not replace a better UMBmark result by its noise); `shown` says which, `text`
-/// why. The geometry in force is the robot odometry's (the one model: F_lat and F_lon fold into
-/// the diameters and scale the wheelbases). `any`: something is to change.
+/// What the fit changes, by the parts of the geometry it measures (the one composition rule): the
+/// scale (the mean wheel diameter), the wheel ratio D_R/D_L, and the turn geometry (the
+/// wheelbase over the mean diameter: what sets every turn's angle). Each part whose fitted value
+/// lies outside about 2 standard deviations (the fit's linearised covariance) of the value in
+/// force replaces it; a part within keeps the value in force (a fit of a few runs does not
+/// replace a better UMBmark ratio by its noise). A new scale keeps the turn geometry, so the
+/// wheelbase scales with it and every turn keeps its angle. The arc-wheelbase model replaces the
+/// whole geometry (the data chose it by held-out prediction). `shown` says which parts change,
+/// `text` why. The geometry in force is the robot odometry's (F_lat and F_lon folded in).
+/// `any`: something is to change.
 Factors fit_choice(const FitResult& result, const Factors& in_force, double d,
                    nlohmann::json& shown, bool& any, std::ostream& text) {
   const drive::model::Geometry<double> now = geometry_in_force(in_force, d);
-  struct Choice {
-    const char* name;
-    double fitted;
-    double in_force;
-    const std::optional<FitInterval>& ci;
+  const FitGeometry& f = result.geometry;
+  // Parts in logs: (ln D_L + ln D_R)/2, ln D_R − ln D_L, ln b − scale; their rows on the fit's
+  // log-parameters (ln D_L, ln D_R, ln b).
+  const double rows[3][3] = {{0.5, 0.5, 0.0}, {-1.0, 1.0, 0.0}, {-0.5, -0.5, 1.0}};
+  const auto parts = [](double l, double r, double b) {
+    const double scale = 0.5 * (std::log(l) + std::log(r));
+    return std::array<double, 3>{scale, std::log(r) - std::log(l), std::log(b) - scale};
   };
-  const Choice choices[] = {
-      {"wheel_diameter_left_mm", result.geometry.wheel_diameter_left_mm, now.left_diameter,
-       result.ci_left_mm},
-      {"wheel_diameter_right_mm", result.geometry.wheel_diameter_right_mm, now.right_diameter,
-       result.ci_right_mm},
-      {"wheelbase_mm", result.geometry.wheelbase_mm, now.wheelbase, result.ci_wheelbase_mm},
-  };
-  double chosen[3];
+  const std::array<double, 3> fitted =
+      parts(f.wheel_diameter_left_mm, f.wheel_diameter_right_mm, f.wheelbase_mm);
+  const std::array<double, 3> was = parts(now.left_diameter, now.right_diameter, now.wheelbase);
+  static const char* const names[3] = {"scale (mean wheel diameter)", "wheel ratio D_R/D_L",
+                                       "turn geometry (wheelbase / mean diameter)"};
+  static const char* const keys[3] = {"scale", "wheel_ratio", "turn_geometry"};
+  const bool arc_model = f.model == FitModelKind::arc_wheelbase;
+  std::array<double, 3> chosen{};
   shown = nlohmann::json::object();
-  any = false;
-  for (std::size_t i = 0; i < 3; ++i) {
-    const Choice& k = choices[i];
-    const bool is_shown = !k.ci || k.in_force < k.ci->lo || k.in_force > k.ci->hi;
-    chosen[i] = is_shown ? k.fitted : k.in_force;
-    shown[k.name] = is_shown;
-    any = any || is_shown;
-    text << fmt::format("  {:<24} fitted {:.4f}, in force {:.4f}: {}\n", k.name, k.fitted,
-                        k.in_force,
-                        is_shown ? "changed (outside the interval)" : "kept (inside the interval)");
+  any = arc_model;  // the data chose a second wheelbase (held-out prediction): it goes in force
+  // How far each part may be from the fit by chance: the larger of the linearised figure and the
+  // runs' own scatter (the cluster-robust standard errors over runs, taken as independent: the
+  // linearised one misses slip that is the same along a run), times Student's t at the runs'
+  // degrees of freedom (two-sided 95 %).
+  const double dof = std::max(1.0, std::min({result.dof[0], result.dof[1], result.dof[2]}));
+  const double t = result.dof[0] > 0.0 ? calib::student_t_quantile(0.975, dof) : 2.0;
+  for (int k = 0; k < 3; ++k) {
+    double var = 0.0;
+    double runs_var = 0.0;
+    for (int a = 0; a < 3; ++a) {
+      runs_var += rows[k][a] * rows[k][a] * result.cluster_sd[a] * result.cluster_sd[a];
+      for (int b = 0; b < 3; ++b) {
+        var += rows[k][a] * rows[k][b] * result.relative_cov[a][b];
+      }
+    }
+    const double sd = std::sqrt(std::max({var, runs_var, 0.0}));
+    const bool outside = !(std::fabs(fitted[k] - was[k]) <= t * sd) || arc_model;
+    chosen[k] = outside ? fitted[k] : was[k];
+    shown[keys[k]] = outside;
+    any = any || outside;
+    text << fmt::format("  {:<42} fitted {:+.3f} % ±{:.3f} % (95 %) from the one in force: {}\n",
+                        names[k], 100.0 * (fitted[k] - was[k]), 100.0 * t * sd,
+                        outside ? "changed" : "kept");
   }
-  const bool arc_model = result.geometry.model == FitModelKind::arc_wheelbase;
-  if (arc_model) {
-    any = true;  // the data chose a second wheelbase (held-out prediction): it goes in force
-  }
-  return factors_for_fit(
-      drive::model::Geometry<double>{chosen[0], chosen[1], chosen[2],
-                                     arc_model ? result.geometry.second_wheelbase_mm : 0.0},
-      d);
+  const double left = std::exp(chosen[0] - 0.5 * chosen[1]);
+  const double right = std::exp(chosen[0] + 0.5 * chosen[1]);
+  const double wheelbase = std::exp(chosen[2] + chosen[0]);
+  return factors_for_fit(drive::model::Geometry<double>{left, right, wheelbase,
+                                                        arc_model ? f.second_wheelbase_mm : 0.0},
+                         d);
 }
 
 }  // namespace

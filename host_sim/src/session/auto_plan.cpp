@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include <fmt/format.h>
 #include <Eigen/Dense>
@@ -138,6 +139,24 @@ Eigen::MatrixXd with_run(const Eigen::MatrixXd& c, Kind k, const Plan& p, const 
   const Eigen::MatrixXd info =
       c.inverse() + j.transpose() * j / (kMeasureSigmaMm * kMeasureSigmaMm);
   return info.inverse();
+}
+
+/// The kind of run whose measurement lowers sigma_sys the most from covariance `c`, and the
+/// covariance after it (`gu`: the unseen path's end Jacobian).
+std::pair<Kind, Eigen::MatrixXd> best_run(const Eigen::MatrixXd& c, const Plan& p,
+                                          const Geometry& g, const Eigen::MatrixXd& gu) {
+  const Kind kinds[] = {Kind::line, Kind::spin_ccw, Kind::spin_cw, Kind::arc_left, Kind::arc_right};
+  double best = HUGE_VAL;
+  std::pair<Kind, Eigen::MatrixXd> out{Kind::line, c};
+  for (Kind k : kinds) {
+    Eigen::MatrixXd next = with_run(c, k, p, g);
+    const double s = sigma_sys(gu, next);
+    if (s < best) {
+      best = s;
+      out = {k, std::move(next)};
+    }
+  }
+  return out;
 }
 
 /// The unseen path as a tick log of counts under geometry `g` (what end_sensitivity needs), in
@@ -316,24 +335,12 @@ Precision precision_of(const FitResult& r, const FitNominal& nominal,
   out.target_mm = target.value_or(kDefaultTargetMm);
   // The next run: the kind whose measurement lowers sigma_sys the most; then how many such
   // greedy choices reach the target.
-  const Kind kinds[] = {Kind::line, Kind::spin_ccw, Kind::spin_cw, Kind::arc_left, Kind::arc_right};
   Eigen::MatrixXd now = c;
   for (std::size_t n = 0; n < room; ++n) {
     if (sigma_sys(gu, now) <= out.target_mm && !(n == 0 && arc_unresolved)) {
       break;
     }
-    double best = HUGE_VAL;
-    Kind pick = Kind::line;
-    Eigen::MatrixXd best_c = now;
-    for (Kind k : kinds) {
-      const Eigen::MatrixXd next = with_run(now, k, plan, g);
-      const double s = sigma_sys(gu, next);
-      if (s < best) {
-        best = s;
-        pick = k;
-        best_c = next;
-      }
-    }
+    auto [pick, best_c] = best_run(now, plan, g, gu);
     if (n == 0) {
       out.next = pick;
       if (arc_unresolved) {
@@ -343,7 +350,7 @@ Precision precision_of(const FitResult& r, const FitNominal& nominal,
         out.next = arc_count % 2 == 0 ? Kind::arc_left : Kind::arc_right;
       }
     }
-    now = best_c;
+    now = std::move(best_c);
     ++out.more;
   }
   return out;
@@ -365,19 +372,8 @@ Expectation expected_before_runs(const Plan& plan, const FitNominal& nominal, do
     c = with_run(c, first[i], plan, g);
   }
   e.runs = first_round;
-  const Kind kinds[] = {Kind::line, Kind::spin_ccw, Kind::spin_cw, Kind::arc_left, Kind::arc_right};
   while (sigma_sys(gu, c) > target_mm && e.runs < room) {
-    Eigen::MatrixXd best_c = c;
-    double best = HUGE_VAL;
-    for (Kind k : kinds) {
-      const Eigen::MatrixXd next = with_run(c, k, plan, g);
-      const double s = sigma_sys(gu, next);
-      if (s < best) {
-        best = s;
-        best_c = next;
-      }
-    }
-    c = best_c;
+    c = best_run(c, plan, g, gu).second;
     ++e.runs;
   }
   e.sigma_sys_mm = sigma_sys(gu, c);

@@ -17,6 +17,8 @@ import subprocess
 import sys
 import tempfile
 
+import study_robots
+
 ROBOTS = {
     "micromouse": {"wheel_diameter_mm": 48, "wheelbase_mm": 92, "true_left_diameter_mm": 47.85,
                    "true_right_diameter_mm": 48.15, "true_wheelbase_mm": 94.2},
@@ -63,17 +65,8 @@ def unseen_rms(bindir, robot, store, seeds, work):
 
 
 def oracle_store(bindir, robot_doc, robot, work):
-    store = os.path.join(work, os.path.basename(robot) + ".oracle.store")
-    d = robot_doc["wheel_diameter_mm"]
-    script = "set c_l %.6f\nset c_r %.6f\nset wheelbase_mm %.4f\n" % (
-        robot_doc["true_left_diameter_mm"] / d, robot_doc["true_right_diameter_mm"] / d,
-        robot_doc["true_wheelbase_mm"])
-    if "true_wheelbase_arc_mm" in robot_doc:
-        script += "set wheelbase_arc_mm %.4f\n" % robot_doc["true_wheelbase_arc_mm"]
-    script += "save\n"
-    subprocess.run([bindir + "/odocal-sim", "--robot", robot, "--store", store],
-                   input=script, capture_output=True, text=True, check=True)
-    return store
+    return study_robots.oracle_store(
+        bindir, robot_doc, robot, os.path.join(work, os.path.basename(robot) + ".oracle.store"))
 
 
 def session_figures(seed, session, rms):

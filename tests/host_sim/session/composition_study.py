@@ -20,30 +20,17 @@ import subprocess
 import sys
 import tempfile
 
+import study_robots
+
 PROCEDURES = ("umbmark", "lateral", "fit")
 ORDER = ("umbmark", "lateral", "fit")  # docs/calibration.md, "The recommended order"
 VERIFY_SEED = 2000
 
 
 def generate_robot(rng):
-    """A robot file within docs/simulation.md's ranges and the plausible results of
-    docs/calibration.md: wheels 30-160 mm, wheelbase 1.8-5 wheel diameters, each true wheel within
-    0.5 % of the nominal, the true wheelbase within 3 %, sometimes an arc wheelbase up to 1.5 %
-    above it, slip from the default to 6 times it, a few encoder resolutions."""
-    d = round(math.exp(rng.uniform(math.log(30.0), math.log(160.0))), 1)
-    b = round(d * rng.uniform(1.8, 5.0), 1)
-    doc = {
-        "wheel_diameter_mm": d,
-        "wheelbase_mm": b,
-        "counts_per_rev": rng.choice([360, 1024, 1440, 2048, 4096]),
-        "true_left_diameter_mm": round(d * (1.0 + rng.uniform(-0.005, 0.005)), 3),
-        "true_right_diameter_mm": round(d * (1.0 + rng.uniform(-0.005, 0.005)), 3),
-        "true_wheelbase_mm": round(b * (1.0 + rng.uniform(-0.03, 0.03)), 2),
-        "slip_sigma": round(0.0005 * rng.uniform(1.0, 6.0), 5),
-    }
-    if rng.random() < 0.3:
-        doc["true_wheelbase_arc_mm"] = round(doc["true_wheelbase_mm"] * (1.0 + rng.uniform(0.002, 0.015)), 2)
-    return doc
+    """A robot within the documented ranges (study_robots.py), slip from the default to 6 times
+    it."""
+    return study_robots.generate_robot(rng, lambda r: round(0.0005 * r.uniform(1.0, 6.0), 5))
 
 
 def run(cmd):

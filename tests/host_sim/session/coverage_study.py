@@ -27,28 +27,16 @@ import subprocess
 import sys
 import tempfile
 
+import study_robots
+
 VERIFY_SEED = 3000
 
 
 def generate_robot(rng):
-    """Wheels 30-160 mm, wheelbase 1.8-5 diameters, each true wheel within 0.5 % of nominal, the
-    true wheelbase within 3 %, sometimes an arc wheelbase up to 1.5 % above it, slip from the
-    default (0.0005) to 10 times it, a few encoder resolutions."""
-    d = round(math.exp(rng.uniform(math.log(30.0), math.log(160.0))), 1)
-    b = round(d * rng.uniform(1.8, 5.0), 1)
-    doc = {
-        "wheel_diameter_mm": d,
-        "wheelbase_mm": b,
-        "counts_per_rev": rng.choice([360, 1024, 1440, 2048, 4096]),
-        "true_left_diameter_mm": round(d * (1.0 + rng.uniform(-0.005, 0.005)), 3),
-        "true_right_diameter_mm": round(d * (1.0 + rng.uniform(-0.005, 0.005)), 3),
-        "true_wheelbase_mm": round(b * (1.0 + rng.uniform(-0.03, 0.03)), 2),
-        "slip_sigma": round(0.0005 * math.exp(rng.uniform(0.0, math.log(10.0))), 6),
-    }
-    if rng.random() < 0.3:
-        doc["true_wheelbase_arc_mm"] = round(
-            doc["true_wheelbase_mm"] * (1.0 + rng.uniform(0.002, 0.015)), 2)
-    return doc
+    """A robot within the documented ranges (study_robots.py), slip from the default (0.0005) to
+    10 times it, uniform in its logarithm."""
+    return study_robots.generate_robot(
+        rng, lambda r: round(0.0005 * math.exp(r.uniform(0.0, math.log(10.0))), 6))
 
 
 def run(cmd):
@@ -56,18 +44,6 @@ def run(cmd):
     if p.returncode != 0:
         raise RuntimeError(" ".join(cmd) + "\n" + p.stderr[-2000:])
     return p.stdout, p.stderr
-
-
-def oracle_store(bindir, doc, robot, store):
-    d = doc["wheel_diameter_mm"]
-    script = "set c_l %.6f\nset c_r %.6f\nset wheelbase_mm %.4f\n" % (
-        doc["true_left_diameter_mm"] / d, doc["true_right_diameter_mm"] / d,
-        doc["true_wheelbase_mm"])
-    if "true_wheelbase_arc_mm" in doc:
-        script += "set wheelbase_arc_mm %.4f\n" % doc["true_wheelbase_arc_mm"]
-    script += "save\n"
-    subprocess.run([bindir + "/odocal-sim", "--robot", robot, "--store", store],
-                   input=script, capture_output=True, text=True, check=True)
 
 
 def stops(bindir, robot, store, runs, out):
@@ -134,7 +110,7 @@ def main():
             session = json.loads(out)
             last = session["result"]["precision"][-1]
             oracle = os.path.join(work, "oracle-%d.store" % k)
-            oracle_store(a.bindir, doc, robot, oracle)
+            study_robots.oracle_store(a.bindir, doc, robot, oracle)
             mine = stops(a.bindir, robot, store, a.runs, os.path.join(work, "v-%d" % k))
             best = stops(a.bindir, robot, oracle, a.runs, os.path.join(work, "o-%d" % k))
             m, sd, rms = mean_and_scatter(mine)

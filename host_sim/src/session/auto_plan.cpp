@@ -297,6 +297,10 @@ const FitCandidate* candidate_of(const FitResult& r, FitModelKind kind) {
   return nullptr;
 }
 
+double target_in_force(std::optional<double> target, double sigma_random_mm) {
+  return target.value_or(std::max(kDefaultTargetMm, kTargetDriftShare * sigma_random_mm));
+}
+
 Precision precision_of(const FitResult& r, const FitNominal& nominal,
                        const std::vector<TickLog>& logs, const Plan& plan,
                        std::optional<double> target, std::size_t room, std::size_t arc_count) {
@@ -332,7 +336,7 @@ Precision precision_of(const FitResult& r, const FitNominal& nominal,
     const Eigen::Matrix3d cov = end_covariance(full, noise.noise);
     out.sigma_random_mm = std::sqrt(std::max(cov(0, 0) + cov(1, 1), 0.0));
   }
-  out.target_mm = target.value_or(kDefaultTargetMm);
+  out.target_mm = target_in_force(target, out.sigma_random_mm);
   // The next run: the kind whose measurement lowers sigma_sys the most; then how many such
   // greedy choices reach the target.
   Eigen::MatrixXd now = c;
@@ -418,6 +422,25 @@ std::vector<SuspectRun> suspect_runs(const std::vector<TickLog>& logs, const Fit
     }
   }
   return out;
+}
+
+nlohmann::json describe_suspects(const std::vector<SuspectRun>& suspects, const Context& c,
+                                 std::size_t first_run, std::string& named) {
+  nlohmann::json listed = nlohmann::json::array();
+  named.clear();
+  for (const SuspectRun& s : suspects) {
+    const std::size_t number = first_run + s.index;
+    const std::string& label = c.runs.at(number - 1).label;
+    listed.push_back({{"run", number},
+                      {"label", label},
+                      {"position_mm", s.position_mm},
+                      {"heading_deg", s.heading_deg},
+                      {"typical_mm", s.typical_mm}});
+    named += fmt::format(
+        "{}run {} ({}: {:.0f} mm and {:.1f} deg off the fit, the runs typically {:.1f} mm)",
+        named.empty() ? "" : "; ", number, label, s.position_mm, s.heading_deg, s.typical_mm);
+  }
+  return listed;
 }
 
 }  // namespace odocal::host::session::auto_plan

@@ -22,9 +22,18 @@ constexpr double kHeadingLengthMm = 286.4789;  ///< 2 mm per 0.4 degree, as odoc
 /// --max-measurements' default: every tape measurement of the session (self-test, calibration,
 /// verification). docs/calibration.md "The budget" says where it comes from.
 constexpr std::size_t kDefaultMaxMeasurements = 20;
-/// --target's default: the factors add no more to the unseen path's end than one tape
+/// --target's floor: the factors add no more to the unseen path's end than one tape
 /// measurement's error (docs/calibration.md).
 constexpr double kDefaultTargetMm = 2.0;
+/// --target's default is the larger of kDefaultTargetMm and this share of the robot's own random
+/// drift on the unseen path (sigma_random, estimated from the runs): the factors' uncertainty
+/// then adds at most sqrt(1 + 0.5^2) - 1 = 12 % to what the true geometry would leave, and a
+/// drift estimate twice too high still keeps it within sqrt(2) of it.
+constexpr double kTargetDriftShare = 0.5;
+
+/// The target in force: `target` (the user's --target) when given, else the default above for a
+/// robot whose drift is estimated as `sigma_random_mm` (0: not estimated yet).
+double target_in_force(std::optional<double> target, double sigma_random_mm);
 
 enum class Kind { line, spin_ccw, spin_cw, arc_left, arc_right };
 
@@ -87,6 +96,12 @@ constexpr double kSuspectFactor = 6.0;
 constexpr double kSuspectFloorMm = 5.0 * kMeasureSigmaMm;
 std::vector<SuspectRun> suspect_runs(const std::vector<TickLog>& logs, const FitNominal& nominal,
                                      const FitGeometry& geometry);
+
+/// `suspects` as `result.suspect_runs` (run, label, position_mm, heading_deg, typical_mm) and,
+/// in `named`, as one line of text ("run 17 (turns-ccw: 2 mm and 40.8 deg off the fit, ...)");
+/// log i is the session's run `first_run + i` (1-based), its label from `c.runs`.
+nlohmann::json describe_suspects(const std::vector<SuspectRun>& suspects, const Context& c,
+                                 std::size_t first_run, std::string& named);
 
 /// What the target likely takes before anything was measured: the first round and then the
 /// runs auto would choose, on the nominal geometry known to 3 % and a tape's noise (a robot that

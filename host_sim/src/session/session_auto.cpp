@@ -58,6 +58,9 @@ class AutoSession {
   void verify(Outcome& out);
 
  private:
+  /// The runs' sizes, the budget of measurements and the count the target likely takes, said
+  /// before the first run.
+  void plan_the_budget();
   void drive_one(Kind k, const std::string& why);
   FitResult fit_with(const FitOptions& options);
   FitResult fit_now();
@@ -190,7 +193,7 @@ bool AutoSession::report() {
   return done;
 }
 
-void AutoSession::measure_until_known(Outcome& out) {
+void AutoSession::plan_the_budget() {
   nominal_.wheel_diameter_mm = c_.get("wheel_diameter_mm");
   nominal_.wheelbase_mm = c_.get("wheelbase_mm");
   nominal_.counts_per_rev = c_.get("counts_per_rev");
@@ -201,7 +204,7 @@ void AutoSession::measure_until_known(Outcome& out) {
   const std::size_t spent = selftest_runs_ + auto_verify_runs;
   budget_ = std::max(auto_first_round, total > spent ? total - spent : 0);
   c_.planned = selftest_runs_ + auto_first_round + auto_verify_runs;
-  const double target = c_.options.target_mm.value_or(kDefaultTargetMm);
+  const double target = target_in_force(c_.options.target_mm, 0.0);
   const Expectation likely = expected_before_runs(plan_, nominal_, target, auto_first_round, 200);
   const Expectation at_budget =
       expected_before_runs(plan_, nominal_, target, auto_first_round, budget_);
@@ -212,7 +215,7 @@ void AutoSession::measure_until_known(Outcome& out) {
       "Budget: {} measurements in all (--max-measurements): {} for the self-test, {} to "
       "calibrate, {} to verify. A robot this size that scatters no more than the tape would "
       "reach the target ({:.1f} mm on the unseen path, 1 sigma) in about {} calibration runs{}; "
-      "a robot that slips more needs more, and the count is updated after every run.\n",
+      "a robot that slips more needs more, and the count is updated after every run.{}\n",
       auto_first_round, plan_.line_m, plan_.spin_turns, plan_.arc_radius_m, auto_verify_runs,
       std::max(total, spent + budget_), selftest_runs_, budget_, auto_verify_runs, target,
       likely.runs,
@@ -221,9 +224,19 @@ void AutoSession::measure_until_known(Outcome& out) {
                                           "(--max-measurements {} would do)",
                                           at_budget.sigma_sys_mm, likely.runs + spent)
                             : std::string())
-                     : std::string(" or more (not within 200)"));
+                     : std::string(" or more (not within 200)"),
+      c_.options.target_mm
+          ? std::string()
+          : std::string(" The target (--target) is 2 mm or half the robot's own random drift on "
+                        "the unseen path, whichever is larger, as the runs show the drift: "
+                        "factors known that well add at most an eighth to what the robot's true "
+                        "geometry would leave."));
   expected_runs_ = likely.reached ? nlohmann::json(likely.runs) : nlohmann::json(nullptr);
   max_measurements_ = std::max(total, spent + budget_);
+}
+
+void AutoSession::measure_until_known(Outcome& out) {
+  plan_the_budget();
   c_.log << "How to measure: mark the start on the floor and two points on the robot, one over "
             "the middle of the axle and one ahead of it (as far as the robot allows). After each "
             "run, measure the axle mark's position from the start mark along the start line (x, "
@@ -304,21 +317,8 @@ void AutoSession::apply_final_fit(Outcome& out) {
   // A run the fitted geometry cannot explain as it explains the others: named, so that the
   // owner checks its reading; the verification is then flagged whatever it shows.
   suspects_ = suspect_runs(logs_, nominal_, fitted_.geometry);
-  nlohmann::json listed = nlohmann::json::array();
   std::string named;
-  for (const SuspectRun& s : suspects_) {
-    const std::size_t number = selftest_runs_ + s.index + 1;
-    listed.push_back({{"run", number},
-                      {"label", c_.runs[number - 1].label},
-                      {"position_mm", s.position_mm},
-                      {"heading_deg", s.heading_deg},
-                      {"typical_mm", s.typical_mm}});
-    named += fmt::format(
-        "{}run {} ({}: {:.0f} mm and {:.1f} deg off the fit, the runs typically "
-        "{:.1f} mm)",
-        named.empty() ? "" : "; ", number, c_.runs[number - 1].label, s.position_mm, s.heading_deg,
-        s.typical_mm);
-  }
+  const nlohmann::json listed = describe_suspects(suspects_, c_, selftest_runs_ + 1, named);
   out.result["suspect_runs"] = listed;
   const std::string refusal = implausible_factors(next, c_.initial.wheelbase_mm);
   if (!refusal.empty()) {

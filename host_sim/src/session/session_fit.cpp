@@ -15,6 +15,7 @@
 
 #include <fmt/format.h>
 
+#include "auto_plan.hpp"
 #include "model_in_force.hpp"
 #include "odocal/calib/quantile.hpp"
 #include "odocal/host/fit.hpp"
@@ -157,6 +158,7 @@ Outcome run_fit(Context& c) {
   nominal.wheel_diameter_mm = c.get("wheel_diameter_mm");
   nominal.wheelbase_mm = c.get("wheelbase_mm");
   nominal.counts_per_rev = c.get("counts_per_rev");
+  const std::size_t first_run = c.runs.size() + 1;
   const std::vector<TickLog> logs = drive_fit_runs(c, n, length_m);
 
   FitOptions options;
@@ -178,11 +180,24 @@ Outcome run_fit(Context& c) {
   bool any = false;
   const Factors next = fit_choice(result, c.factors(), nominal.wheel_diameter_mm, shown, any, text);
   outcome.result["shown"] = shown;
+  // A run the fitted geometry cannot explain as it explains the others (auto's rule): named, so
+  // that the owner checks its reading before trusting what is applied.
+  std::string named;
+  outcome.result["suspect_runs"] = auto_plan::describe_suspects(
+      auto_plan::suspect_runs(logs, nominal, result.geometry), c, first_run, named);
   const std::string refusal = implausible_factors(next, c.initial.wheelbase_mm);
   if (!refusal.empty()) {
     throw std::runtime_error(
-        "fit: " + refusal +
-        ". Nothing applied: check the wiring (docs/wiring.md) and the measurements.");
+        "fit: " + refusal + ". Nothing applied: check the wiring (docs/wiring.md) and the " +
+        (named.empty() ? std::string("measurements.")
+                       : "readings of the runs that disagree with the others: " + named +
+                             " (correct them in measurements.csv and --resume)."));
+  }
+  if (!named.empty()) {
+    text << "WARNING: runs that do not agree with the others: " << named
+         << ". Check their readings (a heading's sign, a typo): what the fit changes is bent by "
+            "them; answer n to the save question, correct them in measurements.csv and "
+            "--resume.\n";
   }
   if (!any) {
     text << "The runs show nothing wrong with the geometry in force: nothing changed.\n";

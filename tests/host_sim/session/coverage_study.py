@@ -162,12 +162,17 @@ def main():
                         "(1.3x, 1.6x allowed)" % (statistics.median(met), max(met)))
     if questioned:
         failures.append("%d correct readings questioned by the reading check" % questioned)
+    counts = sorted(r["measurements"] for r in rows)
     summary = ("coverage_study: %d robots; systematic within 2 sigma_sys %d/%d, scatter within 2x "
-               "of the prediction %d/%d (at least %d each); target met %d/%d%s; readings "
-               "questioned %d" % (n, sys_ok, n, scatter_ok, n, floor, len(met), n,
-                                  ", median %.2fx, worst %.2fx of the oracle"
-                                  % (statistics.median(met), max(met)) if met else "",
-                                  questioned))
+               "of the prediction %d/%d (at least %d each); target met %d/%d%s; measurements "
+               "median %d, 90th percentile %d, most %d; all sessions %.2fx of the oracle in the "
+               "median, worst %.2fx; readings questioned %d"
+               % (n, sys_ok, n, scatter_ok, n, floor, len(met), n,
+                  ", median %.2fx, worst %.2fx of the oracle"
+                  % (statistics.median(met), max(met)) if met else "",
+                  statistics.median(counts), counts[min(n - 1, math.ceil(0.9 * n) - 1)],
+                  counts[-1], statistics.median(r["ratio"] for r in rows),
+                  max(r["ratio"] for r in rows), questioned))
     print(summary, file=sys.stderr)
     for f in failures:
         print("  FAIL: " + f, file=sys.stderr)

@@ -180,15 +180,16 @@ TEST(SessionReadings, AFilesReadingTwoMetresOffIsRefusedAndAnEditedJournalIsTake
 /// file, the reading of its last calibration run labelled `label` changed by `change` (the CSV
 /// fields). The last one: the runs before it are chosen as in the first session, so the file's
 /// rows still belong to them. Sets `number` to that run's number.
-Result auto_with_changed_reading(const std::string& tag, const std::string& label,
-                                 void (*change)(std::vector<std::string>&), int& number) {
+Result with_changed_reading(const std::string& tag, const std::string& label,
+                            void (*change)(std::vector<std::string>&), int& number,
+                            const std::string& procedure = "auto") {
   const std::string robot = write(tag + "_robot.json",
                                   R"({"true_left_diameter_mm": 59.9, "true_right_diameter_mm": 60.1,
                                       "true_wheelbase_mm": 152})");
   const std::string first = temp(tag + "_first");
   std::system(("rm -rf " + first).c_str());
-  const Result tape =
-      session("--sim " + robot + " --seed 4 --procedure auto --yes --json --out " + first);
+  const Result tape = session("--sim " + robot + " --seed 4 --procedure " + procedure +
+                              " --yes --json --out " + first);
   EXPECT_EQ(tape.status, 0) << tape.err;
   const json runs = json::parse(tape.out)["runs"];
   number = 0;
@@ -197,7 +198,7 @@ Result auto_with_changed_reading(const std::string& tag, const std::string& labe
       number = static_cast<int>(i) + 1;
     }
   }
-  EXPECT_GT(number, 6) << "no " << label << " after the first round";
+  EXPECT_GT(number, procedure == "auto" ? 6 : 0) << "no " << label << " after the first round";
   std::ifstream in(first + "/measurements.csv");
   std::string text, line;
   for (int i = 0; std::getline(in, line); ++i) {
@@ -215,8 +216,8 @@ Result auto_with_changed_reading(const std::string& tag, const std::string& labe
   const std::string file = write(tag + "_readings.csv", text);
   const std::string out = temp(tag + "_second");
   std::system(("rm -rf " + out).c_str());
-  return session("--sim " + robot + " --seed 4 --procedure auto --yes --json --measurements " +
-                 file + " --out " + out);
+  return session("--sim " + robot + " --seed 4 --procedure " + procedure +
+                 " --yes --json --measurements " + file + " --out " + out);
 }
 
 TEST(SessionReadings, AutoNamesARunWhoseHeadingWasTypedWithTheWrongSign) {
@@ -224,7 +225,7 @@ TEST(SessionReadings, AutoNamesARunWhoseHeadingWasTypedWithTheWrongSign) {
   // check questions it against the same run before (taken: --yes), the fit cannot explain it as it
   // explains the others, and the verification is flagged.
   int number = 0;
-  const Result r = auto_with_changed_reading(
+  const Result r = with_changed_reading(
       "sign", "turns-ccw",
       [](std::vector<std::string>& f) { f[3] = std::to_string(-std::atof(f[3].c_str())); }, number);
   ASSERT_EQ(r.status, 0) << r.err;
@@ -244,7 +245,7 @@ TEST(SessionReadings, AutoNamesAReadingTwoMetresOff) {
   // A line's reading replayed 2 m too far: questioned (taken: --yes), then named, in the refusal
   // of an implausible result or in the warning beside an applied one.
   int number = 0;
-  const Result r = auto_with_changed_reading(
+  const Result r = with_changed_reading(
       "far", "line",
       [](std::vector<std::string>& f) { f[1] = std::to_string(std::atof(f[1].c_str()) + 2000.0); },
       number);
@@ -252,6 +253,32 @@ TEST(SessionReadings, AutoNamesAReadingTwoMetresOff) {
   EXPECT_NE(r.err.find("run " + std::to_string(number) + " (line: "), std::string::npos) << r.err;
   if (r.status == 0) {
     EXPECT_TRUE(json::parse(r.out)["result"]["verify"]["flagged"].get<bool>());
+  } else {
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("Nothing applied"), std::string::npos) << r.err;
+  }
+}
+
+TEST(SessionReadings, FitNamesARunWhoseHeadingWasTypedWithTheWrongSign) {
+  // The fit session's last left arc (about 140 degrees) replayed with its heading's sign flipped:
+  // questioned when read (taken: --yes), then named beside what the fit applies, or in its
+  // refusal.
+  int number = 0;
+  const Result r = with_changed_reading(
+      "fitsign", "arc-left",
+      [](std::vector<std::string>& f) { f[3] = std::to_string(-std::atof(f[3].c_str())); }, number,
+      "fit");
+  EXPECT_NE(r.err.find("run " + std::to_string(number) + " (arc-left: "), std::string::npos)
+      << r.err;
+  if (r.status == 0) {
+    const json doc = json::parse(r.out);
+    bool named = false;
+    for (const json& s : doc["result"]["suspect_runs"]) {
+      named = named || s["run"].get<int>() == number;
+    }
+    EXPECT_TRUE(named) << number << ": " << r.out;
+    EXPECT_NE(r.err.find("WARNING: runs that do not agree with the others"), std::string::npos)
+        << r.err;
   } else {
     EXPECT_EQ(r.status, 2) << r.err;
     EXPECT_NE(r.err.find("Nothing applied"), std::string::npos) << r.err;

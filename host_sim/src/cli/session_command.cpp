@@ -412,7 +412,7 @@ void register_session_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--target", flags->target_mm,
                   "auto: measure until the factors leave at most this end error on the unseen "
                   "path, mm (1 sigma; default the larger of 2, one tape measurement's error, and "
-                  "half the robot's own random drift there, as the runs show it)")
+                  "a third of the robot's own random drift there, as the runs show it)")
       ->check(toolkit::range_check(0.1, 1000.0, "mm"));
   cmd->add_option("--max-measurements", flags->max_measurements,
                   "auto: every tape measurement the session may take, self-test and "

@@ -107,28 +107,40 @@ bool merge_sets(std::vector<UnitRows>& rows, const std::vector<TickLog>& runs, s
   return true;
 }
 
-/// FitIntervalMethod::wild_t and student_t: the runs' (or sets') CR2 algebra.
-void add_cluster_intervals(FitResult& r, const std::vector<TickLog>& runs, const Solved& main,
-                           const ModelSpec& k, const FitOptions& o) {
+/// The runs' (or sets') CR2 algebra: standard errors, degrees of freedom and covariance into `r`,
+/// and the interval figures (`replicates` wild bootstrap-t draws). Not ok with one unit.
+ClusterInterval cluster_figures(FitResult& r, const std::vector<TickLog>& runs, const Solved& main,
+                                const ModelSpec& k, const FitOptions& o, std::uint32_t replicates) {
   const int np = static_cast<int>(main.p.size());
   const std::vector<Unit> boot = bootstrap_units(runs, o.min_units);
   std::vector<UnitRows> rows = unit_rows(boot, main.p, k, o.heading_length_mm);
-  r.interval = o.interval;
   r.bootstrap_units = boot.size();
   if (merge_sets(rows, runs, boot.size(), o)) {
     r.clusters = "set";
     r.bootstrap_units = rows.size();
   }
-  const ClusterInterval ci = cluster_interval(rows, main.p, o.replicates, o.seed, o.level);
+  const ClusterInterval ci = cluster_interval(rows, main.p, replicates, o.seed, o.level);
+  for (int i = 0; i < np && ci.ok; ++i) {
+    r.cluster_sd[i] = ci.se[i];
+    r.dof[i] = ci.dof[i];
+    for (int j = 0; j < np; ++j) {
+      r.cluster_cov[i][j] = ci.cov[i][j];
+    }
+  }
+  return ci;
+}
+
+/// FitIntervalMethod::wild_t and student_t: the runs' (or sets') CR2 algebra.
+void add_cluster_intervals(FitResult& r, const std::vector<TickLog>& runs, const Solved& main,
+                           const ModelSpec& k, const FitOptions& o) {
+  const int np = static_cast<int>(main.p.size());
+  r.interval = o.interval;
+  const ClusterInterval ci = cluster_figures(r, runs, main, k, o, o.replicates);
   // One unit (a single tape-measure run) shows no scatter between runs: no intervals.
   if (!ci.ok) {
     return;
   }
   r.replicates = o.replicates;
-  for (int i = 0; i < np; ++i) {
-    r.cluster_sd[i] = ci.se[i];
-    r.dof[i] = ci.dof[i];
-  }
   const bool wild = o.interval == FitIntervalMethod::wild_t;
   FitInterval c[4];
   for (int i = 0; i < np; ++i) {
@@ -218,6 +230,9 @@ bool add_percentile_intervals(FitResult& r, const std::vector<TickLog>& runs, co
 bool add_intervals(FitResult& r, const std::vector<TickLog>& runs, const Solved& main,
                    const ModelSpec& k, const FitOptions& o, FitError& error) {
   if (o.replicates == 0) {
+    if (o.cluster_covariance) {
+      static_cast<void>(cluster_figures(r, runs, main, k, o, 0));
+    }
     return true;
   }
   if (o.interval == FitIntervalMethod::percentile) {

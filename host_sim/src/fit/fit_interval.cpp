@@ -207,6 +207,9 @@ ClusterInterval cluster_interval(const std::vector<UnitRows>& rows, const Params
   const Matrix3 cov = m * cr2_meat(clusters, c) * m;
   const double tail = 0.5 * (1.0 - level);
   for (int l = 0; l < static_cast<int>(p.size()); ++l) {
+    for (int j = 0; j < static_cast<int>(p.size()); ++j) {
+      out.cov[l][j] = cov(l, j);
+    }
     out.se[l] = std::sqrt(std::max(cov(l, l), 0.0));
     out.dof[l] = bell_mccaffrey_dof(clusters, m, l);
     const double t = calib::student_t_quantile(1.0 - tail, std::max(out.dof[l], 1.0));

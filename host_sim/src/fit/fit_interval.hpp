@@ -29,6 +29,7 @@ struct ClusterInterval {
   double hi[4] = {0, 0, 0, 0};
   double t_lo[4] = {0, 0, 0, 0};  ///< Student-t (Bell-McCaffrey) interval ends
   double t_hi[4] = {0, 0, 0, 0};
+  double cov[4][4] = {};  ///< the CR2 covariance itself, relative to p (se is its diagonal's root)
 };
 
 /// Wild cluster bootstrap-t: the units' (CR2-adjusted) residuals are multiplied by one random

@@ -23,6 +23,7 @@
 #include <fmt/format.h>
 #include <Eigen/Dense>
 
+#include "odocal/calib/quantile.hpp"
 #include "odocal/drive/motion_executor.hpp"
 #include "odocal/drive/robot_model.hpp"
 #include "odocal/host/fit_noise.hpp"
@@ -191,6 +192,8 @@ TickLog unseen_tick_log(const Geometry& g, const FitNominal& nominal) {
 }
 
 /// The fit's covariance of the log-parameters (np x np).
+constexpr double kOneSigma = 0.841344746;  ///< a normal's quantile one sigma above the mean
+
 Eigen::MatrixXd covariance_of(const FitResult& r, int np) {
   Eigen::MatrixXd c(np, np);
   for (int i = 0; i < np; ++i) {
@@ -325,7 +328,31 @@ Precision precision_of(const FitResult& r, const FitNominal& nominal,
   const int used = r.geometry.model == FitModelKind::arc_wheelbase ? 4 : 3;
   Eigen::MatrixXd c = covariance_of(r, np).topLeftCorner(used, used);
   const Eigen::MatrixXd gu = end_jacobian(unseen_moves(), g, used, false);
-  out.sigma_sys_mm = sigma_sys(gu, c);
+  // The runs' own scatter (CR2 over runs) where it says more than the linearised figure: slip
+  // that stays the same along a run bends the whole run, which the linearised covariance counts
+  // as many small independent errors. With few runs that estimate is itself unsure: it is
+  // widened to one sigma's coverage of Student's t at its degrees of freedom. The runs still to
+  // come are planned with the linearised covariance, the precision they reach scaled by the same
+  // factor (`inflation`): each new run is assumed to scatter as the runs so far did.
+  double inflation = 1.0;
+  double dof = 1e9;
+  for (int i = 0; i < used; ++i) {
+    dof = std::min(dof, r.dof[i]);
+  }
+  if (dof > 0.0) {
+    Eigen::MatrixXd runs(used, used);
+    for (int i = 0; i < used; ++i) {
+      for (int j = 0; j < used; ++j) {
+        runs(i, j) = r.cluster_cov[i][j];
+      }
+    }
+    const double t = calib::student_t_quantile(kOneSigma, std::max(dof, 1.0));
+    const double linearised = sigma_sys(gu, c);
+    if (linearised > 0.0) {
+      inflation = std::max(1.0, t * sigma_sys(gu, runs) / linearised);
+    }
+  }
+  out.sigma_sys_mm = inflation * sigma_sys(gu, c);
   NoiseOptions no;
   no.replicates = 0;
   const NoiseEstimate noise = estimate_wheel_noise(logs, nominal, r.geometry, no);
@@ -337,11 +364,13 @@ Precision precision_of(const FitResult& r, const FitNominal& nominal,
     out.sigma_random_mm = std::sqrt(std::max(cov(0, 0) + cov(1, 1), 0.0));
   }
   out.target_mm = target_in_force(target, out.sigma_random_mm);
+  out.min_runs = target || out.target_mm <= kDefaultTargetMm ? 0 : kDriftTargetMinRuns;
   // The next run: the kind whose measurement lowers sigma_sys the most; then how many such
   // greedy choices reach the target.
   Eigen::MatrixXd now = c;
   for (std::size_t n = 0; n < room; ++n) {
-    if (sigma_sys(gu, now) <= out.target_mm && !(n == 0 && arc_unresolved)) {
+    if (inflation * sigma_sys(gu, now) <= out.target_mm && logs.size() + n >= out.min_runs &&
+        !(n == 0 && arc_unresolved)) {
       break;
     }
     auto [pick, best_c] = best_run(now, plan, g, gu);

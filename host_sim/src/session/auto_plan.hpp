@@ -27,9 +27,16 @@ constexpr std::size_t kDefaultMaxMeasurements = 20;
 constexpr double kDefaultTargetMm = 2.0;
 /// --target's default is the larger of kDefaultTargetMm and this share of the robot's own random
 /// drift on the unseen path (sigma_random, estimated from the runs): the factors' uncertainty
-/// then adds at most sqrt(1 + 0.5^2) - 1 = 12 % to what the true geometry would leave, and a
-/// drift estimate twice too high still keeps it within sqrt(2) of it.
-constexpr double kTargetDriftShare = 0.5;
+/// then adds at most sqrt(1 + 1/9) - 1 = 5.4 % to what the true geometry would leave, and a
+/// precision stated three times too good (slip that bends whole runs, coverage study) still
+/// keeps it within sqrt(2) of it.
+constexpr double kTargetDriftShare = 1.0 / 3.0;
+
+/// Calibration runs before a drift-relative target may count as met: the first round's six runs
+/// give the fit's covariance and the drift estimate about one degree of freedom per parameter
+/// (the runs' Bell-McCaffrey figure), too few to trust (a generated robot stopped there with 5.6
+/// times the systematic error it stated). A 2 mm target needs no such floor.
+constexpr std::size_t kDriftTargetMinRuns = 10;
 
 /// The target in force: `target` (the user's --target) when given, else the default above for a
 /// robot whose drift is estimated as `sigma_random_mm` (0: not estimated yet).
@@ -66,7 +73,8 @@ struct Precision {
   double sigma_random_mm = 0.0;  ///< 0: not estimated
   double target_mm = 0.0;
   Kind next = Kind::line;
-  std::size_t more = 0;  ///< runs expected before the target is met (capped)
+  std::size_t more = 0;      ///< runs expected before the target is met (capped)
+  std::size_t min_runs = 0;  ///< calibration runs before the target may count as met
   /// The arcs look like another wheelbase the runs cannot pin yet: not done before more arcs.
   bool arc_unresolved = false;
   nlohmann::json noise;  ///< `odocal fit`'s `noise` object, null when not estimated

@@ -106,8 +106,11 @@ enum class FitIntervalMethod {
 struct FitOptions {
   FitIntervalMethod interval = FitIntervalMethod::wild_t;
   std::uint32_t replicates = 500;  ///< bootstrap B (0: no intervals)
-  std::uint64_t seed = 1;          ///< bootstrap resampling seed (same seed, same intervals)
-  double level = 0.95;             ///< interval level, in (0, 1)
+  /// With B = 0, still the runs' CR2 covariance and degrees of freedom (FitResult::cluster_sd,
+  /// dof, cluster_cov; no intervals): what session auto judges its precision with between runs.
+  bool cluster_covariance = false;
+  std::uint64_t seed = 1;  ///< bootstrap resampling seed (same seed, same intervals)
+  double level = 0.95;     ///< interval level, in (0, 1)
   /// The fixed weight: heading residuals are scaled to mm by this length, 2 mm / 0.4° (UMBmark's
   /// calibrator), so one degree of heading weighs as much as 5 mm of position. Used where the
   /// runs cannot tell their own position and heading noise (FitWeighting).
@@ -236,6 +239,9 @@ struct FitResult {
   /// Bell-McCaffrey degrees of freedom.
   double cluster_sd[4] = {0, 0, 0, 0};
   double dof[4] = {0, 0, 0, 0};
+  /// Their covariance (relative, as relative_cov): with intervals, or with B = 0 when
+  /// FitOptions::cluster_covariance asks for it; zero otherwise.
+  double cluster_cov[4][4] = {};
   double level = 0.95;
   std::uint64_t seed = 0;
   double heading_length_mm = 0.0;        ///< the weight in force (= weighting.heading_length_mm)

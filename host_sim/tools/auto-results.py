@@ -23,6 +23,7 @@ import time
 
 HERE = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 STUDY = os.path.join(HERE, "tests", "host_sim", "session", "auto_study.py")
+sys.path.insert(0, os.path.dirname(STUDY))  # auto_study imports study_robots beside it
 _spec = importlib.util.spec_from_file_location("auto_study", STUDY)
 study = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(study)

@@ -15,7 +15,8 @@ saved and RUNS times with the true geometry in force (the oracle, the same seed)
   and 1.6x at worst;
 - no reading of the simulator's tape (every one correct) is questioned by the reading check.
 
-Usage: coverage_study.py BIN_DIR [--robots N] [--seed S] [--runs N] [--check] [--json]
+Usage: coverage_study.py BIN_DIR [--robots N] [--seed S] [--runs N] [--max-measurements N]
+       [--check] [--json]
 """
 import argparse
 import json
@@ -88,6 +89,8 @@ def main():
     ap.add_argument("--runs", type=int, default=10, help="unseen-path runs per robot and oracle")
     ap.add_argument("--only", type=int, default=None, help="run only robot K (the others generated)")
     ap.add_argument("--keep", default=None, help="write the sessions here and keep them")
+    ap.add_argument("--max-measurements", type=int, default=None,
+                    help="the sessions' budget (default: auto's own)")
     ap.add_argument("--check", action="store_true")
     ap.add_argument("--json", action="store_true")
     a = ap.parse_args()
@@ -106,7 +109,9 @@ def main():
             store = os.path.join(work, "robot-%d.store" % k)
             out, err = run([a.bindir + "/odocal", "session", "--sim", robot, "--store", store,
                             "--seed", str(100 + k), "--procedure", "auto", "--yes", "--json",
-                            "--out", os.path.join(work, "auto-%d" % k)])
+                            "--out", os.path.join(work, "auto-%d" % k)] +
+                           ([] if a.max_measurements is None else
+                            ["--max-measurements", str(a.max_measurements)]))
             session = json.loads(out)
             last = session["result"]["precision"][-1]
             oracle = os.path.join(work, "oracle-%d.store" % k)

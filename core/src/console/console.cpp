@@ -88,6 +88,7 @@ void Console::poll(std::uint32_t now_us) {
   } else {
     take_input();
   }
+  hold_bridge_motion();
   emit_streams(now_us);
   out_.flush(stream_);
 }
@@ -101,34 +102,42 @@ void Console::take_input() {
     const LineEvent event = editor_.feed(byte, echo);
     bool echo_this = echo_;
     if (options_.echo == EchoMode::automatic && !echo_ && editor_.saw_terminal()) {
-      // The byte that revealed the terminal (the first after a bare CR) is shown too.
       echo_ = true;
-      echo_this = byte != 0x08u && byte != 0x7Fu;  // a backspace edits text never shown
+      echo_this = false;  // a backspace edits text never shown
     }
     if (echo_this && echo.count > 0u) {
       (void)out_.push(echo.bytes.data(), echo.count);
     }
     if (event != LineEvent::none) {
-      if (byte == '\r') {
-        detect_terminal(byte);
-      }
-      handle_event(event);
+      // Terminals send Enter as a bare CR, one key at a time; programs send CR LF in one write.
+      handle_event(event, byte == '\r' && peek_byte() != '\n');
       return;
     }
   }
 }
 
-void Console::detect_terminal(std::uint8_t line_end) {
-  // Terminals send Enter as a bare CR, one key at a time; programs send CR LF in one write. A CR
-  // with nothing behind it yet is a person typing: show the line they could not see, echo on.
-  if (options_.echo != EchoMode::automatic || echo_ || line_end != '\r' || peek_byte() == '\n') {
+void Console::detect_terminal(bool bare_cr) {
+  // A line ended by a CR with nothing behind it yet is a person typing: show the line they could
+  // not see, echo on.
+  if (options_.echo != EchoMode::automatic || echo_ || !bare_cr) {
     return;
   }
   echo_ = true;
   (void)out_.push(editor_.line(), editor_.length());
 }
 
-void Console::handle_event(LineEvent event) {
+void Console::handle_event(LineEvent event, bool bare_cr) {
+  std::array<Token, kMaxWords> words{};
+  std::size_t count = 0u;
+  if (event == LineEvent::line) {
+    count = split(editor_.line(), editor_.length(), words.data(), words.size());
+  }
+  // ROSArduinoBridge's lines (a one-character first word) and empty lines are what
+  // diffdrive_arduino sends, each ended by a bare CR: they never turn the echo on.
+  const bool bridge = count != 0u && words[0].length == 1u;
+  if (event != LineEvent::empty && !bridge) {
+    detect_terminal(bare_cr);
+  }
   if (echo_) {
     if (event == LineEvent::cancelled) {
       (void)out_.push("^C", 2u);
@@ -136,13 +145,22 @@ void Console::handle_event(LineEvent event) {
     send_newline();
   }
   switch (event) {
-    case LineEvent::line: {
+    case LineEvent::line:
       ++commands_;
-      std::array<Token, kMaxWords> words{};
-      const std::size_t count = split(editor_.line(), editor_.length(), words.data(), words.size());
-      execute(words.data(), count);
+      if (bridge) {
+        cmd_bridge(words.data(), count);
+      } else {
+        execute(words.data(), count);
+      }
       return;
-    }
+    case LineEvent::empty:
+      // ROSArduinoBridge answers an empty command (diffdrive_arduino's "\r") `Invalid Command`;
+      // a person (echo on) or a program's LF / CR LF gets no reply.
+      if (bare_cr && !echo_) {
+        ++commands_;
+        send_line("Invalid Command");
+      }
+      return;
     case LineEvent::too_long:
       ++commands_;
       send_error(ErrorCode::line_too_long, "line over 127 bytes");
@@ -152,7 +170,6 @@ void Console::handle_event(LineEvent event) {
       send_error(ErrorCode::non_ascii, "non-ASCII or control byte");
       return;
     case LineEvent::none:
-    case LineEvent::empty:
     case LineEvent::cancelled:
       return;
   }

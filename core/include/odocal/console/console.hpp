@@ -28,11 +28,16 @@
 
 namespace odocal::console {
 
+/// The console's baud rate on a serial line (8N1), what ROSArduinoBridge's `b` answers.
+inline constexpr std::uint32_t console_baud = 115200u;
+
 /// Echo of typed characters.
 enum class EchoMode : std::uint8_t {
-  off,        ///< scripted input (pipes, test harnesses)
-  on,         ///< an interactive terminal
-  automatic,  ///< off until the input looks like a terminal (backspace, or Enter sent as bare CR)
+  off,  ///< scripted input (pipes, test harnesses)
+  on,   ///< an interactive terminal
+  /// off until the input looks like a terminal: a backspace, or an odocal command line ended by
+  /// a bare CR (never a ROSArduinoBridge line, never an empty one: diffdrive_arduino sends those)
+  automatic,
 };
 
 /// A command a target adds to the console (e.g. the simulator's `measure`). Its handler gets the
@@ -186,8 +191,10 @@ class Console {
   bool next_byte(std::uint8_t& byte);
   /// The next received byte without taking it; -1 when none has arrived.
   int peek_byte();
-  void detect_terminal(std::uint8_t line_end);
-  [[gnu::noinline]] void handle_event(LineEvent event);
+  /// Echo on when a line ended by a bare CR (`bare_cr`) shows a person typing.
+  void detect_terminal(bool bare_cr);
+  /// @param bare_cr the line ended with a CR that no LF followed (CR LF pairs come in one write)
+  [[gnu::noinline]] void handle_event(LineEvent event, bool bare_cr);
   void execute(const Token* words, std::size_t count);
   void dispatch(Handler handler, const Token* words, std::size_t count);
   /// While a self-test runs: refuses every command but `stop` (err busy), which ends the test
@@ -310,6 +317,11 @@ class Console {
   bool refuse_busy(Busy busy);
   void start_listing(Listing listing);
 
+  // commands_bridge.cpp: ROSArduinoBridge's one-letter commands (docs/ros.md).
+  /// Answers a line whose first word is one character, in ROSArduinoBridge's format.
+  [[gnu::noinline]] void cmd_bridge(const Token* words, std::size_t count);
+  /// From `poll`: holds the last `m` for 2 s (ROSArduinoBridge's AUTO_STOP_INTERVAL), then stops.
+  void hold_bridge_motion();
   // commands_system.cpp
   void cmd_version();
   void cmd_status();
@@ -390,6 +402,7 @@ class Console {
   bool echo_ = false;
   bool clock_started_ = false;
   bool held_ = false;         ///< a byte was read ahead (peek_byte): held_byte_
+  bool bridge_held_ = false;  ///< an `m` is held (bridge_twist_)
   std::uint8_t held_byte_{};  ///< read from the stream, not yet taken
   Listing listing_ = Listing::none;
   const Form* form_ = form_table_;  ///< the form being handled
@@ -406,6 +419,14 @@ class Console {
   std::array<StreamTimer, 2> streams_{};  ///< odom, ticks: emitted in this order
   std::uint64_t clock_us_ = 0u;           ///< unwrapped time since start, µs
   std::uint32_t last_now_us_ = 0u;
+
+  /// ROSArduinoBridge's `m`: the twist held, and when it came (clock_us_). Any odocal motion
+  /// command ends the hold.
+  drive::Twist bridge_twist_{};
+  std::uint64_t bridge_since_us_ = 0u;
+  /// Counts at the last `r` (what `e` subtracts).
+  std::int64_t bridge_zero_left_ = 0;
+  std::int64_t bridge_zero_right_ = 0;
 
   std::uint32_t commands_ = 0u;
   std::uint32_t errors_ = 0u;

@@ -4,87 +4,76 @@
 // replies `<left> <right>`, `OK`, the baud rate or `Invalid Command`; wheel speeds in encoder
 // counts per PID frame of 1/30 s; the wheels stop when no `m` came for 2000 ms.
 
-#include <cmath>
 #include <numbers>
 
 #include "odocal/console/console.hpp"
-#include "odocal/drive/diff_drive_kinematics.hpp"
 
 namespace odocal::console {
 namespace {
 
-constexpr float kFramesPerS = 30.0f;              // ROSArduinoBridge's PID_RATE
-constexpr std::uint64_t kAutoStopUs = 2000000u;   // its AUTO_STOP_INTERVAL, 2000 ms
-constexpr float kMaxCountsPerFrame = 1000000.0f;  // keeps the twist finite; the loop clips it
+constexpr float kFramesPerS = 30.0f;          // ROSArduinoBridge's PID_RATE
+constexpr std::uint32_t kAutoStopMs = 2000u;  // its AUTO_STOP_INTERVAL
+constexpr float kMaxCountsPerFrame = 1000000.0f;
+static_assert(console_baud == 115200u, "`b` answers kBaudText");
+constexpr char kBaudText[] = "115200";
 
 }  // namespace
 
 void Console::cmd_bridge(const Token* words, std::size_t count) {
-  const char letter = words[0].text[0];
+  // count 0: an empty line ended by a bare CR (diffdrive_arduino's "\r"), `Invalid Command`.
+  const char letter = count != 0u ? words[0].text[0] : '\0';
+  const drive::WheelCounts counts = loop_.wheel_counts();
+  // Counts as ROSArduinoBridge's `long` and diffdrive_arduino's `int` hold them: 32 bits,
+  // wrapping (the modular difference; 2^31 counts are a million wheel turns at 1440 counts).
+  const auto left = static_cast<std::uint32_t>(counts.left);
+  const auto right = static_cast<std::uint32_t>(counts.right);
   if (letter == 'e') {
-    const drive::WheelCounts counts = loop_.wheel_counts();
-    const std::int64_t left = counts.left - bridge_zero_left_;
-    const std::int64_t right = counts.right - bridge_zero_right_;
-    send_line("%I %I", &left, &right);
+    send_line("%i %i", static_cast<std::int32_t>(left - bridge_zero_left_),
+              static_cast<std::int32_t>(right - bridge_zero_right_));
     return;
   }
   if (letter == 'b') {
-    send_line("%u", console_baud);
+    send_line(kBaudText);
     return;
   }
   float counts_left = 0.0f;
   float counts_right = 0.0f;
   if (letter == 'r') {
-    const drive::WheelCounts counts = loop_.wheel_counts();
-    bridge_zero_left_ = counts.left;
-    bridge_zero_right_ = counts.right;
+    bridge_zero_left_ = left;
+    bridge_zero_right_ = right;
   } else if (letter == 'm') {
-    if (count != 3u || !parse_number(words[1], counts_left) ||
-        !parse_number(words[2], counts_right) || !(std::fabs(counts_left) <= kMaxCountsPerFrame) ||
-        !(std::fabs(counts_right) <= kMaxCountsPerFrame)) {
-      send_line("Invalid Command");
+    // Two numbers as odocal reads them (a missing or bad one is refused with its `err` line:
+    // diffdrive_arduino writes two whole numbers; words after them are ignored, as
+    // ROSArduinoBridge ignores them), within what keeps the twist finite; the loop clips the
+    // wheel speeds anyway. split() leaves absent words empty.
+    if (!number_arg(words[1], -kMaxCountsPerFrame, kMaxCountsPerFrame, counts_left) ||
+        !number_arg(words[2], -kMaxCountsPerFrame, kMaxCountsPerFrame, counts_right)) {
       return;
     }
     if (counts_left == 0.0f && counts_right == 0.0f) {
-      bridge_held_ = false;
       loop_.stop();
     } else {
-      // Each wheel's contact point at the speed the nominal robot (wheel_diameter_mm,
-      // counts_per_rev) would reach with these counts, as the ROS side computed them; the twist
-      // of those two speeds over the wheelbase in force, driven through the calibrated model
-      // (Maddahi eq. 7 with c_L, c_R, F_lat, F_lon), turns each wheel so its true contact point
-      // moves at that speed.
-      const drive::DriveConfig config = params::to_drive_config(settings_.values());
-      const drive::DiffDriveKinematics kinematics(config);
-      const float m_per_count = std::numbers::pi_v<float> * config.wheel_diameter_mm * 1e-3f /
-                                config.counts_per_rev * kFramesPerS;
-      const float left_mps = counts_left * m_per_count;
-      const float right_mps = counts_right * m_per_count;
-      bridge_twist_.v_mps = 0.5f * (left_mps + right_mps);
-      bridge_twist_.w_radps =
-          (right_mps - left_mps) / kinematics.wheelbase_for_rates_m(left_mps, right_mps);
-      bridge_since_us_ = clock_us_;
-      bridge_held_ = loop_.drive(bridge_twist_, 0u);
+      // The body twist the ROS side meant with the robot's nominal geometry (wheel_radius =
+      // wheel_diameter_mm / 2, wheel_separation = wheelbase_mm, counts_per_rev): v the mean of
+      // the two wheels' contact speeds, w their difference over the wheelbase. The loop drives
+      // it through the calibrated model (Maddahi eq. 7 with c_L, c_R, F_lat, F_lon, the arc
+      // wheelbase), as any `drive`.
+      const float mps_per_count = std::numbers::pi_v<float> *
+                                  settings_.get(params::ParamId::wheel_diameter_mm) * 1e-3f /
+                                  settings_.get(params::ParamId::counts_per_rev) * kFramesPerS;
+      drive::Twist twist;
+      twist.v_mps = 0.5f * (counts_left + counts_right) * mps_per_count;
+      twist.w_radps = (counts_right - counts_left) * mps_per_count /
+                      (settings_.get(params::ParamId::wheelbase_mm) * 1e-3f);
+      // Held (no trial) until the next `m`, at most 2000 ms: ROSArduinoBridge's
+      // AUTO_STOP_INTERVAL. Refused in a fault, which stays for `m 0 0` or `stop`.
+      (void)loop_.drive(twist, kAutoStopMs, false);
     }
   } else if (letter != 'u') {
     send_line("Invalid Command");
     return;
   }
   send_line("OK");
-}
-
-void Console::hold_bridge_motion() {
-  if (!bridge_held_) {
-    return;
-  }
-  if (clock_us_ - bridge_since_us_ > kAutoStopUs) {
-    bridge_held_ = false;
-    loop_.stop();
-    return;
-  }
-  // Renewed at every poll: the loop's own cmd_timeout_ms still stops the wheels if the main loop
-  // stops polling. Refused in a fault: the hold ends, and the fault stays for `stop` (or `m 0 0`).
-  bridge_held_ = loop_.drive(bridge_twist_, 0u);
 }
 
 }  // namespace odocal::console

@@ -42,7 +42,6 @@ void Console::cmd_drive(const Token* words, std::size_t count) {
     send_error(ErrorCode::fault, "drive faulted; stop acknowledges");
     return;
   }
-  bridge_held_ = false;  // odocal's own motion ends ROSArduinoBridge's `m` hold
   ReplyLine reply(out_);
   append(reply, "ok v_mps=%3 w_radps=%3 ms=%u", v, w, ms);
   // The loop scales both wheel set-points down to max_wheel_radps, keeping the curvature: say so,
@@ -58,7 +57,6 @@ void Console::cmd_drive(const Token* words, std::size_t count) {
 }
 
 void Console::cmd_stop() {
-  bridge_held_ = false;
   loop_.stop();
   send_line("ok mode=idle");
 }
@@ -83,7 +81,6 @@ void Console::cmd_run(Handler handler, const Token* words) {
     send_error(ErrorCode::fault, "drive faulted; stop acknowledges");
     return;
   }
-  bridge_held_ = false;
   if (square) {
     umbmark_.note_driven_side_mm(length_m * 1000.0f);
   }

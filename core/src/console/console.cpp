@@ -88,7 +88,6 @@ void Console::poll(std::uint32_t now_us) {
   } else {
     take_input();
   }
-  hold_bridge_motion();
   emit_streams(now_us);
   out_.flush(stream_);
 }
@@ -110,34 +109,45 @@ void Console::take_input() {
     }
     if (event != LineEvent::none) {
       // Terminals send Enter as a bare CR, one key at a time; programs send CR LF in one write.
-      handle_event(event, byte == '\r' && peek_byte() != '\n');
+      if (byte == '\r' && peek_byte() != '\n') {
+        if (event == LineEvent::empty) {
+          // No command, but ROSArduinoBridge answers its bare CR `Invalid Command` and
+          // diffdrive_arduino sends one: so does the console, to a program (echo off).
+          if (!echo_) {
+            ++commands_;
+            cmd_bridge(nullptr, 0u);
+            return;
+          }
+        } else if (!bridge_line()) {
+          // ROSArduinoBridge's lines, which diffdrive_arduino ends so, never turn the echo on.
+          detect_terminal();
+        }
+      }
+      handle_event(event);
       return;
     }
   }
 }
 
-void Console::detect_terminal(bool bare_cr) {
+bool Console::bridge_line() const {
+  const char* text = editor_.line();  // NUL-ended; "" unless a line was completed
+  while (*text == ' ') {
+    ++text;
+  }
+  return text[0] != '\0' && (text[1] == ' ' || text[1] == '\0');
+}
+
+void Console::detect_terminal() {
   // A line ended by a CR with nothing behind it yet is a person typing: show the line they could
   // not see, echo on.
-  if (options_.echo != EchoMode::automatic || echo_ || !bare_cr) {
+  if (options_.echo != EchoMode::automatic || echo_) {
     return;
   }
   echo_ = true;
   (void)out_.push(editor_.line(), editor_.length());
 }
 
-void Console::handle_event(LineEvent event, bool bare_cr) {
-  std::array<Token, kMaxWords> words{};
-  std::size_t count = 0u;
-  if (event == LineEvent::line) {
-    count = split(editor_.line(), editor_.length(), words.data(), words.size());
-  }
-  // ROSArduinoBridge's lines (a one-character first word) and empty lines are what
-  // diffdrive_arduino sends, each ended by a bare CR: they never turn the echo on.
-  const bool bridge = count != 0u && words[0].length == 1u;
-  if (event != LineEvent::empty && !bridge) {
-    detect_terminal(bare_cr);
-  }
+void Console::handle_event(LineEvent event) {
   if (echo_) {
     if (event == LineEvent::cancelled) {
       (void)out_.push("^C", 2u);
@@ -145,22 +155,13 @@ void Console::handle_event(LineEvent event, bool bare_cr) {
     send_newline();
   }
   switch (event) {
-    case LineEvent::line:
+    case LineEvent::line: {
       ++commands_;
-      if (bridge) {
-        cmd_bridge(words.data(), count);
-      } else {
-        execute(words.data(), count);
-      }
+      std::array<Token, kMaxWords> words{};
+      const std::size_t count = split(editor_.line(), editor_.length(), words.data(), words.size());
+      execute(words.data(), count);
       return;
-    case LineEvent::empty:
-      // ROSArduinoBridge answers an empty command (diffdrive_arduino's "\r") `Invalid Command`;
-      // a person (echo on) or a program's LF / CR LF gets no reply.
-      if (bare_cr && !echo_) {
-        ++commands_;
-        send_line("Invalid Command");
-      }
-      return;
+    }
     case LineEvent::too_long:
       ++commands_;
       send_error(ErrorCode::line_too_long, "line over 127 bytes");
@@ -170,6 +171,7 @@ void Console::handle_event(LineEvent event, bool bare_cr) {
       send_error(ErrorCode::non_ascii, "non-ASCII or control byte");
       return;
     case LineEvent::none:
+    case LineEvent::empty:
     case LineEvent::cancelled:
       return;
   }
@@ -195,6 +197,11 @@ bool is_word(const Token& token, const char* text) {
 }  // namespace
 
 void Console::execute(const Token* words, std::size_t count) {
+  // A one-character first word is ROSArduinoBridge's (no odocal command is that short).
+  if (words[0].length == 1u) {
+    cmd_bridge(words, count);
+    return;
+  }
   // The command's forms are adjacent rows: [first, last).
   const Form* const table_end = form_table_ + form_count_;
   const Form* first = form_table_;

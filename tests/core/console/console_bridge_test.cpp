@@ -10,6 +10,7 @@
 #include <string>
 
 #include "console_rig.hpp"
+#include "odocal/drive/diff_drive_kinematics.hpp"
 
 namespace odocal::test {
 namespace {
@@ -99,11 +100,16 @@ TEST(ConsoleBridge, AnyOtherSingleLetterIsAnInvalidCommand) {
   for (const char* line : {"a 3", "x", "z 1 2", "p", "d 4", "?", "E", "1"}) {
     EXPECT_EQ(rig->reply(line), "Invalid Command") << line;
   }
-  // `m` must carry two numbers: otherwise nothing moves.
-  for (const char* line : {"m", "m 10", "m 10 x", "m 1 2 3", "m 1e9 0"}) {
-    EXPECT_EQ(rig->reply(line), "Invalid Command") << line;
+  // `m` must carry two numbers, else nothing moves: a missing word, one that is no number, or
+  // one beyond a million counts per frame is refused as odocal refuses numbers
+  // (diffdrive_arduino writes two whole numbers).
+  for (const char* line : {"m", "m 10", "m 10 x", "m x 10"}) {
+    EXPECT_EQ(rig->reply(line), "err bad_number not a finite decimal number") << line;
     EXPECT_EQ(mode(*rig), drive::Mode::idle) << line;
   }
+  EXPECT_EQ(rig->reply("m 1e9 0"),
+            "err out_of_range allowed min=-1000000.000000 max=1000000.000000");
+  EXPECT_EQ(mode(*rig), drive::Mode::idle);
   // `u` is accepted whatever it carries (odocal keeps its own kp, ki, kff).
   const float kp = rig->console.params().get(params::ParamId::kp);
   EXPECT_EQ(rig->reply("u 5:1:0:50"), "OK");
@@ -178,35 +184,43 @@ TEST(ConsoleBridge, BothZeroStopsAtOnceAndOdocalsStopEndsTheHold) {
   EXPECT_EQ(mode(*rig), drive::Mode::idle);  // the hold did not drive again
 }
 
-TEST(ConsoleBridge, WheelSpeedsGoThroughTheLoopWithTheCalibrationFactors) {
+TEST(ConsoleBridge, WheelSpeedsGoThroughTheLoopWithTheWheelFactors) {
   auto rig = make_feed_forward_rig();  // each wheel's duty is kff times its set-point (rad/s)
-  for (const char* set : {"set c_l 0.98", "set c_r 1.02", "set f_lat 1.01", "set f_lon 0.99",
-                          "set wheelbase_mm 160"}) {
+  for (const char* set : {"set c_l 0.98", "set c_r 1.02", "set wheelbase_mm 160"}) {
     EXPECT_EQ(rig->reply(set).rfind("ok ", 0), 0u) << set;
   }
   EXPECT_EQ(rig->reply("m 10 12"), "OK");
   run_ms(*rig, 500);  // past the acceleration ramp
-  // ROS asked each wheel for n counts per 1/30 s of the nominal robot (60 mm, 1440 counts): its
-  // contact point at n * 30 * pi * D_a / N. The calibrated model's wheel of diameter
-  // D_a * c_L / (F_lat * F_lon) (left) or D_a * c_R / F_lon (right) turns at that speed over its
-  // radius (Maddahi eq. 7 with the one model's effective diameters; the wheelbase cancels).
+  // ROS asked each wheel for n counts per 1/30 s of the nominal robot (60 mm, 1440 counts): a
+  // contact speed of n * 30 * pi * D / N. The twist of those speeds over the wheelbase, driven
+  // through the model (UMBmark: wheel diameters D * c_L and D * c_R, Maddahi eq. 7), turns each
+  // wheel at its contact speed over its true radius: n * 30 * 2 pi / N / c.
   const double nominal_radps = 30.0 * 2.0 * std::numbers::pi / 1440.0;
-  const double left_radps = 10.0 * nominal_radps * 1.01 * 0.99 / 0.98;
-  const double right_radps = 12.0 * nominal_radps * 0.99 / 1.02;
+  const double left_radps = 10.0 * nominal_radps / 0.98;
+  const double right_radps = 12.0 * nominal_radps / 1.02;
   // Float arithmetic through the kinematics: a relative 1e-5 covers it.
   EXPECT_NEAR(rig->pwm_left.duty, 0.033 * left_radps, 0.033 * left_radps * 1e-5);
   EXPECT_NEAR(rig->pwm_right.duty, 0.033 * right_radps, 0.033 * right_radps * 1e-5);
 }
 
-TEST(ConsoleBridge, TheArcWheelbaseKeepsEachWheelAtItsSpeed) {
+TEST(ConsoleBridge, TheTwistGoesThroughTheWholeModelInForce) {
   auto rig = make_feed_forward_rig();
-  EXPECT_EQ(rig->reply("set wheelbase_arc_mm 165").rfind("ok ", 0), 0u);
+  for (const char* set :
+       {"set c_l 0.99", "set f_lat 1.01", "set f_lon 0.98", "set wheelbase_arc_mm 165"}) {
+    EXPECT_EQ(rig->reply(set).rfind("ok ", 0), 0u) << set;
+  }
   EXPECT_EQ(rig->reply("m 6 14"), "OK");
   run_ms(*rig, 500);
-  const double nominal_radps = 30.0 * 2.0 * std::numbers::pi / 1440.0;
-  EXPECT_NEAR(rig->pwm_left.duty, 0.033 * 6.0 * nominal_radps, 0.033 * 6.0 * nominal_radps * 1e-4);
-  EXPECT_NEAR(rig->pwm_right.duty, 0.033 * 14.0 * nominal_radps,
-              0.033 * 14.0 * nominal_radps * 1e-4);
+  // The body twist ROS meant with the nominal geometry (60 mm wheels, 1440 counts, 150 mm):
+  const double mps_per_count = std::numbers::pi * 0.060 / 1440.0 * 30.0;
+  drive::Twist twist;
+  twist.v_mps = static_cast<float>(0.5 * (6.0 + 14.0) * mps_per_count);
+  twist.w_radps = static_cast<float>((14.0 - 6.0) * mps_per_count / 0.150);
+  // ... driven through the one model in force (core's kinematics: factors and arc wheelbase).
+  const drive::DiffDriveKinematics model(params::to_drive_config(rig->console.params()));
+  const drive::WheelRates rates = model.inverse(twist);
+  EXPECT_NEAR(rig->pwm_left.duty, 0.033 * rates.left_radps, 0.033 * rates.left_radps * 1e-5);
+  EXPECT_NEAR(rig->pwm_right.duty, 0.033 * rates.right_radps, 0.033 * rates.right_radps * 1e-5);
 }
 
 }  // namespace

@@ -191,10 +191,11 @@ class Console {
   bool next_byte(std::uint8_t& byte);
   /// The next received byte without taking it; -1 when none has arrived.
   int peek_byte();
-  /// Echo on when a line ended by a bare CR (`bare_cr`) shows a person typing.
-  void detect_terminal(bool bare_cr);
-  /// @param bare_cr the line ended with a CR that no LF followed (CR LF pairs come in one write)
-  [[gnu::noinline]] void handle_event(LineEvent event, bool bare_cr);
+  /// True when the line just completed is ROSArduinoBridge's (a one-character first word).
+  [[nodiscard]] bool bridge_line() const;
+  /// Echo on (automatic mode), for the line just ended by a bare CR: a person typing.
+  void detect_terminal();
+  [[gnu::noinline]] void handle_event(LineEvent event);
   void execute(const Token* words, std::size_t count);
   void dispatch(Handler handler, const Token* words, std::size_t count);
   /// While a self-test runs: refuses every command but `stop` (err busy), which ends the test
@@ -318,10 +319,9 @@ class Console {
   void start_listing(Listing listing);
 
   // commands_bridge.cpp: ROSArduinoBridge's one-letter commands (docs/ros.md).
-  /// Answers a line whose first word is one character, in ROSArduinoBridge's format.
+  /// Answers a line whose first word is one character, in ROSArduinoBridge's format; `count` 0:
+  /// an empty line ended by a bare CR (`words` unused).
   [[gnu::noinline]] void cmd_bridge(const Token* words, std::size_t count);
-  /// From `poll`: holds the last `m` for 2 s (ROSArduinoBridge's AUTO_STOP_INTERVAL), then stops.
-  void hold_bridge_motion();
   // commands_system.cpp
   void cmd_version();
   void cmd_status();
@@ -402,7 +402,6 @@ class Console {
   bool echo_ = false;
   bool clock_started_ = false;
   bool held_ = false;         ///< a byte was read ahead (peek_byte): held_byte_
-  bool bridge_held_ = false;  ///< an `m` is held (bridge_twist_)
   std::uint8_t held_byte_{};  ///< read from the stream, not yet taken
   Listing listing_ = Listing::none;
   const Form* form_ = form_table_;  ///< the form being handled
@@ -420,13 +419,9 @@ class Console {
   std::uint64_t clock_us_ = 0u;           ///< unwrapped time since start, µs
   std::uint32_t last_now_us_ = 0u;
 
-  /// ROSArduinoBridge's `m`: the twist held, and when it came (clock_us_). Any odocal motion
-  /// command ends the hold.
-  drive::Twist bridge_twist_{};
-  std::uint64_t bridge_since_us_ = 0u;
-  /// Counts at the last `r` (what `e` subtracts).
-  std::int64_t bridge_zero_left_ = 0;
-  std::int64_t bridge_zero_right_ = 0;
+  /// Counts at the last `r` (what `e` subtracts), modulo 2^32 as `e` reports them.
+  std::uint32_t bridge_zero_left_ = 0u;
+  std::uint32_t bridge_zero_right_ = 0u;
 
   std::uint32_t commands_ = 0u;
   std::uint32_t errors_ = 0u;

@@ -103,6 +103,38 @@ def wait_idle(guest, timeout_s):
     return status
 
 
+def bridge_exchange(guest, data, timeout_s=10.0):
+    """Writes `data` as diffdrive_arduino's ArduinoComms does (one write, lines ended by a bare
+    CR) and returns every byte the guest printed up to the next LF (None without one)."""
+    start = guest.cursor
+    guest.send(data)
+    if guest.expect(rb"\n", timeout_s) is None:
+        return None
+    return guest.output[start:guest.cursor]
+
+
+def bridge_checks(guest, checks):
+    """ROSArduinoBridge's commands (docs/ros.md): one reply line each, never echoed."""
+    for data, want in (("\r", b"Invalid Command\r\n"), ("u 30:20:0:100\r", b"OK\r\n"),
+                       ("r\r", b"OK\r\n"), ("e\r", b"0 0\r\n"), ("b\r", b"115200\r\n"),
+                       ("x\r", b"Invalid Command\r\n"), ("m 20 20\r", b"OK\r\n")):
+        got = bridge_exchange(guest, data)
+        checks.check(got == want, f"ROSArduinoBridge {data!r} answers {want!r}", repr(got))
+    time.sleep(1.0)
+    got = bridge_exchange(guest, "e\r")
+    moving = re.fullmatch(rb"(\d+) (\d+)\r\n", got or b"")
+    checks.check(moving is not None and int(moving.group(1)) > 100 and int(moving.group(2)) > 100,
+                 "m 20 20 turns both wheels forward (e counts)", repr(got))
+    time.sleep(3.0)  # past the 2 s auto-stop
+    first = bridge_exchange(guest, "e\r")
+    time.sleep(0.5)
+    second = bridge_exchange(guest, "e\r")
+    checks.check(first is not None and first == second, "no m for 2 s stopped the wheels",
+                 f"{first!r} then {second!r}")
+    got = bridge_exchange(guest, "m 0 0\r")
+    checks.check(got == b"OK\r\n", "m 0 0 answers OK", repr(got))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--qemu", default="qemu-system-arm")
@@ -206,6 +238,8 @@ def main():
     x, y, theta = (float(pose.get(k, "nan")) for k in ("x_mm", "y_mm", "theta_deg"))
     checks.check(40.0 <= theta <= 75.0 and math.hypot(x, y) < 5.0,
                  "drive 0 1 turned left in place", f"x={x} y={y} theta={theta}")
+
+    bridge_checks(guest, checks)
 
     # The UMBmark ccw square of 1 m ends near the start, facing the start heading.
     guest.command("odom reset")

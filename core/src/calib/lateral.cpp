@@ -35,7 +35,7 @@ const char* to_string(LateralStatus status) {
     case LateralStatus::non_finite:
       return "a value is not finite";
     case LateralStatus::error_too_large:
-      return "a stop point lies past the line or behind it";
+      return "a stop point lies off the line";
     case LateralStatus::degenerate:
       return "no positive factor fits";
   }

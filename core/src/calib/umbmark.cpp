@@ -310,7 +310,7 @@ const char* to_string(UmbmarkStatus status) {
     case UmbmarkStatus::error_too_large:
       return "a return error exceeds the path";
     case UmbmarkStatus::degenerate:
-      return "degenerate: no square fits these runs";
+      return "degenerate: no square fits";
   }
   return "unknown status";
 }

@@ -22,6 +22,13 @@ constexpr char kBaudText[] = "115200";
 void Console::cmd_bridge(const Token* words, std::size_t count) {
   // count 0: an empty line ended by a bare CR (diffdrive_arduino's "\r"), `Invalid Command`.
   const char letter = count != 0u ? words[0].text[0] : '\0';
+  // A program sends these (diffdrive_arduino), even where a person had typed before (picocom
+  // quit, ROS started on the port): the automatic echo goes off, so that at most this line's
+  // reply carried an echo.
+  if (options_.echo == EchoMode::automatic) {
+    echo_ = false;
+    editor_.forget_terminal();
+  }
   const drive::WheelCounts counts = loop_.wheel_counts();
   // Counts as ROSArduinoBridge's `long` and diffdrive_arduino's `int` hold them: 32 bits,
   // wrapping (the modular difference; 2^31 counts are a million wheel turns at 1440 counts).

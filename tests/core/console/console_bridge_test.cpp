@@ -125,9 +125,27 @@ TEST(ConsoleBridge, OdocalsOwnCommandsAndTheirEchoAreUnchanged) {
   // A person at picocom: an odocal command ended by a bare CR turns the echo on, as before.
   EXPECT_EQ(exchange(*rig, "get c_r\r"), "get c_r\r\nok c_r=1.000000\r\n");
   EXPECT_TRUE(rig->console.echo_enabled());
-  // With echo on, a bridge line typed is echoed like any line; an empty Enter gets no reply.
-  EXPECT_EQ(exchange(*rig, "b\r"), "b\r\n115200\r\n");
+  // With the echo on, an empty Enter gets a new line and no reply.
   EXPECT_EQ(exchange(*rig, "\r"), "\r\n");
+  // picocom quit, ROS started on the port: its first line comes back echoed, then the automatic
+  // echo is off and every reply is clean.
+  EXPECT_EQ(exchange(*rig, "b\r"), "b\r\n115200\r\n");
+  EXPECT_FALSE(rig->console.echo_enabled());
+  EXPECT_EQ(exchange(*rig, "e\r"), "0 0\r\n");
+  EXPECT_EQ(exchange(*rig, "\r"), "Invalid Command\r\n");
+  EXPECT_EQ(exchange(*rig, "u 1:2:3:4\r"), "OK\r\n");
+  // The person again: a backspace, or an odocal command ended by a bare CR, turns it back on.
+  EXPECT_EQ(exchange(*rig, "get c_l\r"), "get c_l\r\nok c_l=1.000000\r\n");
+  EXPECT_TRUE(rig->console.echo_enabled());
+}
+
+TEST(ConsoleBridge, AnEchoTheTargetOrEchoOnSetStaysOn) {
+  ConsoleOptions options = automatic_echo();
+  options.echo = EchoMode::on;  // a known interactive terminal: its echo is not automatic
+  auto rig = make_rig(options);
+  EXPECT_EQ(exchange(*rig, "e\r"), "e\r\n0 0\r\n");
+  EXPECT_TRUE(rig->console.echo_enabled());
+  EXPECT_EQ(exchange(*rig, "e\r"), "e\r\n0 0\r\n");
 }
 
 // Feed-forward only: on the rig's motors without a plant, the integral would grow until the stall

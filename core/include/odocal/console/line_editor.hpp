@@ -55,6 +55,8 @@ class LineEditor {
   /// Enter, is judged by the console, which knows what the line was: ROSArduinoBridge's client
   /// ends its lines so too).
   [[nodiscard]] bool saw_terminal() const { return saw_terminal_; }
+  /// Forgets that: the input comes from a program again (a ROSArduinoBridge line).
+  void forget_terminal() { saw_terminal_ = false; }
 
  private:
   LineEvent finish();

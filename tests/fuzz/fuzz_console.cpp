@@ -1,8 +1,8 @@
 // libFuzzer target: arbitrary bytes typed into the robot console (line editor, parser, dispatch
 // into the drive loop, parameter table, store and UMBmark). Besides the sanitizers, it checks the
-// protocol contract: every output line is `ok` [pairs], `err <code> <message>` or `# ...`, no line
-// exceeds the reply limit, and the parameters in force are always in range and accepted by the
-// drive.
+// protocol contract: every output line is `ok` [pairs], `err <code> <message>` or `# ...` (or one
+// of ROSArduinoBridge's replies to its one-letter lines), no line exceeds the reply limit, and the
+// parameters in force are always in range and accepted by the drive.
 
 #include <cstddef>
 #include <cstdint>
@@ -15,6 +15,31 @@
 #include "odocal/sim/ram_block_store.hpp"
 
 namespace {
+
+// ROSArduinoBridge's replies (docs/console.md): `OK`, `Invalid Command`, or one or two whole
+// numbers (`b`'s baud rate, `e`'s counts).
+bool bridge_reply(const char* l, std::size_t n) {
+  if ((n == 2u && std::memcmp(l, "OK", 2) == 0) ||
+      (n == 15u && std::memcmp(l, "Invalid Command", 15) == 0)) {
+    return true;
+  }
+  std::size_t i = 0u;
+  for (int number = 0; number < 2 && i < n; ++number) {
+    if (number == 1) {
+      if (l[i] != ' ')
+        return false;
+      ++i;
+    }
+    if (i < n && l[i] == '-')
+      ++i;
+    const std::size_t digits = i;
+    while (i < n && l[i] >= '0' && l[i] <= '9')
+      ++i;
+    if (i == digits)
+      return false;
+  }
+  return n > 0u && i == n;
+}
 
 class NullPwm final : public odocal::hal::PwmOutput {
   void do_set_duty(float) override {}
@@ -80,6 +105,8 @@ class CheckingStream final : public odocal::hal::ByteStream {
     if (n == 2u && std::memcmp(l, "ok", 2) == 0)
       return;
     if (n > 3u && std::memcmp(l, "ok ", 3) == 0)
+      return;
+    if (bridge_reply(l, n))
       return;
     if (n > 4u && std::memcmp(l, "err ", 4) == 0) {
       // err <code> <message>: a lower-case code followed by a space and a message.

@@ -119,7 +119,7 @@ const char* to_string(BootstrapStatus status) {
     case BootstrapStatus::too_few_rows:
       return "too few training rows (need at least 5) or no unknowns";
     case BootstrapStatus::non_finite:
-      return "a value is NaN or infinite";
+      return "a value is not finite";
     case BootstrapStatus::degenerate:
       return "degenerate design: the training velocities do not determine the 3 parameters "
              "(a column is zero or columns are proportional)";

@@ -29,15 +29,15 @@ const char* to_string(LateralStatus status) {
     case LateralStatus::ok:
       return "ok";
     case LateralStatus::too_few_trials:
-      return "too few trials (need 2 to 1024)";
+      return "need 2 to 1024 trials";
     case LateralStatus::bad_geometry:
-      return "length, wheelbase, diameters, theta_L must be > 0";
+      return "sizes and theta_L must be > 0";
     case LateralStatus::non_finite:
-      return "a value is NaN or infinite";
+      return "a value is not finite";
     case LateralStatus::error_too_large:
-      return "a stop point is beyond the path length from its end, or behind the start";
+      return "a stop point lies off the line";
     case LateralStatus::degenerate:
-      return "no finite positive factor fits these values";
+      return "no positive factor fits";
   }
   return "unknown status";
 }

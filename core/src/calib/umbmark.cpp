@@ -300,17 +300,17 @@ const char* to_string(UmbmarkStatus status) {
     case UmbmarkStatus::ok:
       return "ok";
     case UmbmarkStatus::too_few_runs:
-      return "too few runs (need 2 to 64 per direction)";
+      return "need 2 to 64 runs per direction";
     case UmbmarkStatus::bad_side:
-      return "side length must be finite and > 0";
+      return "side must be > 0";
     case UmbmarkStatus::bad_wheelbase:
-      return "wheelbase must be finite and > 0";
+      return "wheelbase must be > 0";
     case UmbmarkStatus::non_finite:
-      return "a return error is NaN or infinite";
+      return "a return error is not finite";
     case UmbmarkStatus::error_too_large:
-      return "a return error exceeds the path (4 sides)";
+      return "a return error exceeds the path";
     case UmbmarkStatus::degenerate:
-      return "degenerate: no square fits (radius < wheelbase/2 or turn error >= 90 deg)";
+      return "degenerate: no square fits";
   }
   return "unknown status";
 }

@@ -62,14 +62,14 @@ bool Console::date_arg(const Token* words, std::size_t count, std::size_t index,
                        std::uint32_t& date, std::uint16_t& runs) {
   date = 0u;
   if (count > index && !parse_unsigned(words[index], date)) {
-    send_error(ErrorCode::bad_number, "unix_s must be whole seconds");
+    send_error(ErrorCode::bad_number, "unix_s must be whole");
     return false;
   }
   // The runs the result came from, when the host knows more than this console saw (every pass).
   std::uint32_t given = 0u;
   if (count > index + 1u) {
     if (!parse_unsigned(words[index + 1u], given) || given == 0u || given > 65535u) {
-      send_error(ErrorCode::bad_number, "runs must be a whole number from 1 to 65535");
+      send_error(ErrorCode::bad_number, "runs must be 1 to 65535");
       return false;
     }
     runs = static_cast<std::uint16_t>(given);

@@ -98,11 +98,11 @@ void Console::cmd_lateral_add(const Token* words) {
   // its left-wheel counts give θ_L (eq. 4).
   const KeptTrial* trial = trials_.latest();
   if (trial == nullptr || trial->path != drive::PathId::line) {
-    send_error(ErrorCode::no_trial, "latest trial is no line (run line <m>)");
+    send_error(ErrorCode::no_trial, "latest trial is no line");
     return;
   }
   if (trial->number == lateral_used_) {
-    send_error(ErrorCode::no_trial, "the latest line trial was added already");
+    send_error(ErrorCode::no_trial, "latest line trial added already");
     return;
   }
   const float counts_per_rev = settings_.get(params::ParamId::counts_per_rev);
@@ -116,10 +116,10 @@ void Console::cmd_lateral_add(const Token* words) {
       send_error(ErrorCode::lateral_full, "32 trials at most");
       return;
     case calib::LateralSession::AddStatus::length_mismatch:
-      send_error(ErrorCode::bad_argument, "line length differs from earlier trials");
+      send_error(ErrorCode::bad_argument, "length differs from earlier trials");
       return;
     case calib::LateralSession::AddStatus::bad_trial:
-      send_error(ErrorCode::no_trial, "the line turned the left wheel backwards");
+      send_error(ErrorCode::no_trial, "the left wheel ran backwards");
       return;
   }
   lateral_used_ = trial->number;
@@ -225,7 +225,7 @@ bool Console::apply_factors(FactorGroup group, const float* values, std::size_t 
     candidate.set(ids[i], values[i]);
   }
   if (!params::all_in_range(candidate)) {
-    send_error(ErrorCode::out_of_range, "factors out of range; not applied");
+    send_error(ErrorCode::out_of_range, "factors out of range");
     return false;
   }
   params::Provenance& provenance = wheel ? candidate.wheel : candidate.lateral;

@@ -30,7 +30,7 @@ void Console::cmd_drive(const Token* words, std::size_t count) {
   std::uint32_t ms = 0u;
   if (count == 4u) {
     float parsed = 0.0f;
-    if (!number_arg(words[3], 0.0f, 600000.0f, parsed, "ms must be a whole number")) {
+    if (!number_arg(words[3], 0.0f, 600000.0f, parsed, "ms must be whole")) {
       return;
     }
     ms = static_cast<std::uint32_t>(parsed);
@@ -39,7 +39,7 @@ void Console::cmd_drive(const Token* words, std::size_t count) {
   twist.v_mps = v;
   twist.w_radps = w;
   if (!loop_.drive(twist, ms)) {
-    send_error(ErrorCode::fault, "drive faulted; stop acknowledges");
+    send_error(ErrorCode::fault, "faulted; stop acknowledges");
     return;
   }
   ReplyLine reply(out_);
@@ -78,7 +78,7 @@ void Console::cmd_run(Handler handler, const Token* words) {
       : line ? drive::make_line(length_m)
              : drive::make_unseen_path();
   if (!loop_.run(path)) {
-    send_error(ErrorCode::fault, "drive faulted; stop acknowledges");
+    send_error(ErrorCode::fault, "faulted; stop acknowledges");
     return;
   }
   if (square) {
@@ -114,18 +114,18 @@ void Console::cmd_trial(const Token* words, std::size_t count) {
   if (count == 2u) {
     std::uint32_t number = 0u;
     if (!parse_unsigned(words[1], number)) {
-      send_error(ErrorCode::bad_number, "trial number is a whole number");
+      send_error(ErrorCode::bad_number, "trial number must be whole");
       return;
     }
     trial = trials_.find(number);
     if (trial == nullptr) {
-      send_error(ErrorCode::no_trial, "no such trial kept (see trials)");
+      send_error(ErrorCode::no_trial, "no such trial (see trials)");
       return;
     }
   } else {
     trial = trials_.latest();
     if (trial == nullptr) {
-      send_error(ErrorCode::no_trial, "no trial yet (run a path or drive)");
+      send_error(ErrorCode::no_trial, "no trial yet");
       return;
     }
   }

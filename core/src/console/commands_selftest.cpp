@@ -20,14 +20,14 @@ void Console::cmd_selftest(const Token* words, std::size_t count) {
     }
   }
   if (selftest_.start(wheels, last_now_us_) == SelfTest::Step::refused) {
-    send_error(ErrorCode::fault, "drive faulted; stop acknowledges");
+    send_error(ErrorCode::fault, "faulted; stop acknowledges");
   }
 }
 
 void Console::continue_selftest() {
   const SelfTest::Step step = selftest_.advance(last_now_us_);
   if (step == SelfTest::Step::refused) {
-    send_error(ErrorCode::fault, "drive faulted; stop acknowledges");
+    send_error(ErrorCode::fault, "faulted; stop acknowledges");
     return;
   }
   if (step != SelfTest::Step::done) {

@@ -101,16 +101,27 @@ void Console::take_input() {
     const LineEvent event = editor_.feed(byte, echo);
     bool echo_this = echo_;
     if (options_.echo == EchoMode::automatic && !echo_ && editor_.saw_terminal()) {
-      // The byte that revealed the terminal (the first after a bare CR) is shown too.
       echo_ = true;
-      echo_this = byte != 0x08u && byte != 0x7Fu;  // a backspace edits text never shown
+      echo_this = false;  // a backspace edits text never shown
     }
     if (echo_this && echo.count > 0u) {
       (void)out_.push(echo.bytes.data(), echo.count);
     }
     if (event != LineEvent::none) {
-      if (byte == '\r') {
-        detect_terminal(byte);
+      // Terminals send Enter as a bare CR, one key at a time; programs send CR LF in one write.
+      if (byte == '\r' && peek_byte() != '\n') {
+        if (event == LineEvent::empty) {
+          // No command, but ROSArduinoBridge answers its bare CR `Invalid Command` and
+          // diffdrive_arduino sends one: so does the console, to a program (echo off).
+          if (!echo_) {
+            ++commands_;
+            cmd_bridge(nullptr, 0u);
+            return;
+          }
+        } else if (!bridge_line()) {
+          // ROSArduinoBridge's lines, which diffdrive_arduino ends so, never turn the echo on.
+          detect_terminal();
+        }
       }
       handle_event(event);
       return;
@@ -118,10 +129,18 @@ void Console::take_input() {
   }
 }
 
-void Console::detect_terminal(std::uint8_t line_end) {
-  // Terminals send Enter as a bare CR, one key at a time; programs send CR LF in one write. A CR
-  // with nothing behind it yet is a person typing: show the line they could not see, echo on.
-  if (options_.echo != EchoMode::automatic || echo_ || line_end != '\r' || peek_byte() == '\n') {
+bool Console::bridge_line() const {
+  const char* text = editor_.line();  // NUL-ended; "" unless a line was completed
+  while (*text == ' ') {
+    ++text;
+  }
+  return text[0] != '\0' && (text[1] == ' ' || text[1] == '\0');
+}
+
+void Console::detect_terminal() {
+  // A line ended by a CR with nothing behind it yet is a person typing: show the line they could
+  // not see, echo on.
+  if (options_.echo != EchoMode::automatic || echo_) {
     return;
   }
   echo_ = true;
@@ -178,6 +197,11 @@ bool is_word(const Token& token, const char* text) {
 }  // namespace
 
 void Console::execute(const Token* words, std::size_t count) {
+  // A one-character first word is ROSArduinoBridge's (no odocal command is that short).
+  if (words[0].length == 1u) {
+    cmd_bridge(words, count);
+    return;
+  }
   // The command's forms are adjacent rows: [first, last).
   const Form* const table_end = form_table_ + form_count_;
   const Form* first = form_table_;

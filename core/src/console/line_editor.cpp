@@ -32,9 +32,6 @@ LineEvent LineEditor::feed(std::uint8_t byte, Echo& echo) {
   if (after_cr && byte == '\n') {
     return LineEvent::none;  // second half of CR LF
   }
-  if (after_cr) {
-    saw_terminal_ = true;  // the previous line ended with a bare CR
-  }
   if (byte == '\r' || byte == '\n') {
     return finish();
   }

@@ -126,9 +126,9 @@ void ControlLoop::take_command(const Taken& inbox, const EncoderSnapshot& left,
         motion_.cancel();
         mode_ = Mode::drive;
         drive_twist_ = inbox.twist;
-        drive_ms_ = inbox.duration_ms;
+        drive_ms_ = inbox.duration_ms & ~held_bit;
         drive_age_us_ = 0u;
-        if (drive_ms_ > 0u) {
+        if (static_cast<std::int32_t>(inbox.duration_ms) > 0) {  // timed, and no held_bit
           trial_.begin(PathId::drive, 0.0f, left_wheel_.speed.position_counts(),
                        right_wheel_.speed.position_counts());
         } else {

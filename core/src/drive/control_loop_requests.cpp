@@ -25,7 +25,7 @@ DriveConfig ControlLoop::config() const {
   return inbox_.config;
 }
 
-bool ControlLoop::drive(const Twist& twist, std::uint32_t duration_ms) {
+bool ControlLoop::drive(const Twist& twist, std::uint32_t duration_ms, bool trial) {
   if (!std::isfinite(twist.v_mps) || !std::isfinite(twist.w_radps)) {
     return false;
   }
@@ -35,7 +35,7 @@ bool ControlLoop::drive(const Twist& twist, std::uint32_t duration_ms) {
   }
   inbox_.command = Command::drive;
   inbox_.twist = twist;
-  inbox_.duration_ms = duration_ms;
+  inbox_.duration_ms = trial ? duration_ms : duration_ms | held_bit;
   return true;
 }
 
@@ -93,7 +93,7 @@ LoopStatus ControlLoop::status() const {
       status.mode = Mode::drive;
       status.path = PathId::none;
       status.segment = 0u;
-      status.trial_open = inbox_.duration_ms > 0u;
+      status.trial_open = static_cast<std::int32_t>(inbox_.duration_ms) > 0;  // timed, no held_bit
       break;
     case Command::stop:
       status.mode = Mode::idle;

@@ -221,11 +221,11 @@ const char* to_string(StoreResult result) {
     case StoreResult::empty:
       return "no saved parameters";
     case StoreResult::newer_version:
-      return "stored record is newer than this firmware";
+      return "record newer than this firmware";
     case StoreResult::device_error:
       return "block store failed";
     case StoreResult::bad_geometry:
-      return "block store too small for 2 sectors";
+      return "store needs 2 sectors";
     case StoreResult::corrupt:
       return "every stored record is damaged";
   }

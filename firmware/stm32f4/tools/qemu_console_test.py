@@ -103,6 +103,64 @@ def wait_idle(guest, timeout_s):
     return status
 
 
+def bridge_exchange(guest, data, timeout_s=10.0):
+    """Writes `data` as diffdrive_arduino's ArduinoComms does (one write, lines ended by a bare
+    CR) and returns every byte the guest printed up to the next LF (None without one)."""
+    start = guest.cursor
+    guest.send(data)
+    if guest.expect(rb"\n", timeout_s) is None:
+        return None
+    return guest.output[start:guest.cursor]
+
+
+def bridge_counts(guest):
+    """The two counts of an `e` (None when the reply is not two whole numbers)."""
+    got = bridge_exchange(guest, "e\r")
+    match = re.fullmatch(rb"(-?\d+) (-?\d+)\r\n", got or b"")
+    return (int(match.group(1)), int(match.group(2))) if match else None
+
+
+def bridge_checks(guest, checks):
+    """ROSArduinoBridge's commands (docs/ros.md): one reply line each, never echoed."""
+    for data, want in (("\r", b"Invalid Command\r\n"), ("u 30:20:0:100\r", b"OK\r\n"),
+                       ("r\r", b"OK\r\n"), ("b\r", b"115200\r\n"),
+                       ("x\r", b"Invalid Command\r\n")):
+        got = bridge_exchange(guest, data)
+        checks.check(got == want, f"ROSArduinoBridge {data!r} answers {want!r}", repr(got))
+    counts = bridge_counts(guest)  # since `r`: the wheels may still settle by a count
+    checks.check(counts is not None and max(abs(c) for c in counts) <= 2,
+                 "e after r answers counts near 0 0", repr(counts))
+    # Time as the robot counts it (its ticks, 1 kHz): QEMU's virtual clock falls behind the
+    # host's when the host is busy.
+    got = bridge_exchange(guest, "m 20 20\r")
+    start = int(fields(guest.command("status")).get("ticks", "0"))
+    checks.check(got == b"OK\r\n", "ROSArduinoBridge m 20 20 answers OK", repr(got))
+    status = {}
+    deadline = time.monotonic() + 30.0
+    while time.monotonic() < deadline:
+        status = fields(guest.command("status"))
+        if int(status.get("ticks", "0")) - start >= 1000:
+            break
+        time.sleep(0.1)
+    counts = bridge_counts(guest)
+    checks.check(status.get("mode") == "drive" and counts is not None and min(counts) > 100,
+                 "m 20 20 still drives both wheels forward after 1 s (past cmd_timeout_ms)",
+                 f"mode={status.get('mode')} e={counts}")
+    status = wait_idle(guest, 30.0)
+    stopped_after = int(status.get("ticks", "0")) - start
+    # 2000 ms after the `m` took effect, a few ticks before `start` was read.
+    checks.check(status.get("mode") == "idle" and 1900 <= stopped_after <= 3000,
+                 "no m for 2 s stopped the wheels", f"idle {stopped_after} ticks after m")
+    first = bridge_counts(guest)
+    time.sleep(0.5)
+    second = bridge_counts(guest)
+    checks.check(first is not None and second is not None and
+                 max(abs(a - b) for a, b in zip(first, second)) <= 2,
+                 "the wheels stay stopped", f"{first} then {second}")
+    got = bridge_exchange(guest, "m 0 0\r")
+    checks.check(got == b"OK\r\n", "m 0 0 answers OK", repr(got))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--qemu", default="qemu-system-arm")
@@ -206,6 +264,8 @@ def main():
     x, y, theta = (float(pose.get(k, "nan")) for k in ("x_mm", "y_mm", "theta_deg"))
     checks.check(40.0 <= theta <= 75.0 and math.hypot(x, y) < 5.0,
                  "drive 0 1 turned left in place", f"x={x} y={y} theta={theta}")
+
+    bridge_checks(guest, checks)
 
     # The UMBmark ccw square of 1 m ends near the start, facing the start heading.
     guest.command("odom reset")

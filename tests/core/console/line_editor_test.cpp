@@ -95,7 +95,11 @@ TEST(LineEditor, ScriptedInputDoesNotLookLikeATerminal) {
   LineEditor editor;
   feed(editor, "get c_l\nset c_l 1\r\nparams\n");
   EXPECT_FALSE(editor.saw_terminal());
-  feed(editor, "status\rx");  // a bare CR, as picocom sends for Enter
+  // A bare CR is judged by the console, which knows the line (ROSArduinoBridge's client sends
+  // "e\r"): the editor alone does not take it for a person.
+  feed(editor, "e\rm 1 2\r");
+  EXPECT_FALSE(editor.saw_terminal());
+  feed(editor, "sta\x7f");  // a DEL is a person editing
   EXPECT_TRUE(editor.saw_terminal());
 }
 

@@ -61,6 +61,27 @@ TEST(ControlLoop, RenewedDriveCommandsKeepItGoing) {
   EXPECT_EQ(rig.loop.status().mode, Mode::drive);
 }
 
+TEST(ControlLoop, AHeldDriveIsNoTrialAndStopsAfterItsOwnTimeout) {
+  // ROSArduinoBridge's `m`: held 2 s (longer than cmd_timeout_ms), then stopped; no trial, so no
+  // `# done` on the console and no record.
+  TestRig rig;
+  const std::uint32_t trials_before = rig.loop.last_trial().number;
+  ASSERT_TRUE(rig.loop.drive(Twist{0.2f, 0.0f}, 2000u, false));
+  EXPECT_FALSE(rig.loop.status().trial_open);
+  rig.run_for(1.9);
+  EXPECT_EQ(rig.loop.status().mode, Mode::drive);
+  EXPECT_FALSE(rig.loop.status().trial_open);
+  rig.run_for(0.2);
+  EXPECT_EQ(rig.loop.status().mode, Mode::idle);
+  rig.run_for(0.5);
+  EXPECT_NEAR(rig.left.omega, 0.0, 0.05);
+  EXPECT_NEAR(rig.right.omega, 0.0, 0.05);
+  EXPECT_EQ(rig.loop.last_trial().number, trials_before);
+  // A timed drive after it is a trial again.
+  ASSERT_TRUE(rig.loop.drive(Twist{0.1f, 0.0f}, 200u));
+  EXPECT_TRUE(rig.loop.status().trial_open);
+}
+
 TEST(ControlLoop, IllegalTransitionsTripAStickyFaultThatParksTheMotors) {
   TestRig rig;
   ASSERT_TRUE(rig.loop.drive(Twist{0.2f, 0.0f}, 0u));

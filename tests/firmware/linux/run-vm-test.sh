@@ -198,13 +198,26 @@ if insmod /lib/modules/irq_sim.ko &&
     printf 'get c_l\nstatus\n' |
       /bin/odocal-linux --config /odocal-linux.conf > /tmp/run2.txt 2> /tmp/err2.txt
     second=$?
-    cat /tmp/err1.txt /tmp/run1.txt /tmp/run2.txt
-    if [ "$first" -eq 0 ] && [ "$second" -eq 0 ] &&
+    # ROSArduinoBridge's commands with diffdrive_arduino's bytes (each line ended by a bare CR):
+    # one reply each in that firmware's format, no echo (docs/ros.md).
+    printf '\re\rm 10 10\ru 30:20:0:100\rb\rx\rm 0 0\rr\re\r' |
+      /bin/odocal-linux --config /odocal-linux.conf > /tmp/run3.txt 2> /tmp/err3.txt
+    third=$?
+    printf 'Invalid Command\n0 0\nOK\nOK\n115200\nInvalid Command\nOK\nOK\n0 0\n' > /tmp/want3.txt
+    grep -v '^#' /tmp/run3.txt | tr -d '\r' > /tmp/got3.txt
+    cat /tmp/err1.txt /tmp/run1.txt /tmp/run2.txt /tmp/run3.txt
+    if [ "$third" -eq 0 ] && cmp -s /tmp/want3.txt /tmp/got3.txt; then
+      echo "guest: ROSArduinoBridge commands answered"
+    else
+      echo "guest: ROSArduinoBridge commands NOT answered as expected (exit $third)"
+      third=1
+    fi
+    if [ "$first" -eq 0 ] && [ "$second" -eq 0 ] && [ "$third" -eq 0 ] &&
       grep -q '^ok .*tick_rt=1 .*pwm=software_low_precision' /tmp/run1.txt &&
       grep -q 'software PWM' /tmp/err1.txt && grep -q '^ok .*1\.01' /tmp/run2.txt; then
       echo "ODOCAL-LINUX-RESULT: PASS"
     else
-      echo "ODOCAL-LINUX-RESULT: FAIL (exit $first/$second)"
+      echo "ODOCAL-LINUX-RESULT: FAIL (exit $first/$second/$third)"
     fi
   fi
 else

@@ -28,11 +28,16 @@
 
 namespace odocal::console {
 
+/// The console's baud rate on a serial line (8N1), what ROSArduinoBridge's `b` answers.
+inline constexpr std::uint32_t console_baud = 115200u;
+
 /// Echo of typed characters.
 enum class EchoMode : std::uint8_t {
-  off,        ///< scripted input (pipes, test harnesses)
-  on,         ///< an interactive terminal
-  automatic,  ///< off until the input looks like a terminal (backspace, or Enter sent as bare CR)
+  off,  ///< scripted input (pipes, test harnesses)
+  on,   ///< an interactive terminal
+  /// off until the input looks like a terminal: a backspace, or an odocal command line ended by
+  /// a bare CR (never a ROSArduinoBridge line, never an empty one: diffdrive_arduino sends those)
+  automatic,
 };
 
 /// A command a target adds to the console (e.g. the simulator's `measure`). Its handler gets the
@@ -186,7 +191,10 @@ class Console {
   bool next_byte(std::uint8_t& byte);
   /// The next received byte without taking it; -1 when none has arrived.
   int peek_byte();
-  void detect_terminal(std::uint8_t line_end);
+  /// True when the line just completed is ROSArduinoBridge's (a one-character first word).
+  [[nodiscard]] bool bridge_line() const;
+  /// Echo on (automatic mode), for the line just ended by a bare CR: a person typing.
+  void detect_terminal();
   [[gnu::noinline]] void handle_event(LineEvent event);
   void execute(const Token* words, std::size_t count);
   void dispatch(Handler handler, const Token* words, std::size_t count);
@@ -310,6 +318,10 @@ class Console {
   bool refuse_busy(Busy busy);
   void start_listing(Listing listing);
 
+  // commands_bridge.cpp: ROSArduinoBridge's one-letter commands (docs/ros.md).
+  /// Answers a line whose first word is one character, in ROSArduinoBridge's format; `count` 0:
+  /// an empty line ended by a bare CR (`words` unused).
+  [[gnu::noinline]] void cmd_bridge(const Token* words, std::size_t count);
   // commands_system.cpp
   void cmd_version();
   void cmd_status();
@@ -406,6 +418,10 @@ class Console {
   std::array<StreamTimer, 2> streams_{};  ///< odom, ticks: emitted in this order
   std::uint64_t clock_us_ = 0u;           ///< unwrapped time since start, µs
   std::uint32_t last_now_us_ = 0u;
+
+  /// Counts at the last `r` (what `e` subtracts), modulo 2^32 as `e` reports them.
+  std::uint32_t bridge_zero_left_ = 0u;
+  std::uint32_t bridge_zero_right_ = 0u;
 
   std::uint32_t commands_ = 0u;
   std::uint32_t errors_ = 0u;

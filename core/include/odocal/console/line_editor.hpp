@@ -50,9 +50,13 @@ class LineEditor {
   [[nodiscard]] const char* pending() const { return buffer_.data(); }
   [[nodiscard]] std::size_t pending_length() const { return too_long_ ? 0u : length_; }
 
-  /// True once the input looked like a person at a terminal: a backspace/DEL, or a line ended by
-  /// a bare CR (what picocom, screen and minicom send for Enter). Used by EchoMode::automatic.
+  /// True once the input looked like a person at a terminal: a backspace/DEL. Used by
+  /// EchoMode::automatic (a line ended by a bare CR, what picocom, screen and minicom send for
+  /// Enter, is judged by the console, which knows what the line was: ROSArduinoBridge's client
+  /// ends its lines so too).
   [[nodiscard]] bool saw_terminal() const { return saw_terminal_; }
+  /// Forgets that: the input comes from a program again (a ROSArduinoBridge line).
+  void forget_terminal() { saw_terminal_ = false; }
 
  private:
   LineEvent finish();

@@ -106,7 +106,9 @@ class ControlLoop {
   [[nodiscard]] DriveConfig config() const;
   /// Drives at a body twist. With `duration_ms` > 0 it stops after that long; with 0 it stops
   /// when not renewed within `cmd_timeout_ms`. Cancels a running path. Refused in a fault.
-  [[nodiscard]] bool drive(const Twist& twist, std::uint32_t duration_ms);
+  /// A timed drive is a trial unless `trial` is false (a set-point held until renewed or timed
+  /// out, as ROSArduinoBridge's `m`).
+  [[nodiscard]] bool drive(const Twist& twist, std::uint32_t duration_ms, bool trial = true);
   /// Starts a path from the current pose. Refused (false) in a fault or for an empty path.
   [[nodiscard]] bool run(const Path& path);
   /// Stops at once (set-points to zero), abandons any path, and acknowledges faults.
@@ -136,6 +138,10 @@ class ControlLoop {
  private:
   /// What the main loop asks of the tick; written and read only under the critical section.
   enum class Command : std::uint8_t { none, drive, run, stop };
+  /// Set in the mailbox's duration_ms: a drive that is no trial, however long (a drive lasts at
+  /// most a few minutes, far below 2^31 ms). A flag bit, not a command of its own: the tick
+  /// tests it with the sign of the duration it tests anyway.
+  static constexpr std::uint32_t held_bit = 0x80000000u;
   struct Inbox {
     DriveConfig config{};
     bool config_pending = false;

@@ -1,0 +1,245 @@
+// ROSArduinoBridge's commands on the console (DESIGN.md "ROS robots", docs/ros.md): each line
+// gets its one reply in that firmware's format, never echoed; `m` goes through odocal's loop with
+// the calibration factors applied and is held for 2 s; odocal's own commands are unchanged.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <string>
+
+#include "console_rig.hpp"
+#include "odocal/drive/diff_drive_kinematics.hpp"
+
+namespace odocal::test {
+namespace {
+
+using console::ConsoleOptions;
+using console::EchoMode;
+
+ConsoleOptions automatic_echo() {
+  ConsoleOptions options = Rig::quiet();
+  options.echo = EchoMode::automatic;
+  options.crlf = true;  // as on the UART and the pty: replies end with CR LF
+  return options;
+}
+
+// What a client that writes `bytes` in one write and then reads gets back, byte for byte.
+std::string exchange(Rig& rig, const std::string& bytes) {
+  const std::size_t mark = rig.stream.output_size;
+  rig.stream.type(bytes);
+  rig.settle();
+  return std::string(rig.stream.output.data() + mark, rig.stream.output_size - mark);
+}
+
+// `ms` milliseconds of the robot: a control tick and a console poll each millisecond.
+void run_ms(Rig& rig, int ms) {
+  for (int i = 0; i < ms; ++i) {
+    rig.tick(1);
+    rig.console.poll(rig.now_us);
+  }
+}
+
+drive::Mode mode(const Rig& rig) {
+  return rig.loop.status().mode;
+}
+
+// Turns the left wheel forward by `counts` encoder counts (x4 quadrature edges on its decoder).
+void turn_left_wheel(Rig& rig, int counts) {
+  const std::uint8_t sequence[4][2] = {{1, 0}, {1, 1}, {0, 1}, {0, 0}};
+  for (int i = 0; i < counts; ++i) {
+    rig.loop.left_decoder().on_edge(sequence[i % 4][0] != 0, sequence[i % 4][1] != 0,
+                                    rig.now_us + static_cast<std::uint32_t>(i));
+  }
+}
+
+TEST(ConsoleBridge, DiffdriveArduinosByteSequencesGetOneUnechoedReplyEach) {
+  // ArduinoComms (joshnewans/diffdrive_arduino) writes each command ended by a bare CR and reads
+  // one line up to its LF: "\r" (send_empty_msg), "u p:d:i:o\r", "e\r", "m a b\r".
+  auto rig = make_rig(automatic_echo());
+  EXPECT_EQ(exchange(*rig, "\r"), "Invalid Command\r\n");
+  EXPECT_EQ(exchange(*rig, "u 30:20:0:100\r"), "OK\r\n");
+  EXPECT_EQ(exchange(*rig, "e\r"), "0 0\r\n");
+  EXPECT_EQ(exchange(*rig, "m 10 -10\r"), "OK\r\n");
+  EXPECT_EQ(exchange(*rig, "e\r"), "0 0\r\n");
+  EXPECT_EQ(exchange(*rig, "m 0 0\r"), "OK\r\n");
+  EXPECT_EQ(exchange(*rig, "b\r"), "115200\r\n");
+  EXPECT_FALSE(rig->console.echo_enabled());
+}
+
+TEST(ConsoleBridge, CrLfAndCrLfEndALineAndEachGetsExactlyOneReply) {
+  auto rig = make_rig(automatic_echo());
+  EXPECT_EQ(exchange(*rig, "e\n"), "0 0\r\n");
+  EXPECT_EQ(exchange(*rig, "e\r\n"), "0 0\r\n");
+  EXPECT_EQ(exchange(*rig, "e\r"), "0 0\r\n");
+  // Several lines in one write, each ending its own way: one reply each, in order, no echo.
+  EXPECT_EQ(exchange(*rig, "b\re\nu 1:2:3:4\r\nr\r"), "115200\r\n0 0\r\nOK\r\nOK\r\n");
+  // An empty line ended by LF or CR LF is no command (odocal's rule): no reply.
+  EXPECT_EQ(exchange(*rig, "\n\r\n"), "");
+  EXPECT_FALSE(rig->console.echo_enabled());
+}
+
+TEST(ConsoleBridge, EncodersCountAndResetToZero) {
+  auto rig = make_rig();
+  rig->tick(2);
+  turn_left_wheel(*rig, 1440);
+  rig->tick(2);
+  EXPECT_EQ(rig->reply("e"), "1440 0");
+  EXPECT_EQ(rig->reply("r"), "OK");
+  EXPECT_EQ(rig->reply("e"), "0 0");
+  turn_left_wheel(*rig, 4);  // the next quadrature cycle: 4 counts forward
+  rig->tick(2);
+  EXPECT_EQ(rig->reply("e"), "4 0");
+  // odocal's own view is untouched by `r`: odometry and tick logs keep their counts.
+  EXPECT_EQ(rig->loop.wheel_counts().left, 1444);
+}
+
+TEST(ConsoleBridge, AnyOtherSingleLetterIsAnInvalidCommand) {
+  auto rig = make_rig();
+  for (const char* line : {"a 3", "x", "z 1 2", "p", "d 4", "?", "E", "1"}) {
+    EXPECT_EQ(rig->reply(line), "Invalid Command") << line;
+  }
+  // `m` must carry two numbers, else nothing moves: a missing word, one that is no number, or
+  // one beyond a million counts per frame is refused as odocal refuses numbers
+  // (diffdrive_arduino writes two whole numbers).
+  for (const char* line : {"m", "m 10", "m 10 x", "m x 10"}) {
+    EXPECT_EQ(rig->reply(line), "err bad_number not a finite decimal number") << line;
+    EXPECT_EQ(mode(*rig), drive::Mode::idle) << line;
+  }
+  EXPECT_EQ(rig->reply("m 1e9 0"),
+            "err out_of_range allowed min=-1000000.000000 max=1000000.000000");
+  EXPECT_EQ(mode(*rig), drive::Mode::idle);
+  // `u` is accepted whatever it carries (odocal keeps its own kp, ki, kff).
+  const float kp = rig->console.params().get(params::ParamId::kp);
+  EXPECT_EQ(rig->reply("u 5:1:0:50"), "OK");
+  EXPECT_EQ(rig->console.params().get(params::ParamId::kp), kp);
+}
+
+TEST(ConsoleBridge, OdocalsOwnCommandsAndTheirEchoAreUnchanged) {
+  auto rig = make_rig(automatic_echo());
+  EXPECT_EQ(exchange(*rig, "e\r"), "0 0\r\n");
+  EXPECT_EQ(exchange(*rig, "get c_l\r\n"), "ok c_l=1.000000\r\n");
+  EXPECT_EQ(exchange(*rig, "ee\r\n"), "err unknown_command unknown command (try help)\r\n");
+  EXPECT_FALSE(rig->console.echo_enabled());
+  // A person at picocom: an odocal command ended by a bare CR turns the echo on, as before.
+  EXPECT_EQ(exchange(*rig, "get c_r\r"), "get c_r\r\nok c_r=1.000000\r\n");
+  EXPECT_TRUE(rig->console.echo_enabled());
+  // With the echo on, an empty Enter gets a new line and no reply.
+  EXPECT_EQ(exchange(*rig, "\r"), "\r\n");
+  // picocom quit, ROS started on the port: its first line comes back echoed, then the automatic
+  // echo is off and every reply is clean.
+  EXPECT_EQ(exchange(*rig, "b\r"), "b\r\n115200\r\n");
+  EXPECT_FALSE(rig->console.echo_enabled());
+  EXPECT_EQ(exchange(*rig, "e\r"), "0 0\r\n");
+  EXPECT_EQ(exchange(*rig, "\r"), "Invalid Command\r\n");
+  EXPECT_EQ(exchange(*rig, "u 1:2:3:4\r"), "OK\r\n");
+  // The person again: a backspace, or an odocal command ended by a bare CR, turns it back on.
+  EXPECT_EQ(exchange(*rig, "get c_l\r"), "get c_l\r\nok c_l=1.000000\r\n");
+  EXPECT_TRUE(rig->console.echo_enabled());
+}
+
+TEST(ConsoleBridge, AnEchoTheTargetOrEchoOnSetStaysOn) {
+  ConsoleOptions options = automatic_echo();
+  options.echo = EchoMode::on;  // a known interactive terminal: its echo is not automatic
+  auto rig = make_rig(options);
+  EXPECT_EQ(exchange(*rig, "e\r"), "e\r\n0 0\r\n");
+  EXPECT_TRUE(rig->console.echo_enabled());
+  EXPECT_EQ(exchange(*rig, "e\r"), "e\r\n0 0\r\n");
+}
+
+// Feed-forward only: on the rig's motors without a plant, the integral would grow until the stall
+// watch trips.
+std::unique_ptr<Rig> make_feed_forward_rig() {
+  auto rig = make_rig();
+  EXPECT_EQ(rig->reply("set kp 0"), "ok kp=0.000000");
+  EXPECT_EQ(rig->reply("set ki 0"), "ok ki=0.000000");
+  return rig;
+}
+
+TEST(ConsoleBridge, AnMIsHeldTwoSecondsThenTheWheelsStop) {
+  auto rig = make_feed_forward_rig();
+  // cmd_timeout_ms (500 ms by default) would stop an odocal `drive` long before: `m` is held.
+  EXPECT_EQ(rig->reply("m 10 10"), "OK");
+  EXPECT_EQ(mode(*rig), drive::Mode::drive);
+  run_ms(*rig, 1990);
+  EXPECT_EQ(mode(*rig), drive::Mode::drive);
+  // A new `m` starts the 2 s again.
+  EXPECT_EQ(rig->reply("m 12 12"), "OK");
+  run_ms(*rig, 1990);
+  EXPECT_EQ(mode(*rig), drive::Mode::drive);
+  run_ms(*rig, 20);  // 2000 ms have passed (and a little more): ROSArduinoBridge's auto-stop
+  EXPECT_EQ(mode(*rig), drive::Mode::idle);
+  run_ms(*rig, 3000);
+  EXPECT_EQ(mode(*rig), drive::Mode::idle);
+}
+
+TEST(ConsoleBridge, AFaultEndsTheHoldAndOnlyMZeroOrStopAcknowledgeIt) {
+  auto rig = make_rig();  // full gains, no plant: the wheels never move and the stall watch trips
+  EXPECT_EQ(rig->reply("m 10 10"), "OK");
+  run_ms(*rig, 1500);
+  EXPECT_EQ(mode(*rig), drive::Mode::fault);
+  run_ms(*rig, 3000);  // the auto-stop does not acknowledge it
+  EXPECT_EQ(mode(*rig), drive::Mode::fault);
+  EXPECT_EQ(rig->reply("m 10 10"), "OK");  // answered as ROSArduinoBridge would; nothing moves
+  EXPECT_EQ(mode(*rig), drive::Mode::fault);
+  EXPECT_EQ(rig->reply("m 0 0"), "OK");
+  EXPECT_EQ(mode(*rig), drive::Mode::idle);
+}
+
+TEST(ConsoleBridge, BothZeroStopsAtOnceAndOdocalsStopEndsTheHold) {
+  auto rig = make_feed_forward_rig();
+  EXPECT_EQ(rig->reply("m 10 10"), "OK");
+  run_ms(*rig, 100);
+  EXPECT_EQ(rig->reply("m 0 0"), "OK");
+  EXPECT_EQ(mode(*rig), drive::Mode::idle);
+  run_ms(*rig, 100);
+  EXPECT_EQ(mode(*rig), drive::Mode::idle);
+  EXPECT_EQ(rig->reply("m 10 10"), "OK");
+  run_ms(*rig, 100);
+  EXPECT_EQ(rig->reply("stop"), "ok mode=idle");
+  run_ms(*rig, 100);
+  EXPECT_EQ(mode(*rig), drive::Mode::idle);  // the hold did not drive again
+}
+
+TEST(ConsoleBridge, WheelSpeedsGoThroughTheLoopWithTheWheelFactors) {
+  auto rig = make_feed_forward_rig();  // each wheel's duty is kff times its set-point (rad/s)
+  for (const char* set : {"set c_l 0.98", "set c_r 1.02", "set wheelbase_mm 160"}) {
+    EXPECT_EQ(rig->reply(set).rfind("ok ", 0), 0u) << set;
+  }
+  EXPECT_EQ(rig->reply("m 10 12"), "OK");
+  run_ms(*rig, 500);  // past the acceleration ramp
+  // ROS asked each wheel for n counts per 1/30 s of the nominal robot (60 mm, 1440 counts): a
+  // contact speed of n * 30 * pi * D / N. The twist of those speeds over the wheelbase, driven
+  // through the model (UMBmark: wheel diameters D * c_L and D * c_R, Maddahi eq. 7), turns each
+  // wheel at its contact speed over its true radius: n * 30 * 2 pi / N / c.
+  const double nominal_radps = 30.0 * 2.0 * std::numbers::pi / 1440.0;
+  const double left_radps = 10.0 * nominal_radps / 0.98;
+  const double right_radps = 12.0 * nominal_radps / 1.02;
+  // Float arithmetic through the kinematics: a relative 1e-5 covers it.
+  EXPECT_NEAR(rig->pwm_left.duty, 0.033 * left_radps, 0.033 * left_radps * 1e-5);
+  EXPECT_NEAR(rig->pwm_right.duty, 0.033 * right_radps, 0.033 * right_radps * 1e-5);
+}
+
+TEST(ConsoleBridge, TheTwistGoesThroughTheWholeModelInForce) {
+  auto rig = make_feed_forward_rig();
+  for (const char* set :
+       {"set c_l 0.99", "set f_lat 1.01", "set f_lon 0.98", "set wheelbase_arc_mm 165"}) {
+    EXPECT_EQ(rig->reply(set).rfind("ok ", 0), 0u) << set;
+  }
+  EXPECT_EQ(rig->reply("m 6 14"), "OK");
+  run_ms(*rig, 500);
+  // The body twist ROS meant with the nominal geometry (60 mm wheels, 1440 counts, 150 mm):
+  const double mps_per_count = std::numbers::pi * 0.060 / 1440.0 * 30.0;
+  drive::Twist twist;
+  twist.v_mps = static_cast<float>(0.5 * (6.0 + 14.0) * mps_per_count);
+  twist.w_radps = static_cast<float>((14.0 - 6.0) * mps_per_count / 0.150);
+  // ... driven through the one model in force (core's kinematics: factors and arc wheelbase).
+  const drive::DiffDriveKinematics model(params::to_drive_config(rig->console.params()));
+  const drive::WheelRates rates = model.inverse(twist);
+  EXPECT_NEAR(rig->pwm_left.duty, 0.033 * rates.left_radps, 0.033 * rates.left_radps * 1e-5);
+  EXPECT_NEAR(rig->pwm_right.duty, 0.033 * rates.right_radps, 0.033 * rates.right_radps * 1e-5);
+}
+
+}  // namespace
+}  // namespace odocal::test

@@ -113,6 +113,16 @@ def bridge_exchange(guest, data, timeout_s=10.0):
     return guest.output[start:guest.cursor]
 
 
+def wait_ticks(guest, n, timeout_s=30.0):
+    """Waits until the robot has counted `n` more control ticks (1 kHz: its own time)."""
+    start = int(fields(guest.command("status")).get("ticks", "0"))
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        if int(fields(guest.command("status")).get("ticks", "0")) - start >= n:
+            return
+        time.sleep(0.05)
+
+
 def bridge_counts(guest):
     """The two counts of an `e` (None when the reply is not two whole numbers)."""
     got = bridge_exchange(guest, "e\r")
@@ -151,8 +161,11 @@ def bridge_checks(guest, checks):
     # 2000 ms after the `m` took effect, a few ticks before `start` was read.
     checks.check(status.get("mode") == "idle" and 1900 <= stopped_after <= 3000,
                  "no m for 2 s stopped the wheels", f"idle {stopped_after} ticks after m")
+    # The wheels coast down after the loop stops them; then they stay. Robot time again: a busy
+    # host slows QEMU's clock, and half a second of the host's can be a few ticks of the robot's.
+    wait_ticks(guest, 500)
     first = bridge_counts(guest)
-    time.sleep(0.5)
+    wait_ticks(guest, 500)
     second = bridge_counts(guest)
     checks.check(first is not None and second is not None and
                  max(abs(a - b) for a, b in zip(first, second)) <= 2,

@@ -411,8 +411,7 @@ void register_session_command(CLI::App& app, int& exit_code) {
           CLI::IsMember({"auto", "umbmark", "lateral", "fit", "verify", "extended", "selftest"}));
   cmd->add_option("--target", flags->target_mm,
                   "auto: measure until the factors leave at most this end error on the unseen "
-                  "path, mm (1 sigma; default the larger of 2, one tape measurement's error, and "
-                  "a third of the robot's own random drift there, as the runs show it)")
+                  "path, mm (1 sigma; default 2: one tape measurement's error)")
       ->check(toolkit::range_check(0.1, 1000.0, "mm"));
   cmd->add_option("--max-measurements", flags->max_measurements,
                   "auto: every tape measurement the session may take, self-test and "

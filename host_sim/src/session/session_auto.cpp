@@ -226,14 +226,7 @@ void AutoSession::plan_the_budget() {
                                           at_budget.sigma_sys_mm, likely.runs + spent)
                             : std::string())
                      : std::string(" or more (not within 200)"),
-      c_.options.target_mm
-          ? std::string()
-          : std::string(
-                " The target (--target) is 2 mm or a third of the robot's own random drift on "
-                "the unseen path, whichever is larger, as at least 10 calibration runs show the "
-                "drift: "
-                "factors known that well add about 5 % to what the robot's true "
-                "geometry would leave."));
+      std::string());
   expected_runs_ = likely.reached ? nlohmann::json(likely.runs) : nlohmann::json(nullptr);
   max_measurements_ = std::max(total, spent + budget_);
 }

@@ -2,6 +2,7 @@
 
 #include "calib_cli.hpp"
 #include "odocal/host/fit_noise.hpp"
+#include "odocal/host/ros2_yaml.hpp"
 
 namespace odocal::host::calib_cli {
 namespace {
@@ -52,19 +53,6 @@ bool ros2_name(const std::string& name) {
   return name.size() <= 255 && std::regex_match(name, pattern);
 }
 
-/// The shortest text that reads back as exactly `value`, always with a '.' so that YAML (and
-/// rcl_yaml_param_parser) reads a double, never an integer: 1 -> "1.0", 1e-05 -> "1.0e-05".
-std::string yaml_double(double value) {
-  char text[64];
-  const auto [end, error] = std::to_chars(text, text + sizeof text, value);
-  std::string out = error == std::errc{} ? std::string(text, end) : std::string("0");
-  if (out.find('.') == std::string::npos) {
-    const auto exponent = out.find_first_of("eE");
-    out.insert(exponent == std::string::npos ? out.size() : exponent, ".0");
-  }
-  return out;
-}
-
 /// Text from a JSON file that goes into a YAML comment: printable ASCII only, so that a newline
 /// in it cannot start a YAML line of its own.
 std::string comment_text(const json& value) {
@@ -93,18 +81,6 @@ double noise_key(const json& noise, const std::string& file, const std::string& 
                          value.dump(-1, ' ', false, json::error_handler_t::replace));
   }
   return value.get<double>();
-}
-
-/// "[a, b, c, d, e, f]" with YAML doubles.
-std::string yaml_list(const double (&values)[6]) {
-  std::string out = "[";
-  for (int i = 0; i < 6; ++i) {
-    if (i > 0) {
-      out += ", ";
-    }
-    out += yaml_double(values[i]);
-  }
-  return out + "]";
 }
 
 }  // namespace

@@ -14,22 +14,29 @@
 
 #include <nlohmann/json.hpp>
 
+#include "odocal/host/bridge_console.hpp"
 #include "odocal/host/csv.hpp"
 #include "odocal/host/robot_client.hpp"
 #include "odocal/host/serial_port.hpp"
 #include "odocal/host/session.hpp"
 #include "odocal/host/sim_process.hpp"
 #include "odocal/toolkit/cli_checks.hpp"
+#include "session_flags.hpp"
 
 namespace odocal::host {
 namespace {
 
 /// The robot's console, for the interrupt handler: Ctrl-C stops the robot at once.
 volatile std::sig_atomic_t console_fd = -1;
+/// The console is ROSArduinoBridge's: its stop is `m 0 0` ended by a CR.
+volatile std::sig_atomic_t bridge_console = 0;
 
 extern "C" void on_interrupt(int signal_number) {
   static const char stop[] = "\x03stop\n";
-  if (console_fd >= 0) {
+  static const char bridge_stop[] = "\rm 0 0\r";
+  if (console_fd >= 0 && bridge_console != 0) {
+    static_cast<void>(::write(console_fd, bridge_stop, sizeof bridge_stop - 1));
+  } else if (console_fd >= 0) {
     static_cast<void>(::write(console_fd, stop, sizeof stop - 1));
   }
   if (interrupt_signal() != 0) {
@@ -63,66 +70,14 @@ struct SessionFlags {
   bool yes = false;
   bool json = false;
   std::string out;
+  std::string protocol = "odocal";
+  std::optional<double> wheel_diameter_mm;
+  std::optional<double> wheelbase_mm;
+  std::optional<double> counts_per_rev;
 };
 
-Procedure procedure_of(const std::string& name) {
-  if (name == "umbmark") {
-    return Procedure::umbmark;
-  }
-  if (name == "lateral") {
-    return Procedure::lateral;
-  }
-  if (name == "fit") {
-    return Procedure::fit;
-  }
-  if (name == "extended") {
-    return Procedure::extended;
-  }
-  if (name == "selftest") {
-    return Procedure::selftest;
-  }
-  if (name == "auto") {
-    return Procedure::automatic;
-  }
-  return Procedure::verify;
-}
-
-/// --runs bounds per procedure: UMBmark runs per direction (the robot keeps 16 per direction,
-/// the solver needs 2); lateral straight trials (the bootstrap needs 5 rows with the arcs);
-/// fit runs; verify runs per scenario.
-void check_runs(Procedure procedure, std::uint64_t runs) {
-  std::uint64_t lo = 1;
-  std::uint64_t hi = 32;
-  switch (procedure) {
-    case Procedure::umbmark:
-      lo = 2;
-      hi = 16;
-      break;
-    case Procedure::lateral:
-      lo = 2;
-      hi = 28;
-      break;
-    case Procedure::fit:
-      lo = 3;
-      hi = 30;
-      break;
-    case Procedure::verify:
-    case Procedure::selftest:
-    case Procedure::automatic:
-      lo = 1;
-      hi = 16;
-      break;
-    case Procedure::extended:
-      lo = 2;  // the figure's intervals need 2 runs per direction and floor
-      hi = 16;
-      break;
-  }
-  if (runs < lo || runs > hi) {
-    throw InputError("--runs", 0, "",
-                     "must be a whole number from " + std::to_string(lo) + " to " +
-                         std::to_string(hi) + " for --procedure " + to_string(procedure) +
-                         ", got " + std::to_string(runs));
-  }
+bool bridge_protocol(const SessionFlags& f) {
+  return f.protocol == kBridgeProtocol;
 }
 
 /// An absolute form of a path given on the command line (session.json keeps these, so that
@@ -140,21 +95,28 @@ std::string absolute(const std::string& path) {
 
 /// What session.json records of the options, for --resume.
 nlohmann::json recorded_options(const SessionFlags& f) {
-  return {{"procedure", f.procedure},
-          {"side_m", f.side_m ? nlohmann::json(*f.side_m) : nlohmann::json(nullptr)},
-          {"target_mm", f.target_mm ? nlohmann::json(*f.target_mm) : nlohmann::json(nullptr)},
-          {"runs", f.runs ? nlohmann::json(*f.runs) : nlohmann::json(nullptr)},
-          {"max_measurements",
-           f.max_measurements ? nlohmann::json(*f.max_measurements) : nlohmann::json(nullptr)},
-          {"passes", f.passes ? nlohmann::json(*f.passes) : nlohmann::json(nullptr)},
-          {"exact", f.exact},
-          {"seed", f.seed},
-          {"sim", absolute(f.sim_robot)},
-          {"store", absolute(f.store)},
-          {"measurements", absolute(f.measurements)},
-          {"port", f.port},
-          {"baud", f.baud},
-          {"no_wait", f.no_wait}};
+  return {
+      {"procedure", f.procedure},
+      {"side_m", f.side_m ? nlohmann::json(*f.side_m) : nlohmann::json(nullptr)},
+      {"target_mm", f.target_mm ? nlohmann::json(*f.target_mm) : nlohmann::json(nullptr)},
+      {"runs", f.runs ? nlohmann::json(*f.runs) : nlohmann::json(nullptr)},
+      {"max_measurements",
+       f.max_measurements ? nlohmann::json(*f.max_measurements) : nlohmann::json(nullptr)},
+      {"passes", f.passes ? nlohmann::json(*f.passes) : nlohmann::json(nullptr)},
+      {"exact", f.exact},
+      {"seed", f.seed},
+      {"sim", absolute(f.sim_robot)},
+      {"store", absolute(f.store)},
+      {"measurements", absolute(f.measurements)},
+      {"port", f.port},
+      {"baud", f.baud},
+      {"no_wait", f.no_wait},
+      {"protocol", f.protocol},
+      {"wheel_diameter_mm",
+       f.wheel_diameter_mm ? nlohmann::json(*f.wheel_diameter_mm) : nlohmann::json(nullptr)},
+      {"wheelbase_mm", f.wheelbase_mm ? nlohmann::json(*f.wheelbase_mm) : nlohmann::json(nullptr)},
+      {"counts_per_rev",
+       f.counts_per_rev ? nlohmann::json(*f.counts_per_rev) : nlohmann::json(nullptr)}};
 }
 
 /// --resume DIR: the options of the interrupted session, with the command line's where they
@@ -209,6 +171,15 @@ SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
     };
     real("--side-m", "side_m", f.side_m);
     real("--target", "target_mm", f.target_mm);
+    real("--wheel-diameter-mm", "wheel_diameter_mm", f.wheel_diameter_mm);
+    real("--wheelbase-mm", "wheelbase_mm", f.wheelbase_mm);
+    real("--counts-per-rev", "counts_per_rev", f.counts_per_rev);
+    // Sessions from before --protocol ran on odocal firmware.
+    const std::string protocol = o.value("protocol", std::string("odocal"));
+    if (cmd.count("--protocol") != 0u && f.protocol != protocol) {
+      conflict("--protocol", protocol, f.protocol);
+    }
+    f.protocol = protocol;
     const auto whole = [&](const char* flag, const char* key, std::optional<std::uint64_t>& value) {
       // Sessions from before --max-measurements have no such key: none was given.
       const std::optional<std::uint64_t> recorded =
@@ -302,6 +273,9 @@ SessionOptions options_of(const SessionFlags& f) {
   if (!f.store.empty() && f.sim_robot.empty()) {
     throw InputError("--store", 0, "", "only with --sim (a real robot keeps its own store)");
   }
+  check_bridge_flags(BridgeFlags{f.protocol, f.sim_robot, f.store, f.wheel_diameter_mm,
+                                 f.wheelbase_mm, f.counts_per_rev},
+                     options.procedure);
   options.yes = f.yes;
   options.json = f.json;
   options.seed = f.seed;
@@ -354,19 +328,30 @@ int run(const SessionFlags& given, const CLI::App& cmd) {
     if (::access(f.sim_robot.c_str(), R_OK) != 0) {
       throw InputError(f.sim_robot, 0, "", "--sim: cannot read the robot file");
     }
-    sim = std::make_unique<SimProcess>(sibling_program("odocal-sim"), f.sim_robot, f.seed, f.store);
+    sim = std::make_unique<SimProcess>(sibling_program("odocal-sim"), f.sim_robot, f.seed, f.store,
+                                       bridge_protocol(f) ? f.protocol : std::string());
     channel = &sim->channel();
   } else {
     port = open_serial_port(f.port, static_cast<std::uint32_t>(f.baud));
     channel = port.get();
   }
   console_fd = channel->fd();
+  bridge_console = bridge_protocol(f) ? 1 : 0;
+  std::unique_ptr<BridgeConsole> bridge;
+  if (bridge_protocol(f)) {
+    bridge = std::make_unique<BridgeConsole>(
+        *channel,
+        bridge_nominal(BridgeFlags{f.protocol, f.sim_robot, f.store, f.wheel_diameter_mm,
+                                   f.wheelbase_mm, f.counts_per_rev}),
+        sim != nullptr);
+    options.bridge = bridge.get();
+  }
   struct sigaction action {};
   action.sa_handler = on_interrupt;
   action.sa_flags = 0;  // no SA_RESTART: a blocking read returns, and the session notices
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
-  RobotClient robot(*channel);
+  RobotClient robot(bridge ? static_cast<LineChannel&>(*bridge) : *channel);
   std::unique_ptr<MeasurementSource> source;
   if (file_source) {
     source = std::move(file_source);
@@ -404,6 +389,20 @@ void register_session_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--seed", flags->seed, "seed of the simulated robot and the bootstrap")
       ->check(toolkit::whole_check(0u, UINT64_MAX));
   cmd->add_option("--store", flags->store, "odocal-sim's parameter store file (with --sim)");
+  cmd->add_option("--protocol", flags->protocol,
+                  "the robot's firmware: odocal (default), or ros-arduino-bridge (a ROS robot "
+                  "running ROSArduinoBridge: the host drives it, nothing is written to it, the "
+                  "result is OUT/diff_drive_controller.yaml; docs/ros.md)")
+      ->check(CLI::IsMember({"odocal", "ros-arduino-bridge"}));
+  cmd->add_option("--wheel-diameter-mm", flags->wheel_diameter_mm,
+                  "ros-arduino-bridge: the robot's nominal wheel diameter, mm")
+      ->check(toolkit::range_check(5.0, 1000.0, "mm"));
+  cmd->add_option("--wheelbase-mm", flags->wheelbase_mm,
+                  "ros-arduino-bridge: the robot's nominal wheelbase (wheel_separation), mm")
+      ->check(toolkit::range_check(10.0, 5000.0, "mm"));
+  cmd->add_option("--counts-per-rev", flags->counts_per_rev,
+                  "ros-arduino-bridge: encoder counts per wheel turn (enc_counts_per_rev)")
+      ->check(toolkit::range_check(4.0, 1.0e6, "counts"));
   cmd->add_option("--procedure", flags->procedure,
                   "auto (the one command: self-test, the runs it needs, verify, save), umbmark, "
                   "lateral, fit, verify, extended or selftest")

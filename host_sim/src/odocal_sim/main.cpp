@@ -30,6 +30,7 @@ struct Options {
   std::string robot_file;
   double speed = 1.0;
   std::uint64_t seed = 1;
+  std::string protocol = "odocal";
 };
 
 /// @return -1 to go on, else the exit status (2 for a refused command line, 0 for --help).
@@ -48,6 +49,10 @@ int parse_options(int argc, char** argv, Options& o) {
       ->check(toolkit::zero_or_range_check(0.01, 1.0e6, ""));
   app.add_option("--seed", o.seed, "seed of the simulated robot's random terms")
       ->check(toolkit::whole_check(0u, UINT64_MAX));
+  app.add_option("--protocol", o.protocol,
+                 "the robot's firmware: odocal (default), or ros-arduino-bridge (a robot running "
+                 "ROSArduinoBridge: e, r, m, u, b and the tape's `measure`; docs/simulation.md)")
+      ->check(CLI::IsMember({"odocal", "ros-arduino-bridge"}));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -281,12 +286,34 @@ void start_console(host::SimulatedRobot& robot, console::Console& console, Conso
   }
 }
 
+/// A robot running ROSArduinoBridge: no store, no wiring faults (its firmware has no fixes for
+/// them, and a robot that cannot drive straight by counts is not one to calibrate).
+int run_bridge_robot(const Options& o, const host::RobotSpec& spec) {
+  if (!o.store_file.empty()) {
+    std::fprintf(stderr,
+                 "odocal-sim: --store: a ROSArduinoBridge robot keeps no parameters (leave "
+                 "--store out with --protocol ros-arduino-bridge)\n");
+    return 2;
+  }
+  if (spec.wiring != host::WiringFault::ok || spec.encoder_fault.wheel >= 0) {
+    std::fprintf(stderr,
+                 "odocal-sim: %s: wiring and encoder faults are simulated only for odocal's own "
+                 "firmware, not with --protocol ros-arduino-bridge\n",
+                 o.robot_file.c_str());
+    return 2;
+  }
+  return run_bridge(spec, o.seed, o.use_pty, o.speed);
+}
+
 int run(const Options& o) {
   host::RobotSpec spec = host::default_robot();
   std::string error;
   if (!o.robot_file.empty() && !host::load_robot_file(o.robot_file, spec, error)) {
     std::fprintf(stderr, "odocal-sim: %s\n", error.c_str());
     return 2;
+  }
+  if (o.protocol == "ros-arduino-bridge") {
+    return run_bridge_robot(o, spec);
   }
   host::SimulatedRobot robot(spec, o.seed);
   robot.measure_tick_time(true);  // `status` reports the tick's host time

@@ -92,6 +92,12 @@ class Pacer {
     base_s_ = simulated_s;
   }
   void wait_for(double simulated_s) const;
+  /// The simulated time the wall clock has reached (speed > 0).
+  [[nodiscard]] double now_s() const {
+    return base_s_ +
+           speed_ *
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
 
  private:
   double speed_;
@@ -139,6 +145,11 @@ class SimCommand {
   std::uint32_t count_ = 0u;
   std::uint32_t resets_seen_ = 0u;
 };
+
+/// odocal-sim --protocol ros-arduino-bridge (bridge_robot.cpp): a simulated robot running
+/// ROSArduinoBridge, on a pty or stdio, in lockstep (speed 0 or scripted input: one PID frame per
+/// `e`) or in real time times `speed`. @return the exit status.
+int run_bridge(const host::RobotSpec& spec, std::uint64_t seed, bool use_pty, double speed);
 
 /// Whether the robot is busy: a motion, its trial not yet closed, or the self-test. Scripted
 /// input waits for it (so `# done` comes first).

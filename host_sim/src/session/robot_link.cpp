@@ -53,7 +53,7 @@ FdChannel::~FdChannel() {
 }
 
 void FdChannel::write_line(const std::string& line) {
-  const std::string data = line + "\n";
+  const std::string data = line + line_end_;
   std::size_t done = 0;
   const Clock::time_point deadline = Clock::now() + std::chrono::seconds(5);
   while (done < data.size()) {

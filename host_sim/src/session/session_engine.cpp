@@ -270,10 +270,14 @@ SessionReport finish(Context& c, const session::Outcome& outcome, bool saved) {
               f.c_l, f.c_r, f.wheelbase_mm, f.f_lat, f.f_lon)
        << (f.wheelbase_arc_mm != 0.0 ? fmt::format(" wheelbase_arc_mm={:.3f}", f.wheelbase_arc_mm)
                                      : std::string())
-       << (outcome.applied ? (saved ? " (applied, saved)" : " (applied, NOT saved)")
-                           : " (unchanged)")
+       << (outcome.applied && options.bridge != nullptr
+               ? " (on the host: diff_drive_controller.yaml; nothing written to the robot)"
+           : outcome.applied ? (saved ? " (applied, saved)" : " (applied, NOT saved)")
+                             : " (unchanged)")
        << "\nFiles: " << options.out_dir
-       << "/ (report.html, session.json, measurements.csv, runs.csv, runs.svg, ...)\n"
+       << "/ (report.html, session.json, measurements.csv, runs.csv, runs.svg"
+       << (outcome.applied && options.bridge != nullptr ? ", diff_drive_controller.yaml" : "")
+       << ", ...)\n"
        << "Report: " << options.out_dir << "/report.html (open it in a browser)\n";
   report.text = text.str();
   return report;
@@ -298,7 +302,9 @@ SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
   bool saved = false;
   try {
     outcome = session::run_procedure(context);
-    if (outcome.applied && session::confirmed(context)) {
+    if (outcome.applied && options.bridge != nullptr) {
+      session::write_ros_yaml(context, outcome);  // nothing is saved on such a robot
+    } else if (outcome.applied && session::confirmed(context)) {
       const Reply reply = robot.expect_ok("save");
       saved = true;
       log << "Saved on the robot (save: " << reply.line << ").\n";

@@ -36,7 +36,8 @@ std::string sibling_program(const std::string& name) {
 }
 
 SimProcess::SimProcess(const std::string& program, const std::string& robot_file,
-                       std::uint64_t seed, const std::string& store_file) {
+                       std::uint64_t seed, const std::string& store_file,
+                       const std::string& protocol) {
   if (::access(program.c_str(), X_OK) != 0) {
     throw LinkError(program + ": cannot run odocal-sim (" + std::strerror(errno) +
                     "); it is built beside odocal (cmake --build --preset host --target "
@@ -53,6 +54,9 @@ SimProcess::SimProcess(const std::string& program, const std::string& robot_file
   }
   if (!store_file.empty()) {
     args.insert(args.end(), {"--store", store_file});
+  }
+  if (!protocol.empty()) {
+    args.insert(args.end(), {"--protocol", protocol});
   }
   pid_ = ::fork();
   if (pid_ < 0) {

@@ -61,11 +61,14 @@ class FdChannel : public LineChannel {
   [[nodiscard]] std::string name() const override { return name_; }
   /// The descriptor (for a signal handler's last `stop`).
   [[nodiscard]] int fd() const { return fd_; }
+  /// What ends each line written (LF; ROSArduinoBridge reads a bare CR).
+  void set_line_end(std::string end) { line_end_ = std::move(end); }
 
  private:
   int fd_;
   std::string name_;
   std::string buffer_;
+  std::string line_end_ = "\n";
 };
 
 }  // namespace odocal::host

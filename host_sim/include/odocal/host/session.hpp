@@ -20,6 +20,8 @@
 
 namespace odocal::host {
 
+class BridgeConsole;
+
 /// A pose in the start frame (x ahead, y left), mm and degrees; theta may be unknown.
 struct SessionPose {
   double x_mm = 0.0;
@@ -147,6 +149,10 @@ struct SessionOptions {
   nlohmann::json recorded = nlohmann::json::object();
   /// Runs of the interrupted session being resumed, in order: taken, not driven again.
   std::vector<RunRecord> replay;
+  /// A robot that runs ROSArduinoBridge (--protocol ros-arduino-bridge): the console the session
+  /// talks to is this host-side one; nothing is saved on the robot, and a result is written to
+  /// out_dir/diff_drive_controller.yaml instead. nullptr: an odocal robot.
+  const BridgeConsole* bridge = nullptr;
   /// The `result` the interrupted session being resumed recorded (e.g. its self-test, which is
   /// then not driven again).
   nlohmann::json resumed_result = nlohmann::json::object();

@@ -15,10 +15,11 @@ namespace odocal::host {
 /// `odocal-sim` started as a child on a pty; stopped (SIGTERM, then waited for) on destruction.
 class SimProcess {
  public:
-  /// Starts `program --pty --speed 0 --seed S [--robot FILE] [--store FILE]`, reads the pty path
-  /// it prints and opens it. Throws LinkError (program missing, exited, no pty announced).
+  /// Starts `program --pty --speed 0 --seed S [--robot FILE] [--store FILE] [--protocol P]`,
+  /// reads the pty path it prints and opens it. Throws LinkError (program missing, exited, no pty
+  /// announced).
   SimProcess(const std::string& program, const std::string& robot_file, std::uint64_t seed,
-             const std::string& store_file);
+             const std::string& store_file, const std::string& protocol = std::string());
   ~SimProcess();
   SimProcess(const SimProcess&) = delete;
   SimProcess& operator=(const SimProcess&) = delete;

@@ -1,0 +1,43 @@
+#pragma once
+// `odocal session`'s flags checked against each other (session_flags.cpp): the procedure, --runs,
+// and --protocol ros-arduino-bridge with the robot's nominal geometry.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "odocal/host/bridge_console.hpp"
+#include "odocal/host/session.hpp"
+
+namespace odocal::host {
+
+/// --procedure NAME (one of the names the flag accepts).
+[[nodiscard]] Procedure procedure_of(const std::string& name);
+
+/// --runs bounds per procedure: UMBmark runs per direction (the robot keeps 16 per direction,
+/// the solver needs 2); lateral straight trials (the bootstrap needs 5 rows with the arcs); fit
+/// runs; verify runs per scenario. Throws InputError.
+void check_runs(Procedure procedure, std::uint64_t runs);
+
+inline constexpr const char* kBridgeProtocol = "ros-arduino-bridge";
+
+/// What the command line says about the robot's firmware and geometry.
+struct BridgeFlags {
+  std::string protocol;
+  std::string sim_robot;
+  std::string store;
+  std::optional<double> wheel_diameter_mm;
+  std::optional<double> wheelbase_mm;
+  std::optional<double> counts_per_rev;
+};
+
+/// --protocol and the nominal geometry it needs: a ROSArduinoBridge robot knows nothing of its
+/// geometry, so the owner gives it (with --sim the robot file's nominal keys stand in). Throws
+/// InputError naming the flag.
+void check_bridge_flags(const BridgeFlags& f, Procedure procedure);
+
+/// The nominal geometry of a ROSArduinoBridge robot: the flags, with --sim the robot file's
+/// nominal keys where a flag is not given. Throws InputError for a robot file it cannot read.
+[[nodiscard]] BridgeNominal bridge_nominal(const BridgeFlags& f);
+
+}  // namespace odocal::host

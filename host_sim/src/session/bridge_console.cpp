@@ -139,22 +139,33 @@ void BridgeConsole::connect() {
   next_frame_ = start_;
 }
 
-std::string BridgeConsole::ask(const std::string& command, int timeout_ms) {
-  link_.write_line(command);
+std::string BridgeConsole::ask(const std::string& command, int timeout_ms,
+                               const std::function<bool(const std::string&)>& expected,
+                               const char* what) {
+  // A line still waiting is not this command's reply (the answer to the `m 0 0` a Ctrl-C sent
+  // from the signal handler, a reply that came after its command timed out): dropped.
   std::string line;
-  if (!link_.read_line(line, timeout_ms)) {
-    throw LinkError(link_.name() + ": no reply to '" + command + "' within " +
-                    std::to_string(timeout_ms) + " ms (ROSArduinoBridge)");
+  while (link_.read_line(line, 0)) {
   }
-  return line;
+  link_.write_line(command);
+  // ROSArduinoBridge answers every line with one line; one that is not what the command answers
+  // (a late reply to an earlier line) is passed over, twice at most.
+  for (int read = 0; read < 3; ++read) {
+    if (!link_.read_line(line, timeout_ms)) {
+      throw LinkError(link_.name() + ": no reply to '" + command + "' within " +
+                      std::to_string(timeout_ms) + " ms (ROSArduinoBridge)");
+    }
+    if (!expected || expected(line)) {
+      return line;
+    }
+  }
+  throw LinkError(link_.name() + ": '" + command + "' answered '" + line + "', not " + what +
+                  " (ROSArduinoBridge)");
 }
 
 void BridgeConsole::ask_ok(const std::string& command) {
-  const std::string line = ask(command);
-  if (line != "OK") {
-    throw LinkError(link_.name() + ": '" + command + "' answered '" + line +
-                    "', not OK (ROSArduinoBridge)");
-  }
+  static_cast<void>(ask(
+      command, 2000, [](const std::string& line) { return line == "OK"; }, "OK"));
 }
 
 void BridgeConsole::write_line(const std::string& line) {
@@ -203,11 +214,9 @@ bool BridgeConsole::read_line(std::string& line, int timeout_ms) {
 
 void BridgeConsole::frame() {
   std::int32_t raw[2] = {0, 0};
-  const std::string counts = ask("e");
-  if (!parse_counts(counts, raw[0], raw[1])) {
-    throw LinkError(link_.name() + ": 'e' answered '" + counts +
-                    "', not two encoder counts (ROSArduinoBridge)");
-  }
+  static_cast<void>(ask(
+      "e", 2000, [&raw](const std::string& line) { return parse_counts(line, raw[0], raw[1]); },
+      "two encoder counts"));
   ++frames_;
   const double t_ms = now_ms();
   const double dt_s = std::clamp((t_ms - last_frame_ms_) / 1000.0, 0.005, 0.2);
@@ -378,9 +387,9 @@ void BridgeConsole::answer(const std::string& line) {
     reply("ok echo=" + std::string(w.size() > 1 && w[1] == "on" ? "on" : "off"));
   } else if (verb == "version") {
     reply(
-        fmt::format("ok name=ROSArduinoBridge version=? protocol=ros-arduino-bridge baud={} "
+        fmt::format("ok name=ROSArduinoBridge version={}-baud protocol=ros-arduino-bridge baud={} "
                     "host={}",
-                    baud_, console::project_version));
+                    baud_, baud_, console::project_version));
   } else if (verb == "status") {
     const char* mode = motion_ == Motion::idle    ? "idle"
                        : motion_ == Motion::timed ? "drive"

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -70,7 +71,11 @@ class BridgeConsole final : public LineChannel {
   };
 
   void connect();
-  std::string ask(const std::string& command, int timeout_ms = 2000);
+  /// Sends `command` (CR-ended) and returns its reply: the first line `expected` accepts (any line
+  /// without it); throws LinkError naming `what` was expected.
+  std::string ask(const std::string& command, int timeout_ms = 2000,
+                  const std::function<bool(const std::string&)>& expected = {},
+                  const char* what = "a reply");
   void ask_ok(const std::string& command);
   void answer(const std::string& line);
   /// The parameter commands (get, set, params, provenance, load, save, fit apply): false when

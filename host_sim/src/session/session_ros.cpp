@@ -72,7 +72,24 @@ void write_ros_yaml(Context& c, Outcome& outcome) {
                         {"right_wheel_radius_multiplier", right}};
   std::string covariance;
   if (const nlohmann::json* noise = noise_of(outcome.result)) {
-    const WheelNoise k{(*noise)["k_l"].get<double>(), (*noise)["k_r"].get<double>()};
+    WheelNoise k{(*noise)["k_l"].get<double>(), (*noise)["k_r"].get<double>()};
+    // A wheel whose drift the runs do not resolve above 0 gets its interval's upper end: a zero
+    // covariance would tell ROS (robot_localization, a planner) that its odometry never drifts.
+    std::string bounded;
+    for (const char* key : {"k_l", "k_r"}) {
+      double& value = key[2] == 'l' ? k.k_l : k.k_r;
+      const nlohmann::json ci =
+          noise->contains("ci") ? (*noise)["ci"].value(key, nlohmann::json()) : nlohmann::json();
+      if (value <= 0.0 && ci.is_array() && ci.size() == 2u && ci[1].is_number()) {
+        value = ci[1].get<double>();
+        bounded += std::string(bounded.empty() ? "" : ", ") + key;
+      }
+    }
+    if (!bounded.empty()) {
+      text += "# " + bounded +
+              ": not resolved above 0 by these runs; the upper end of its 95 % interval is "
+              "used (a conservative covariance)\n";
+    }
     const Ros2Covariance cov = ros2_covariance(
         k, g.wheelbase, kCovarianceSpeedMps, 1.0 / kCovariancePublishHz, kCovariancePoseDistanceM);
     text += fmt::format(

@@ -164,6 +164,7 @@ TEST(SessionBridge, CalibratesROSArduinoBridgeRobotsOfSeveralSizes) {
                                          {"slip_sigma", b.slip}}
                                         .dump());
     const std::string out = temp(std::string("bridge_out_") + b.name);
+    static_cast<void>(shell("rm -rf " + out));  // a session of an earlier test run
     const Result r = session("--sim " + robot +
                              " --protocol ros-arduino-bridge --procedure auto "
                              "--max-measurements 12 --json --seed " +
@@ -185,8 +186,12 @@ TEST(SessionBridge, CalibratesROSArduinoBridgeRobotsOfSeveralSizes) {
     EXPECT_NEAR(right / left, b.true_right_mm / b.true_left_mm, 5e-4);
     EXPECT_NEAR((left + right) / (b.true_left_mm + b.true_right_mm), 1.0, 0.002);
     EXPECT_NEAR(wheelbase / b.true_wheelbase_mm, 1.0, 0.003);
-    EXPECT_EQ(y.count("pose_covariance_diagonal"), 1u);
+    ASSERT_EQ(y.count("pose_covariance_diagonal"), 1u);
     EXPECT_EQ(y.count("twist_covariance_diagonal"), 1u);
+    // x and heading variances: positive (a zero would tell ROS the odometry never drifts).
+    const json pose = json::parse(y.at("pose_covariance_diagonal"));
+    EXPECT_GT(pose[0].get<double>(), 0.0);
+    EXPECT_GT(pose[5].get<double>(), 0.0);
     // The same numbers in the session's JSON.
     EXPECT_DOUBLE_EQ(doc["result"]["ros"]["wheel_separation_multiplier"].get<double>(),
                      std::stod(y.at("wheel_separation_multiplier")));

@@ -276,6 +276,9 @@ SessionOptions options_of(const SessionFlags& f) {
   check_bridge_flags(BridgeFlags{f.protocol, f.sim_robot, f.store, f.wheel_diameter_mm,
                                  f.wheelbase_mm, f.counts_per_rev},
                      options.procedure);
+  if (bridge_protocol(f) && options.procedure == Procedure::automatic && !f.max_measurements) {
+    options.max_measurements = kBridgeMaxMeasurements;
+  }
   options.yes = f.yes;
   options.json = f.json;
   options.seed = f.seed;

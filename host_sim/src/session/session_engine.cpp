@@ -276,7 +276,9 @@ SessionReport finish(Context& c, const session::Outcome& outcome, bool saved) {
                              : " (unchanged)")
        << "\nFiles: " << options.out_dir
        << "/ (report.html, session.json, measurements.csv, runs.csv, runs.svg"
-       << (outcome.applied && options.bridge != nullptr ? ", diff_drive_controller.yaml" : "")
+       << (options.bridge != nullptr && outcome.result.contains("ros")
+               ? ", diff_drive_controller.yaml"
+               : "")
        << ", ...)\n"
        << "Report: " << options.out_dir << "/report.html (open it in a browser)\n";
   report.text = text.str();
@@ -302,8 +304,11 @@ SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
   bool saved = false;
   try {
     outcome = session::run_procedure(context);
-    if (outcome.applied && options.bridge != nullptr) {
-      session::write_ros_yaml(context, outcome);  // nothing is saved on such a robot
+    if (options.bridge != nullptr &&
+        (options.procedure == Procedure::automatic || options.procedure == Procedure::fit)) {
+      // Nothing is saved on such a robot: the geometry goes to the controller's configuration,
+      // also when the runs found nothing to change (the multipliers then confirm it).
+      session::write_ros_yaml(context, outcome);
     } else if (outcome.applied && session::confirmed(context)) {
       const Reply reply = robot.expect_ok("save");
       saved = true;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "session_harness.hpp"
+#include "session_person.hpp"
 
 namespace odocal_session_test {
 namespace {
@@ -141,11 +142,11 @@ struct BridgeRobot {
   unsigned seed;
 };
 
-// Robots of several sizes, none the default: each calibrated with 12 tape measurements (the
-// self-test needs none on a well-wired robot), the YAML's effective geometry within the issue's
-// tolerances of the truth: the wheel ratio within 5e-4, the size within 0.2 %, the wheelbase
-// within 0.3 % (a tape of 2 mm over 3 m lines and 6-turn spins pins each to about a tenth of
-// that with 10 calibration runs: docs/ros.md).
+// Robots of several sizes, none the default: each calibrated within the default budget of a
+// ROSArduinoBridge session, 12 tape measurements (the self-test needs none on a well-wired robot),
+// the YAML's effective geometry within the issue's tolerances of the truth: the wheel ratio within
+// 5e-4, the size within 0.2 %, the wheelbase within 0.3 % (a tape of 2 mm over 3 m lines and 6-turn
+// spins pins each to about a tenth of that with 10 calibration runs: docs/ros.md).
 TEST(SessionBridge, CalibratesROSArduinoBridgeRobotsOfSeveralSizes) {
   const BridgeRobot robots[] = {
       {"micromouse", 32.0, 80.0, 2048.0, 32.21, 32.08, 81.1, 0.002, 3},
@@ -166,12 +167,12 @@ TEST(SessionBridge, CalibratesROSArduinoBridgeRobotsOfSeveralSizes) {
     const std::string out = temp(std::string("bridge_out_") + b.name);
     static_cast<void>(shell("rm -rf " + out));  // a session of an earlier test run
     const Result r = session("--sim " + robot +
-                             " --protocol ros-arduino-bridge --procedure auto "
-                             "--max-measurements 12 --json --seed " +
+                             " --protocol ros-arduino-bridge --procedure auto --json --seed " +
                              std::to_string(b.seed) + " --out " + out);
     const json doc = parse(r);
     ASSERT_TRUE(doc.is_object());
     EXPECT_LE(doc["measurements"].get<int>(), 12);
+    EXPECT_EQ(doc["result"]["max_measurements"].get<int>(), 12);  // the default, said
     EXPECT_TRUE(doc["applied"].get<bool>());
     EXPECT_FALSE(doc["saved"].get<bool>());  // nothing is written to such a robot
     const auto y = yaml_values(out + "/diff_drive_controller.yaml");
@@ -195,6 +196,131 @@ TEST(SessionBridge, CalibratesROSArduinoBridgeRobotsOfSeveralSizes) {
     // The same numbers in the session's JSON.
     EXPECT_DOUBLE_EQ(doc["result"]["ros"]["wheel_separation_multiplier"].get<double>(),
                      std::stod(y.at("wheel_separation_multiplier")));
+  }
+}
+
+/// Whether the bridge robot's wheels stand still: `e` on its pty 45 times (in lockstep, 1.5 s of
+/// robot time: the wheels coast to rest after a stop, and a robot still told to move would still
+/// move, its 2 s auto-stop not yet due), the last two readings equal.
+bool wheels_still(const std::string& pty) {
+  const int fd = ::open(pty.c_str(), O_RDWR | O_NOCTTY);
+  EXPECT_GE(fd, 0) << pty;
+  termios raw{};
+  ::tcgetattr(fd, &raw);
+  ::cfmakeraw(&raw);
+  ::tcsetattr(fd, TCSANOW, &raw);
+  const auto ask = [fd] {
+    static_cast<void>(::write(fd, "e\r", 2));
+    std::string reply;
+    char c = 0;
+    while (reply.find('\n') == std::string::npos) {
+      pollfd wait{fd, POLLIN, 0};
+      if (::poll(&wait, 1, 2000) <= 0 || ::read(fd, &c, 1) != 1) {
+        break;
+      }
+      reply += c;
+    }
+    return reply;
+  };
+  std::string previous, last;
+  for (int frame = 0; frame < 45; ++frame) {
+    previous = last;
+    last = ask();
+  }
+  ::close(fd);
+  EXPECT_FALSE(last.empty());
+  return !last.empty() && last == previous;
+}
+
+/// The odometry's pose of the latest run, as a careful person with a tape reads it (the robot
+/// barely drifts from it over these short runs).
+std::string tape_reading(const Person& p) {
+  const std::string& e = p.err;
+  const auto at = e.rfind("odometry says x=");
+  const double x = std::atof(e.c_str() + at + 16);
+  const double y = std::atof(e.c_str() + e.find("y=", at) + 2);
+  const double theta = std::atof(e.c_str() + e.find("heading ", at) + 8);
+  char text[96];
+  std::snprintf(text, sizeof text, "%.1f %.1f %.2f", x, y, theta);
+  return text;
+}
+
+// A ROSArduinoBridge robot on a serial port, the person at the session interrupting it while it
+// drives (SIGINT), at a reading (SIGTERM) and at the Enter before a run (end of input): each time
+// the wheels are stopped, every reading kept, and `--resume` goes on; the last session ends
+// complete with the YAML, and nothing was ever written to the robot (it has nowhere to).
+TEST(SessionBridge, EveryWayOutStopsTheRobotKeepsItsReadingsAndResumes) {
+  ::signal(SIGPIPE, SIG_IGN);
+  const std::string robot = write("bridge_exit.json",
+                                  R"({"wheel_diameter_mm": 60, "wheelbase_mm": 150,
+                                      "counts_per_rev": 1440, "true_left_diameter_mm": 59.9,
+                                      "true_right_diameter_mm": 60.1, "true_wheelbase_mm": 152,
+                                      "slip_sigma": 0, "measure_sigma_mm": 0})");
+  SimOnPty sim(robot, "", "0", "ros-arduino-bridge");
+  ASSERT_FALSE(sim.path().empty());
+  const std::string out = temp("bridge_exit_out");
+  static_cast<void>(shell("rm -rf " + out));
+  enum class Way { sigint_driving, sigterm_reading, end_of_input_enter, none };
+  const Way ways[] = {Way::sigint_driving, Way::sigterm_reading, Way::end_of_input_enter,
+                      Way::none};
+  std::size_t kept = 0;
+  for (const Way way : ways) {
+    SCOPED_TRACE(static_cast<int>(way));
+    std::vector<std::string> args = {"--port", sim.path(), "--json"};
+    if (kept == 0 && way == Way::sigint_driving) {
+      args.insert(args.end(), {"--protocol", "ros-arduino-bridge", "--wheel-diameter-mm", "60",
+                               "--wheelbase-mm", "150", "--counts-per-rev", "1440", "--procedure",
+                               "fit", "--runs", "4", "--side-m", "0.4", "--out", out});
+    } else {
+      args.insert(args.end(), {"--resume", out});
+    }
+    Person p(args);
+    std::size_t enters = 0, readings = 0;
+    bool stopped = false;
+    const auto deadline = PersonClock::now() + std::chrono::seconds(180);
+    while (!stopped && !p.closed() && PersonClock::now() < deadline) {
+      if (p.count("press Enter to start") > enters) {
+        if (way == Way::end_of_input_enter) {
+          p.close_input();
+          stopped = true;
+          break;
+        }
+        p.type("");
+        ++enters;
+      } else if (p.count("Measured stop point") > readings) {
+        if (way == Way::sigterm_reading) {
+          p.signal(SIGTERM);
+          stopped = true;
+          break;
+        }
+        p.type(tape_reading(p));
+        ++readings;
+      } else if (way == Way::sigint_driving && enters == 1 && p.count("Run ") >= 2) {
+        ::usleep(500000);  // half a second into the run
+        p.signal(SIGINT);
+        stopped = true;
+        break;
+      }
+      static_cast<void>(p.wait_for("\x01", 1, 0.05));
+    }
+    const int status = p.finish();
+    const json doc = read_json(out + "/session.json");
+    ASSERT_TRUE(doc.is_object()) << p.err;
+    ASSERT_EQ(doc["runs"].size(), kept + readings) << p.err;
+    kept = doc["runs"].size();
+    if (way == Way::none) {
+      ASSERT_EQ(status, 0) << p.err;
+      EXPECT_TRUE(doc["complete"].get<bool>());
+      EXPECT_EQ(kept, 4u);
+      EXPECT_TRUE(exists(out + "/diff_drive_controller.yaml")) << p.err;
+      EXPECT_FALSE(doc["saved"].get<bool>());
+      break;
+    }
+    EXPECT_EQ(status, way == Way::end_of_input_enter ? 2 : 130) << p.err;
+    EXPECT_NE(p.err.find("The robot is stopped"), std::string::npos) << p.err;
+    EXPECT_EQ(p.err.find("did not answer"), std::string::npos) << p.err;
+    EXPECT_FALSE(doc["complete"].get<bool>());
+    EXPECT_TRUE(wheels_still(sim.path()));
   }
 }
 

@@ -13,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -93,15 +94,30 @@ inline double stored(const std::string& robot, const std::string& store, const s
 /// 0), or in real time (speed 1: a run takes the seconds it takes on the floor).
 class SimOnPty {
  public:
-  SimOnPty(const std::string& robot, const std::string& store, const std::string& speed = "0") {
+  /// odocal-sim on a pty; `protocol` (e.g. "ros-arduino-bridge") runs that firmware instead, and
+  /// an empty `store` runs without one.
+  SimOnPty(const std::string& robot, const std::string& store, const std::string& speed = "0",
+           const std::string& protocol = "") {
     int out[2];
     EXPECT_EQ(::pipe(out), 0);
+    std::vector<std::string> args = {bin("odocal-sim"), "--pty", "--speed", speed,
+                                     "--robot",         robot};
+    if (!store.empty()) {
+      args.insert(args.end(), {"--store", store});
+    }
+    if (!protocol.empty()) {
+      args.insert(args.end(), {"--protocol", protocol});
+    }
     pid_ = ::fork();
     if (pid_ == 0) {
       ::dup2(out[1], STDOUT_FILENO);
       ::close(out[0]);
-      ::execl(bin("odocal-sim").c_str(), "odocal-sim", "--pty", "--speed", speed.c_str(), "--robot",
-              robot.c_str(), "--store", store.c_str(), static_cast<char*>(nullptr));
+      std::vector<char*> argv;
+      for (std::string& a : args) {
+        argv.push_back(a.data());
+      }
+      argv.push_back(nullptr);
+      ::execv(argv[0], argv.data());
       ::_exit(127);
     }
     ::close(out[1]);

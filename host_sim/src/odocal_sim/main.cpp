@@ -31,6 +31,7 @@ struct Options {
   double speed = 1.0;
   std::uint64_t seed = 1;
   std::string protocol = "odocal";
+  double reset_after_s = 0.0;  ///< a reset of the MCU after this much robot time (0: none)
 };
 
 /// @return -1 to go on, else the exit status (2 for a refused command line, 0 for --help).
@@ -53,6 +54,12 @@ int parse_options(int argc, char** argv, Options& o) {
                  "the robot's firmware: odocal (default), or ros-arduino-bridge (a robot running "
                  "ROSArduinoBridge: e, r, m, u, b and the tape's `measure`; docs/simulation.md)")
       ->check(CLI::IsMember({"odocal", "ros-arduino-bridge"}));
+  app.add_option("--reset-after", o.reset_after_s,
+                 "fault injection: the robot's MCU resets once after this many seconds of robot "
+                 "time (a brown-out: odometry, trials and unsaved parameters gone, the saved ones "
+                 "loaded, the start-up line printed again); SIGUSR1 resets it at once "
+                 "(docs/simulation.md)")
+      ->check(toolkit::range_check(0.001, 1.0e7, "s"));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -170,15 +177,23 @@ class Stepper {
   std::uint32_t since_rate_check_ = 0u;
 };
 
+/// A reset asked for: SIGUSR1, or the robot time of --reset-after reached (0: none).
+bool reset_due(const host::SimulatedRobot& robot, double reset_after_s) {
+  return take_reset_request() || (reset_after_s > 0.0 && robot.simulated_s() >= reset_after_s);
+}
+
 /// The pty in lockstep: each input line gets a fixed quantum of robot time (enough for a reply,
 /// a `stream` line at 20 Hz or more, and a stop to settle), motions run to their end, and time
 /// waits while the host thinks or has not taken what the robot wrote.
-void run_lockstep(host::SimulatedRobot& robot, console::Console& console, ConsoleIo& io,
-                  Stepper& stepper) {
+bool run_lockstep(host::SimulatedRobot& robot, console::Console& console, ConsoleIo& io,
+                  Stepper& stepper, double reset_after_s) {
   constexpr double lockstep_quantum_s = 0.05;
-  std::uint64_t lines_seen = 0u;
+  std::uint64_t lines_seen = io.counting->lines();
   double quantum_end_s = 0.0;
   while (!stop_requested()) {
+    if (reset_due(robot, reset_after_s)) {
+      return true;
+    }
     console.poll(robot.plant().clock().now_us());
     if (io.counting->lines() != lines_seen) {
       lines_seen = io.counting->lines();
@@ -201,6 +216,7 @@ void run_lockstep(host::SimulatedRobot& robot, console::Console& console, Consol
     pollfd wait{io.pty->input_fd(), POLLIN, 0};
     static_cast<void>(::poll(&wait, 1, 50));
   }
+  return false;
 }
 
 /// Feeds the next scripted line when the previous one is answered and its motion is over; a
@@ -231,11 +247,14 @@ bool feed_script(host::SimulatedRobot& robot, console::Console& console, Console
 
 /// Stdio (scripted or a terminal) or a pty at a set speed: simulated time paced by the wall
 /// clock (or as fast as possible), input read as it comes.
-void run_paced(host::SimulatedRobot& robot, console::Console& console, ConsoleIo& io,
-               Stepper& stepper, double speed) {
+bool run_paced(host::SimulatedRobot& robot, console::Console& console, ConsoleIo& io,
+               Stepper& stepper, double speed, double reset_after_s) {
   Pacer pacer(speed);
   bool input_done = false;
   while (!stop_requested()) {
+    if (reset_due(robot, reset_after_s)) {
+      return true;
+    }
     if (io.script) {
       if (!feed_script(robot, console, io, pacer, input_done)) {
         break;
@@ -253,14 +272,15 @@ void run_paced(host::SimulatedRobot& robot, console::Console& console, ConsoleIo
       static_cast<void>(::poll(&wait, 1, 5));
     }
   }
+  return false;
 }
 
 /// The banner (on a pty once the terminal side has sent its first byte: printed at once, it
 /// would be gone before picocom or screen attach), and on a terminal the robot file's nominal
 /// geometry when it is what the firmware starts with.
 void start_console(host::SimulatedRobot& robot, console::Console& console, ConsoleIo& io,
-                   const Options& o, const host::RobotSpec& spec) {
-  if (io.pty) {
+                   const Options& o, const host::RobotSpec& spec, bool first_boot) {
+  if (io.pty && first_boot) {
     while (!stop_requested()) {
       pollfd wait{io.pty->input_fd(), POLLIN, 0};
       if (::poll(&wait, 1, 100) > 0) {
@@ -305,6 +325,52 @@ int run_bridge_robot(const Options& o, const host::RobotSpec& spec) {
   return run_bridge(spec, o.seed, o.use_pty, o.speed);
 }
 
+/// What one boot of the simulated robot's firmware runs with.
+struct Boot {
+  const Options& o;
+  const host::RobotSpec& spec;
+  params::ParamStore& store;
+  ConsoleIo& io;
+  const params::ParamSet& defaults;
+  std::uint64_t number;  ///< 0 at power-up, then one more per reset
+};
+
+/// One boot: a fresh control loop and console (the robot's physics too: a run's measurement is
+/// taken in its odometry frame, which a reset starts again), the saved parameters loaded.
+/// @return whether it ended in a reset.
+bool run_boot(const Boot& b) {
+  const ConsoleIo& io = b.io;
+  // A reset draws the robot's random terms afresh (another stretch of floor, another slip).
+  host::SimulatedRobot robot(b.spec, b.o.seed + b.number);
+  robot.measure_tick_time(true);  // `status` reports the tick's host time
+  console::ConsoleOptions console_options;
+  console_options.echo = io.terminal ? console::EchoMode::automatic : console::EchoMode::off;
+  console_options.crlf = io.terminal;
+  console_options.banner = io.terminal;
+  console_options.defaults = &b.defaults;
+  // The published extended UMBmark lays 10 mm cables; a robot file's bump_height_mm replaces
+  // that height, as in `odocal sim extended`.
+  SimCommand sim_command(robot,
+                         b.spec.truth.bump_height_m > 0.0 ? b.spec.truth.bump_height_m : 0.010);
+  console_options.extra.name = "measure";
+  console_options.extra.usage = SimCommand::usage;
+  console_options.extra.handler = SimCommand::handle;
+  console_options.extra.context = &sim_command;
+  console::Console console(*io.stream, robot.loop(), b.store, console_options);
+  start_console(robot, console, b.io, b.o, b.spec, b.number == 0u);
+  Stepper stepper(robot, sim_command);
+  // --reset-after counts from power-up: the first boot only.
+  const double reset_after_s = b.number == 0u ? b.o.reset_after_s : 0.0;
+  const bool reset = io.lockstep
+                         ? run_lockstep(robot, console, b.io, stepper, reset_after_s)
+                         : run_paced(robot, console, b.io, stepper, b.o.speed, reset_after_s);
+  // Let the last reply reach the output (a reset cuts it off, as on the robot).
+  for (int i = 0; i < 1000 && !reset && !console.idle(); ++i) {
+    console.poll(robot.plant().clock().now_us());
+  }
+  return reset;
+}
+
 int run(const Options& o) {
   host::RobotSpec spec = host::default_robot();
   std::string error;
@@ -315,8 +381,6 @@ int run(const Options& o) {
   if (o.protocol == "ros-arduino-bridge") {
     return run_bridge_robot(o, spec);
   }
-  host::SimulatedRobot robot(spec, o.seed);
-  robot.measure_tick_time(true);  // `status` reports the tick's host time
   Storage storage;
   if (!open_storage(o.store_file, storage, error)) {
     std::fprintf(stderr, "odocal-sim: %s\n", error.c_str());
@@ -333,30 +397,14 @@ int run(const Options& o) {
     std::fprintf(stderr, "odocal-sim: %s: %s\n", o.robot_file.c_str(), error.c_str());
     return 2;
   }
-  console::ConsoleOptions console_options;
-  console_options.echo = io.terminal ? console::EchoMode::automatic : console::EchoMode::off;
-  console_options.crlf = io.terminal;
-  console_options.banner = io.terminal;
-  console_options.defaults = &defaults;
-  // The published extended UMBmark lays 10 mm cables; a robot file's bump_height_mm replaces
-  // that height, as in `odocal sim extended`.
-  SimCommand sim_command(robot, spec.truth.bump_height_m > 0.0 ? spec.truth.bump_height_m : 0.010);
-  console_options.extra.name = "measure";
-  console_options.extra.usage = SimCommand::usage;
-  console_options.extra.handler = SimCommand::handle;
-  console_options.extra.context = &sim_command;
-  console::Console console(*io.stream, robot.loop(), store, console_options);
   install_stop_handlers();
-  start_console(robot, console, io, o, spec);
-  Stepper stepper(robot, sim_command);
-  if (io.lockstep) {
-    run_lockstep(robot, console, io, stepper);
-  } else {
-    run_paced(robot, console, io, stepper, o.speed);
-  }
-  // Let the last reply reach the output.
-  for (int i = 0; i < 1000 && !console.idle(); ++i) {
-    console.poll(robot.plant().clock().now_us());
+  // Each pass is one boot of the robot's MCU on the same pty and store; a reset (SIGUSR1,
+  // --reset-after) ends it and the next one starts as the firmware does at power-up.
+  for (std::uint64_t boot = 0;; ++boot) {
+    const Boot b{o, spec, store, io, defaults, boot};
+    if (!run_boot(b) || stop_requested()) {
+      break;
+    }
   }
   return 0;
 }

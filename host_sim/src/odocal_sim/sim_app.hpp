@@ -17,8 +17,10 @@ namespace odocal::sim_app {
 
 /// Set by SIGINT and SIGTERM: the main loop ends, scripted input stops being read.
 [[nodiscard]] bool stop_requested();
-/// Installs the SIGINT and SIGTERM handlers that set it.
+/// Installs the SIGINT and SIGTERM handlers that set it, and SIGUSR1's, which asks for a reset.
 void install_stop_handlers();
+/// Whether SIGUSR1 asked for a reset of the robot since the last call (fault injection).
+[[nodiscard]] bool take_reset_request();
 
 /// The console's view of a stream whose input the program feeds itself (scripted stdin): it
 /// writes through, and gives the console the script's bytes as they are fed.

@@ -14,9 +14,14 @@ namespace odocal::sim_app {
 namespace {
 
 std::atomic<bool> stop_flag{false};
+std::atomic<bool> reset_flag{false};
 
 void on_signal(int) {
   stop_flag.store(true);
+}
+
+void on_reset_signal(int) {
+  reset_flag.store(true);
 }
 
 }  // namespace
@@ -30,6 +35,13 @@ void install_stop_handlers() {
   action.sa_handler = on_signal;
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
+  struct sigaction reset {};
+  reset.sa_handler = on_reset_signal;
+  sigaction(SIGUSR1, &reset, nullptr);
+}
+
+bool take_reset_request() {
+  return reset_flag.exchange(false);
 }
 
 std::size_t ScriptedStream::do_read(std::uint8_t* out, std::size_t capacity) {

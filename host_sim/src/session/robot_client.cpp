@@ -74,6 +74,12 @@ std::map<std::string, std::string> hash_line_pairs(const std::string& line) {
 }
 
 void RobotClient::route(const std::string& line) {
+  if (watch_restarts_ && line.rfind("# odocal ", 0) == 0 &&
+      line.find(" console ") != std::string::npos) {
+    watch_restarts_ = false;
+    throw RobotRestarted(channel_.name() + ": the robot restarted (it printed its start-up line '" +
+                         line + "')");
+  }
   if (line.rfind("# ticks", 0) == 0) {
     if (ticks_) {
       ticks_(line);

@@ -214,6 +214,7 @@ void open_console(RobotClient& robot, MeasurementSource& measurements,
   robot.expect_ok("stop");
   robot.expect_ok("stream off");
   robot.drain(100);
+  robot.watch_restarts(true);  // a start-up line from now on is a reset in the session
   const Reply version = robot.expect_ok("version");
   log << "odocal session " << to_string(options.procedure) << ": robot " << version.pairs.at("name")
       << " "

@@ -109,6 +109,23 @@ void put_back(Context& c) {
   }
 }
 
+/// After a reset: what the robot lost, and that the run under way does not count.
+void say_what_a_reset_lost(Context& c) {
+  std::string applied;
+  if (c.last_factors && !as_started(c, Settings{*c.last_factors, c.initial_cruise_mps, {}})) {
+    const Factors& f = *c.last_factors;
+    applied = fmt::format(
+        " This session had applied c_l={:.6f} c_r={:.6f} wheelbase_mm={:.3f} f_lat={:.6f} "
+        "f_lon={:.6f}: --resume applies them again (its steps are replayed) before it goes on.",
+        f.c_l, f.c_r, f.wheelbase_mm, f.f_lat, f.f_lon);
+  }
+  c.log
+      << "A reset (a brown-out, a loose battery lead, a watchdog) loses the robot's odometry, its "
+         "trials and every factor not saved; it starts again with its saved ones. The run that "
+         "was under way, if any, is not counted; every run measured before is kept."
+      << applied << "\n";
+}
+
 }  // namespace
 
 void end_early(Context& c, const std::exception& why) {
@@ -126,6 +143,9 @@ void end_early(Context& c, const std::exception& why) {
     by_signal = true;
   }
   c.log << "\nodocal session: " << reason << "\n";
+  if (dynamic_cast<const RobotRestarted*>(&why) != nullptr) {
+    say_what_a_reset_lost(c);
+  }
   put_back(c);
   try {
     c.write_session_json(false, c.partial, false, false, reason);

@@ -85,6 +85,12 @@ class Context {
   /// spot, in `segments` segments, at the robot's cruise speed, turn rate and settle time.
   double path_seconds(double length_m, double turn_rad, int segments);
 
+  /// The robot's tick count at the last check (unset: none yet).
+  std::optional<std::int64_t> last_ticks;
+  /// Before run `index` (0-based) moves the robot: `status`; a tick count that went back since the
+  /// last check throws RobotRestarted (the robot restarted while it waited for the run).
+  void check_still_up(std::size_t index);
+
   /// The user's moment (with --port, without --no-wait): says `prompt`, asks for Enter and waits
   /// for it; nothing that moves the robot may be sent before it returns. `before` names what
   /// comes ("run 3", "the self-test") in the message for the end of the input.

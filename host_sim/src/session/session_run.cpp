@@ -180,6 +180,24 @@ SessionPose Context::measure(const RunRecord& r, std::size_t index, const Factor
   return pose;
 }
 
+void Context::check_still_up(std::size_t index) {
+  const Reply status = robot.expect_ok("status");
+  const auto ticks = status.pairs.count("ticks") != 0u
+                         ? toolkit::parse_integer(status.text("ticks"))
+                         : std::nullopt;
+  if (!ticks) {
+    return;  // firmware that does not count its ticks: the start-up line alone tells a reset
+  }
+  // The control tick counts up from power-up (1 kHz: 49 days to wrap its 32 bits); between two
+  // runs it has moved on. Back or still: the robot restarted.
+  if (last_ticks && *ticks <= *last_ticks && *last_ticks < 4000000000LL) {
+    throw RobotRestarted(
+        fmt::format("the robot restarted before run {}: its tick count went back from {} to {}",
+                    index + 1, *last_ticks, *ticks));
+  }
+  last_ticks = *ticks;
+}
+
 void Context::wait_for_enter(const std::string& prompt, const std::string& before) {
   if (options.start_in == nullptr) {
     return;
@@ -220,6 +238,7 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
                              "start line, hands off;",
                              index + 1, planned, label),
                  fmt::format("run {}", index + 1));
+  check_still_up(index);
   RunRecord r;
   r.label = label;
   r.command = command;

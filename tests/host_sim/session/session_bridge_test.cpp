@@ -232,19 +232,6 @@ bool wheels_still(const std::string& pty) {
   return !last.empty() && last == previous;
 }
 
-/// The odometry's pose of the latest run, as a careful person with a tape reads it (the robot
-/// barely drifts from it over these short runs).
-std::string tape_reading(const Person& p) {
-  const std::string& e = p.err;
-  const auto at = e.rfind("odometry says x=");
-  const double x = std::atof(e.c_str() + at + 16);
-  const double y = std::atof(e.c_str() + e.find("y=", at) + 2);
-  const double theta = std::atof(e.c_str() + e.find("heading ", at) + 8);
-  char text[96];
-  std::snprintf(text, sizeof text, "%.1f %.1f %.2f", x, y, theta);
-  return text;
-}
-
 // A ROSArduinoBridge robot on a serial port, the person at the session interrupting it while it
 // drives (SIGINT), at a reading (SIGTERM) and at the Enter before a run (end of input): each time
 // the wheels are stopped, every reading kept, and `--resume` goes on; the last session ends
@@ -293,7 +280,7 @@ TEST(SessionBridge, EveryWayOutStopsTheRobotKeepsItsReadingsAndResumes) {
           stopped = true;
           break;
         }
-        p.type(tape_reading(p));
+        p.type(odometry_reading(p));
         ++readings;
       } else if (way == Way::sigint_driving && enters == 1 && p.count("Run ") >= 2) {
         ::usleep(500000);  // half a second into the run

@@ -136,6 +136,8 @@ class SimOnPty {
     ::waitpid(pid_, &status, 0);
   }
   const std::string& path() const { return path_; }
+  /// Sends `number` to the simulator (SIGUSR1: its MCU resets, docs/simulation.md).
+  void signal(int number) const { ::kill(pid_, number); }
 
  private:
   pid_t pid_ = -1;

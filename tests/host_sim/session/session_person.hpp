@@ -201,4 +201,17 @@ inline std::size_t rows_of(const std::string& path) {
   return rows;
 }
 
+/// What a careful person with a tape reads for the latest run of a robot that barely drifts over
+/// short runs: the odometry's pose the session showed.
+inline std::string odometry_reading(const Person& p) {
+  const std::string& e = p.err;
+  const auto at = e.rfind("odometry says x=");
+  const double x = std::atof(e.c_str() + at + 16);
+  const double y = std::atof(e.c_str() + e.find("y=", at) + 2);
+  const double theta = std::atof(e.c_str() + e.find("heading ", at) + 8);
+  char text[96];
+  std::snprintf(text, sizeof text, "%.1f %.1f %.2f", x, y, theta);
+  return text;
+}
+
 }  // namespace odocal_session_test

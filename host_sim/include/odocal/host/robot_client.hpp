@@ -31,6 +31,13 @@ struct Reply {
 
 /// The console client. Every command waits for its one reply; `#` lines seen meanwhile go to the
 /// async queue (`# done`, `# trial`) or to the tick handler (`# ticks`).
+/// The robot restarted in the middle of the session (a brown-out, a watchdog): its console printed
+/// its start-up line, or its tick count went back. What the MCU held in RAM is gone.
+class RobotRestarted : public LinkError {
+ public:
+  using LinkError::LinkError;
+};
+
 class RobotClient {
  public:
   explicit RobotClient(LineChannel& channel) : channel_(channel) {}
@@ -50,12 +57,16 @@ class RobotClient {
   bool pump(int timeout_ms);
   /// Discards queued async lines (e.g. a `# done` of a motion from before the session).
   void drain(int quiet_ms);
+  /// From now on the robot's start-up line (`# odocal ... console ...`) throws RobotRestarted
+  /// from whatever read meets it (once: the clean-up that follows must talk to the robot).
+  void watch_restarts(bool on) { watch_restarts_ = on; }
 
  private:
   void route(const std::string& line);
   LineChannel& channel_;
   std::deque<std::string> async_;
   std::function<void(const std::string&)> ticks_;
+  bool watch_restarts_ = false;
 };
 
 /// `key=value` pairs of a `#` line such as "# done trial=3 path=line".

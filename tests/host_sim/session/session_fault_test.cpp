@@ -1,0 +1,126 @@
+// Faults on the robot (DESIGN "Faults on the link and on the robot"): a robot whose MCU resets in
+// the middle of a session (odocal-sim's injected reset) stops the session with what was measured
+// kept, and `--resume` puts back what the reset lost and ends complete and saved.
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "session_harness.hpp"
+#include "session_person.hpp"
+
+namespace odocal_session_test {
+namespace {
+
+/// A robot with its left encoder wired backwards, no slip: the self-test finds it, applies
+/// wiring_fix 4 (not saved until the end) and checks the fix with a run it measures. A reset
+/// loses that fix.
+constexpr const char* miswired_robot =
+    R"({"wheel_diameter_mm": 60, "wheelbase_mm": 150, "counts_per_rev": 1440,
+        "true_left_diameter_mm": 59.9, "true_right_diameter_mm": 60.1, "true_wheelbase_mm": 152,
+        "slip_sigma": 0, "bump_height_mm": 0, "measure_sigma_mm": 0,
+        "wiring": "left_encoder_reversed"})";
+
+/// The reading of the latest run: the odometry's pose, except for the diagnosis run's heading
+/// (`selftest left`: the reversed encoder counted backwards, the robot really turned the other
+/// way).
+std::string reading(const Person& p) {
+  std::string text = odometry_reading(p);
+  const std::string& e = p.err;
+  const auto prompt = e.rfind("\nRun ", e.rfind("odometry says x="));
+  if (e.compare(e.find('(', prompt) + 1, 13, "selftest left") == 0) {
+    const auto space = text.rfind(' ');
+    const double theta = -std::atof(text.c_str() + space + 1);
+    text = text.substr(0, space + 1) + std::to_string(theta);
+  }
+  return text;
+}
+
+enum class When { between_runs, while_driving, never };
+
+/// Answers the session as a person would; at the moment `when` (the reading of run `at`, or
+/// while the `at`-th motion after an Enter drives) the robot resets. Returns the readings typed.
+std::size_t answer_until_reset(Person& p, const SimOnPty& sim, When when, std::size_t at) {
+  std::size_t enters = 0, readings = 0;
+  bool reset = false;
+  const auto deadline = PersonClock::now() + std::chrono::seconds(300);
+  while (!p.closed() && PersonClock::now() < deadline) {
+    if (p.count("press Enter to start") > enters) {
+      p.type("");
+      ++enters;
+    } else if (p.count("Measured stop point") > readings) {
+      if (!reset && when == When::between_runs && readings + 1 == at) {
+        sim.signal(SIGUSR1);  // while the person measures: the next run must not start
+        reset = true;
+      }
+      p.type(reading(p));
+      ++readings;
+    } else if (!reset && when == When::while_driving && enters == at) {
+      ::usleep(250000);  // a quarter of a second into the wheel's drive
+      sim.signal(SIGUSR1);
+      reset = true;
+    }
+    static_cast<void>(p.wait_for("\x01", 1, 0.05));
+  }
+  return readings;
+}
+
+void reset_and_resume(When when, std::size_t at, const std::string& tag) {
+  ::signal(SIGPIPE, SIG_IGN);
+  const std::string robot = write(tag + ".json", miswired_robot);
+  const std::string store = temp(tag + ".store");
+  std::remove(store.c_str());
+  const std::string out = temp(tag + "_out");
+  static_cast<void>(shell("rm -rf " + out));
+  // An earlier calibration saved on the robot: what a reset brings back.
+  shell(bin("odocal-sim") + " --robot " + robot + " --store " + store + " <" +
+        write(tag + "_prepare.txt", "set c_l 1.001\nset c_r 0.999\nset wheelbase_mm 151\nsave\n"));
+  std::size_t kept = 0;
+  {
+    // While it drives, a robot in real time, so that the reset comes mid-run.
+    SimOnPty sim(robot, store, when == When::while_driving ? "1" : "0");
+    ASSERT_FALSE(sim.path().empty());
+    Person p({"--port", sim.path(), "--procedure", "selftest", "--yes", "--json", "--out", out});
+    kept = answer_until_reset(p, sim, when, at);
+    const int status = p.finish();
+    EXPECT_EQ(status, 2) << p.err;
+    EXPECT_NE(p.err.find("the robot restarted"), std::string::npos) << p.err;
+    EXPECT_NE(p.err.find("is not counted"), std::string::npos) << p.err;
+    EXPECT_NE(p.err.find("--resume " + out), std::string::npos) << p.err;
+    const json doc = read_json(out + "/session.json");
+    ASSERT_TRUE(doc.is_object());
+    EXPECT_FALSE(doc["complete"].get<bool>());
+    // Every reading typed is kept, the run under way is not.
+    EXPECT_EQ(doc["runs"].size(), kept) << p.err;
+    EXPECT_EQ(rows_of(out + "/measurements.csv"), kept);
+    EXPECT_EQ(kept, 1u) << p.err;  // the diagnosis
+  }
+  // The same robot (its store), not reset again: the session resumes and ends complete and saved.
+  SimOnPty sim(robot, store);
+  Person p({"--port", sim.path(), "--resume", out, "--yes", "--json"});
+  const std::size_t more = answer_until_reset(p, sim, When::never, 0);
+  ASSERT_EQ(p.finish(), 0) << p.err;
+  const json done = json::parse(p.out, nullptr, false);
+  ASSERT_TRUE(done.is_object()) << p.err;
+  EXPECT_TRUE(done["complete"].get<bool>());
+  EXPECT_TRUE(done["saved"].get<bool>());
+  EXPECT_EQ(done["runs"].size(), kept + more);
+  // The fix the reset lost was applied again before the check ran, the check passed, and the fix
+  // is saved; the factors saved before the session are still those.
+  EXPECT_NE(p.err.find("fix"), std::string::npos) << p.err;
+  EXPECT_EQ(stored(robot, store, "wiring_fix"), 4.0);
+  EXPECT_NEAR(stored(robot, store, "c_l"), 1.001, 1e-6);
+}
+
+TEST(SessionFaults, AResetBetweenRunsStopsTheSessionAndResumeEndsItSaved) {
+  // While the person measures the diagnosis run (the fix is then applied, not saved): the check
+  // run must not drive on a robot that lost the fix.
+  reset_and_resume(When::between_runs, 1, "fault_between");
+}
+
+TEST(SessionFaults, AResetWhileARunDrivesDoesNotCountThatRun) {
+  // The third motion after an Enter: the self-test, the diagnosis, then the check run.
+  reset_and_resume(When::while_driving, 3, "fault_driving");
+}
+
+}  // namespace
+}  // namespace odocal_session_test

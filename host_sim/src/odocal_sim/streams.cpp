@@ -38,6 +38,9 @@ void install_stop_handlers() {
   struct sigaction reset {};
   reset.sa_handler = on_reset_signal;
   sigaction(SIGUSR1, &reset, nullptr);
+  // SIGUSR2: the adapter unplugged. The program ends and its pty with it: the host's end of the
+  // line hangs up.
+  sigaction(SIGUSR2, &action, nullptr);
 }
 
 bool take_reset_request() {

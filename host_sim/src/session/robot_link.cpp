@@ -62,6 +62,9 @@ void FdChannel::write_line(const std::string& line) {
       done += static_cast<std::size_t>(n);
       continue;
     }
+    if (n < 0 && (errno == EIO || errno == ENXIO || errno == ENODEV)) {
+      throw LinkLost(system_error(name_ + ": the port hung up: write"));
+    }
     if (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
       throw LinkError(system_error(name_ + ": write"));
     }
@@ -102,7 +105,7 @@ bool FdChannel::read_line(std::string& line, int timeout_ms) {
         continue;
       }
       if (n == 0 || (n < 0 && errno == EIO) || (wait.revents & POLLHUP) != 0) {
-        throw LinkError(name_ + ": the robot closed the connection");
+        throw LinkLost(name_ + ": the port hung up (the robot closed the connection)");
       }
     }
     if (remaining_ms(deadline) == 0) {

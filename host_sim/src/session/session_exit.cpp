@@ -146,7 +146,17 @@ void end_early(Context& c, const std::exception& why) {
   if (dynamic_cast<const RobotRestarted*>(&why) != nullptr) {
     say_what_a_reset_lost(c);
   }
-  put_back(c);
+  if (dynamic_cast<const LinkLost*>(&why) != nullptr) {
+    // Nothing can reach the robot: no stop, no put-back to try.
+    c.log << "The robot's port hung up (a USB adapter unplugged, a cable pulled): nothing could "
+             "be sent to stop the robot or to put its factors back. If it still moves, switch it "
+             "off; nothing was saved on it. The run under way, if any, is not counted; every "
+             "reading typed is kept. Plug the adapter in again and continue with: odocal session "
+             "--resume "
+          << c.options.out_dir << " --port DEV (DEV: the port it has now)\n";
+  } else {
+    put_back(c);
+  }
   try {
     c.write_session_json(false, c.partial, false, false, reason);
     write_report(c, c.partial, "", false, false, reason);

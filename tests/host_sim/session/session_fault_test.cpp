@@ -1,6 +1,7 @@
-// Faults on the robot (DESIGN "Faults on the link and on the robot"): a robot whose MCU resets in
-// the middle of a session (odocal-sim's injected reset) stops the session with what was measured
-// kept, and `--resume` puts back what the reset lost and ends complete and saved.
+// Faults on the link and on the robot (DESIGN "Faults on the link and on the robot"): a robot
+// whose MCU resets in the middle of a session, or whose port hangs up (odocal-sim's injected
+// faults), stops the session with what was measured kept, and `--resume` (on the port the robot
+// has now) puts back what the fault lost and ends complete and saved.
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -39,7 +40,8 @@ enum class When { between_runs, while_driving, never };
 
 /// Answers the session as a person would; at the moment `when` (the reading of run `at`, or
 /// while the `at`-th motion after an Enter drives) the robot resets. Returns the readings typed.
-std::size_t answer_until_reset(Person& p, const SimOnPty& sim, When when, std::size_t at) {
+std::size_t answer_until_fault(Person& p, const SimOnPty& sim, When when, std::size_t at,
+                               int fault) {
   std::size_t enters = 0, readings = 0;
   bool reset = false;
   const auto deadline = PersonClock::now() + std::chrono::seconds(300);
@@ -49,14 +51,14 @@ std::size_t answer_until_reset(Person& p, const SimOnPty& sim, When when, std::s
       ++enters;
     } else if (p.count("Measured stop point") > readings) {
       if (!reset && when == When::between_runs && readings + 1 == at) {
-        sim.signal(SIGUSR1);  // while the person measures: the next run must not start
+        sim.signal(fault);  // while the person measures: the next run must not start
         reset = true;
       }
       p.type(reading(p));
       ++readings;
     } else if (!reset && when == When::while_driving && enters == at) {
       ::usleep(250000);  // a quarter of a second into the wheel's drive
-      sim.signal(SIGUSR1);
+      sim.signal(fault);
       reset = true;
     }
     static_cast<void>(p.wait_for("\x01", 1, 0.05));
@@ -64,7 +66,9 @@ std::size_t answer_until_reset(Person& p, const SimOnPty& sim, When when, std::s
   return readings;
 }
 
-void reset_and_resume(When when, std::size_t at, const std::string& tag) {
+/// `fault`: SIGUSR1, odocal-sim's MCU resets; SIGUSR2, its port hangs up (the adapter
+/// unplugged: the resume then runs on another port).
+void fault_and_resume(When when, std::size_t at, int fault, const std::string& tag) {
   ::signal(SIGPIPE, SIG_IGN);
   const std::string robot = write(tag + ".json", miswired_robot);
   const std::string store = temp(tag + ".store");
@@ -80,10 +84,11 @@ void reset_and_resume(When when, std::size_t at, const std::string& tag) {
     SimOnPty sim(robot, store, when == When::while_driving ? "1" : "0");
     ASSERT_FALSE(sim.path().empty());
     Person p({"--port", sim.path(), "--procedure", "selftest", "--yes", "--json", "--out", out});
-    kept = answer_until_reset(p, sim, when, at);
+    kept = answer_until_fault(p, sim, when, at, fault);
     const int status = p.finish();
     EXPECT_EQ(status, 2) << p.err;
-    EXPECT_NE(p.err.find("the robot restarted"), std::string::npos) << p.err;
+    EXPECT_NE(p.err.find(fault == SIGUSR1 ? "the robot restarted" : "hung up"), std::string::npos)
+        << p.err;
     EXPECT_NE(p.err.find("is not counted"), std::string::npos) << p.err;
     EXPECT_NE(p.err.find("--resume " + out), std::string::npos) << p.err;
     const json doc = read_json(out + "/session.json");
@@ -94,10 +99,11 @@ void reset_and_resume(When when, std::size_t at, const std::string& tag) {
     EXPECT_EQ(rows_of(out + "/measurements.csv"), kept);
     EXPECT_EQ(kept, 1u) << p.err;  // the diagnosis
   }
-  // The same robot (its store), not reset again: the session resumes and ends complete and saved.
+  // The same robot (its store; after a hang-up on another port), not reset again: the session
+  // resumes and ends complete and saved.
   SimOnPty sim(robot, store);
   Person p({"--port", sim.path(), "--resume", out, "--yes", "--json"});
-  const std::size_t more = answer_until_reset(p, sim, When::never, 0);
+  const std::size_t more = answer_until_fault(p, sim, When::never, 0, 0);
   ASSERT_EQ(p.finish(), 0) << p.err;
   const json done = json::parse(p.out, nullptr, false);
   ASSERT_TRUE(done.is_object()) << p.err;
@@ -114,12 +120,20 @@ void reset_and_resume(When when, std::size_t at, const std::string& tag) {
 TEST(SessionFaults, AResetBetweenRunsStopsTheSessionAndResumeEndsItSaved) {
   // While the person measures the diagnosis run (the fix is then applied, not saved): the check
   // run must not drive on a robot that lost the fix.
-  reset_and_resume(When::between_runs, 1, "fault_between");
+  fault_and_resume(When::between_runs, 1, SIGUSR1, "fault_between");
 }
 
 TEST(SessionFaults, AResetWhileARunDrivesDoesNotCountThatRun) {
   // The third motion after an Enter: the self-test, the diagnosis, then the check run.
-  reset_and_resume(When::while_driving, 3, "fault_driving");
+  fault_and_resume(When::while_driving, 3, SIGUSR1, "fault_driving");
+}
+
+TEST(SessionFaults, AHangUpWhileARunDrivesKeepsTheReadingsAndResumesOnAnotherPort) {
+  fault_and_resume(When::while_driving, 3, SIGUSR2, "fault_hangup");
+}
+
+TEST(SessionFaults, AHangUpBetweenRunsKeepsTheReadingsAndResumesOnAnotherPort) {
+  fault_and_resume(When::between_runs, 1, SIGUSR2, "fault_hangup_between");
 }
 
 }  // namespace

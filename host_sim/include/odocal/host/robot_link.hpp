@@ -17,6 +17,13 @@ class LinkError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The line went away: the port hung up (a USB adapter unplugged, a cable pulled, the simulator
+/// gone). Nothing more can be sent to the robot.
+class LinkLost : public LinkError {
+ public:
+  using LinkError::LinkError;
+};
+
 /// A signal (SIGINT, SIGTERM) asked the program to stop; thrown once, from the first blocking
 /// read or wait after it came, so that the session can stop the robot and put things back.
 class Interrupted : public std::runtime_error {

@@ -78,6 +78,7 @@ class BridgeRobot {
         offset_[1] = plant_.right().encoder_count();
         reset_pid();
         frame_pose_ = plant_.pose();  // the tape's frame: where the robot stands now
+        ++resets_;
         return "OK";
       case 'm':
         two_args(args, a, b);
@@ -194,8 +195,16 @@ class BridgeRobot {
     }
   }
 
-  /// The tape: the true pose plus the robot file's noise, in the frame of the last `r`.
+  /// The tape: the true pose plus the robot file's noise, in the frame of the last `r`; asked
+  /// again where the robot stands still, the same reading (a note taken once).
   std::string measure() {
+    const sim::WorldPose truth = plant_.pose();
+    if (!last_reading_.empty() && truth.x_m == read_at_.x_m && truth.y_m == read_at_.y_m &&
+        truth.theta_rad == read_at_.theta_rad && frames_read_ == resets_) {
+      return last_reading_;
+    }
+    read_at_ = truth;
+    frames_read_ = resets_;
     const sim::WorldPose world = plant_.measure();
     const double dx = world.x_m - frame_pose_.x_m;
     const double dy = world.y_m - frame_pose_.y_m;
@@ -207,6 +216,7 @@ class BridgeRobot {
     std::snprintf(text, sizeof text, "ok x_mm=%.3f y_mm=%.3f theta_deg=%.3f",
                   1000.0 * (c * dx + s * dy), 1000.0 * (-s * dx + c * dy),
                   theta * 180.0 / std::numbers::pi);
+    last_reading_ = text;
     return text;
   }
 
@@ -222,6 +232,10 @@ class BridgeRobot {
   std::uint64_t frame_ = 0;
   std::int64_t offset_[2] = {0, 0};
   sim::WorldPose frame_pose_{};
+  std::uint32_t resets_ = 0;  ///< `r`s so far (each a new tape frame)
+  std::string last_reading_;  ///< the last `measure`, while the robot stands where it was
+  sim::WorldPose read_at_{};
+  std::uint32_t frames_read_ = 0;
 };
 
 /// Splits bytes into lines (CR, LF or CR LF end one) and answers each.

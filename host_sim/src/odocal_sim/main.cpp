@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "odocal/console/console.hpp"
@@ -32,6 +33,7 @@ struct Options {
   std::uint64_t seed = 1;
   std::string protocol = "odocal";
   double reset_after_s = 0.0;  ///< a reset of the MCU after this much robot time (0: none)
+  double corrupt_rate = 0.0;   ///< share of the bytes sent that are lost or garbled
 };
 
 /// @return -1 to go on, else the exit status (2 for a refused command line, 0 for --help).
@@ -60,6 +62,11 @@ int parse_options(int argc, char** argv, Options& o) {
                  "loaded, the start-up line printed again); SIGUSR1 resets it at once "
                  "(docs/simulation.md)")
       ->check(toolkit::range_check(0.001, 1.0e7, "s"));
+  app.add_option("--corrupt", o.corrupt_rate,
+                 "fault injection: this share of the bytes the robot sends is damaged on the line, "
+                 "half lost, half with one bit flipped, from a stream seeded by --seed (0 to 0.5; "
+                 "docs/simulation.md)")
+      ->check(toolkit::range_check(0.0, 0.5, ""));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -356,7 +363,14 @@ bool run_boot(const Boot& b) {
   console_options.extra.usage = SimCommand::usage;
   console_options.extra.handler = SimCommand::handle;
   console_options.extra.context = &sim_command;
-  console::Console console(*io.stream, robot.loop(), b.store, console_options);
+  // --corrupt: the line between the robot and its host damages what the robot sends.
+  std::optional<CorruptingStream> line_noise;
+  hal::ByteStream* stream = io.stream;
+  if (b.o.corrupt_rate > 0.0) {
+    line_noise.emplace(*io.stream, b.o.corrupt_rate, b.o.seed + 7919u * (b.number + 1u));
+    stream = &*line_noise;
+  }
+  console::Console console(*stream, robot.loop(), b.store, console_options);
   start_console(robot, console, b.io, b.o, b.spec, b.number == 0u);
   Stepper stepper(robot, sim_command);
   // --reset-after counts from power-up: the first boot only.

@@ -146,6 +146,32 @@ class SimCommand {
   double spacing_m_ = 0.0;
   std::uint32_t count_ = 0u;
   std::uint32_t resets_seen_ = 0u;
+  bool measured_ = false;  ///< the last reading, kept while the robot stands where it was read
+  sim::WorldPose measured_truth_{};
+  sim::WorldPose measured_pose_{};
+  std::uint32_t measured_resets_ = 0u;
+};
+
+/// Line noise on what the robot sends (fault injection, --corrupt): each byte is lost with
+/// probability rate/2 and has one of its 8 bits flipped with probability rate/2, from its own
+/// seeded random stream (the same seed, the same damage to the same bytes).
+class CorruptingStream final : public hal::ByteStream {
+ public:
+  CorruptingStream(hal::ByteStream& inner, double rate, std::uint64_t seed)
+      : inner_(inner), rate_(rate), state_(seed * 0x9E3779B97F4A7C15ull + 1u) {}
+
+ private:
+  std::size_t do_read(std::uint8_t* out, std::size_t capacity) override {
+    return inner_.read(out, capacity);
+  }
+  std::size_t do_write(const std::uint8_t* data, std::size_t size) override;
+  double uniform();
+
+  hal::ByteStream& inner_;
+  double rate_;
+  std::uint64_t state_;
+  bool decided_ = false;  ///< the next byte's fate is drawn (kept while the line is full)
+  int fate_ = 0;          ///< -1 lost, 0 as sent, 1..8 that bit flipped
 };
 
 /// odocal-sim --protocol ros-arduino-bridge (bridge_robot.cpp): a simulated robot running

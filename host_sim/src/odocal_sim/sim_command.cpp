@@ -48,7 +48,19 @@ void SimCommand::follow_resets() {
 /// `measure` (DESIGN "Trials, logs and the simulated tape measure"): the true pose of the robot
 /// in the odometry frame, plus the robot file's measurement noise.
 void SimCommand::measure(console::Reply& reply) {
-  const sim::WorldPose pose = robot_.measure_in_odometry_frame();
+  // One reading per stop: asked again where the robot has not moved (in the same frame), the tape
+  // reads the same, as a note taken once (a host that asks twice to guard against line noise
+  // gets two equal answers).
+  const sim::WorldPose truth = robot_.plant().pose();
+  const std::uint32_t resets = robot_.loop().status().pose_resets;
+  if (!measured_ || truth.x_m != measured_truth_.x_m || truth.y_m != measured_truth_.y_m ||
+      truth.theta_rad != measured_truth_.theta_rad || resets != measured_resets_) {
+    measured_pose_ = robot_.measure_in_odometry_frame();
+    measured_truth_ = truth;
+    measured_resets_ = resets;
+    measured_ = true;
+  }
+  const sim::WorldPose pose = measured_pose_;
   reply.text("ok")
       .pair("x_mm", pose.x_m * 1000.0, 3)
       .pair("y_mm", pose.y_m * 1000.0, 3)

@@ -122,6 +122,39 @@ void Pacer::wait_for(double simulated_s) const {
   }
 }
 
+double CorruptingStream::uniform() {
+  // splitmix64: a small, seedable stream of its own.
+  std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  z ^= z >> 31;
+  return static_cast<double>(z >> 11) * 0x1.0p-53;
+}
+
+std::size_t CorruptingStream::do_write(const std::uint8_t* data, std::size_t size) {
+  std::size_t taken = 0;
+  while (taken < size) {
+    if (!decided_) {
+      const double u = uniform();
+      fate_ = u < 0.5 * rate_ ? -1 : u < rate_ ? 1 + static_cast<int>(uniform() * 8.0) % 8 : 0;
+      decided_ = true;
+    }
+    if (fate_ < 0) {
+      decided_ = false;  // lost on the line
+      ++taken;
+      continue;
+    }
+    const std::uint8_t byte =
+        fate_ == 0 ? data[taken] : static_cast<std::uint8_t>(data[taken] ^ (1u << (fate_ - 1)));
+    if (inner_.write(&byte, 1u) != 1u) {
+      break;  // the line is full: this byte's fate waits for the next write
+    }
+    decided_ = false;
+    ++taken;
+  }
+  return taken;
+}
+
 bool busy(const drive::LoopStatus& status, const console::Console& console) {
   return status.mode == drive::Mode::path || status.mode == drive::Mode::drive ||
          status.trial_open || console.selftest_running();

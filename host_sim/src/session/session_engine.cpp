@@ -121,13 +121,25 @@ void prepare_out_dir(const std::string& dir, bool create) {
 namespace session {
 
 double Context::get(const std::string& name) {
-  return robot.expect_ok("get " + name).number(name);
+  const Reply reply = robot.query("get " + name);
+  if (!reply.ok) {
+    throw LinkError("robot refused 'get " + name + "': err " + reply.code + " " + reply.message);
+  }
+  return reply.number(name);
 }
 
 double Context::set(const std::string& name, double value) {
   char line[96];
   std::snprintf(line, sizeof line, "set %s %.6f", name.c_str(), value);
-  return robot.expect_ok(line).number(name);
+  // The reply is the value as stored: one that is not what was sent came damaged on the line
+  // (or the robot stored something else): asked again, then read back to be sure.
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    const double stored = robot.expect_ok(line).number(name);
+    if (std::fabs(stored - value) <= 1e-5 * std::max(1.0, std::fabs(value))) {
+      return stored;
+    }
+  }
+  return get(name);
 }
 
 Factors Context::factors() {
@@ -138,7 +150,7 @@ Factors Context::factors() {
   f.f_lat = get("f_lat");
   f.f_lon = get("f_lon");
   // Firmware from before the arc wheelbase has no such parameter: 0, one wheelbase.
-  const Reply arc = robot.command("get wheelbase_arc_mm");
+  const Reply arc = robot.query("get wheelbase_arc_mm");
   f.wheelbase_arc_mm = arc.ok ? arc.number("wheelbase_arc_mm") : 0.0;
   last_factors = f;
   return f;
@@ -215,7 +227,11 @@ void open_console(RobotClient& robot, MeasurementSource& measurements,
   robot.expect_ok("stream off");
   robot.drain(100);
   robot.watch_restarts(true);  // a start-up line from now on is a reset in the session
-  const Reply version = robot.expect_ok("version");
+  const Reply version = robot.query("version");
+  if (!version.ok || version.pairs.count("name") == 0u) {
+    throw LinkError("robot answered 'version' with '" + version.line +
+                    "' (is it an odocal console?)");
+  }
   log << "odocal session " << to_string(options.procedure) << ": robot " << version.pairs.at("name")
       << " "
       << (version.pairs.count("version") != 0u ? version.pairs.at("version") : std::string("?"))
@@ -227,7 +243,7 @@ void open_console(RobotClient& robot, MeasurementSource& measurements,
 void note_initial(Context& c) {
   c.initial = c.factors();
   c.initial_cruise_mps = c.get("v_max_mps");
-  c.initial_unsaved = c.robot.expect_ok("status").text("unsaved") != "0";
+  c.initial_unsaved = c.robot.status().text("unsaved") != "0";
   // wiring_fix: noted by the self-test, the one step that changes it (one console line more
   // here would move the lockstep robot's clock, and every session's ticks with it).
 }

@@ -76,7 +76,7 @@ void put_back(Context& c) {
   try {
     stop_robot(c);
     // A value set and set back again leaves the robot unsaved: its saved set is reloaded then too.
-    const bool unsaved = c.robot.expect_ok("status").text("unsaved") != "0";
+    const bool unsaved = c.robot.status().text("unsaved") != "0";
     if (as_started(c, settings_now(c)) && (c.initial_unsaved || !unsaved)) {
       c.log << "The robot is stopped; its factors and settings are as they were when the session "
                "started.\n";

@@ -85,8 +85,13 @@ class Context {
   /// spot, in `segments` segments, at the robot's cruise speed, turn rate and settle time.
   double path_seconds(double length_m, double turn_rad, int segments);
 
+  /// Sends a run's motion command; a reply damaged on the line is judged by what the robot then
+  /// does (moving, or a newer trial): sent again only when it did not take it.
+  void start_motion(const std::string& command);
   /// The robot's tick count at the last check (unset: none yet).
   std::optional<std::int64_t> last_ticks;
+  /// The trial number of the last run driven (0: none yet).
+  std::int64_t last_trial = 0;
   /// Before run `index` (0-based) moves the robot: `status`; a tick count that went back since the
   /// last check throws RobotRestarted (the robot restarted while it waited for the run).
   void check_still_up(std::size_t index);

@@ -30,7 +30,7 @@ class RobotMeasure final : public MeasurementSource {
  public:
   explicit RobotMeasure(RobotClient& robot) : robot_(robot) {}
   SessionPose take(const RunRecord&, std::size_t, std::size_t) override {
-    const Reply reply = robot_.command("measure");
+    const Reply reply = robot_.query("measure");
     if (!reply.ok) {
       throw LinkError("the robot has no tape measure ('measure': err " + reply.code +
                       "): only odocal-sim has one; give --measurements FILE or type them");

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -52,34 +54,100 @@ class TickLogging {
   TickLogging(const TickLogging&) = delete;
   TickLogging& operator=(const TickLogging&) = delete;
 
-  void start(RunRecord& r) {
-    robot_.on_ticks([&r](const std::string& line) {
+  /// Logs into `r`; a line that is not exactly `# ticks t_ms=T count_l=L count_r=R` with T after
+  /// the last one and counts that moved no faster than `max_counts_per_ms` allows is damaged and
+  /// dropped (counted).
+  void start(RunRecord& r, double max_counts_per_ms) {
+    robot_.on_ticks([this, &r, max_counts_per_ms](const std::string& line) {
       const auto pairs = hash_line_pairs(line);
       const auto t = pairs.find("t_ms"), l = pairs.find("count_l"), c = pairs.find("count_r");
-      if (t == pairs.end() || l == pairs.end() || c == pairs.end()) {
+      if (pairs.size() != 3u || t == pairs.end() || l == pairs.end() || c == pairs.end()) {
+        ++dropped_;
         return;
       }
       const auto tv = toolkit::parse_real(t->second);
       const auto lv = toolkit::parse_integer(l->second), cv = toolkit::parse_integer(c->second);
-      if (tv && lv && cv) {
-        r.ticks.push_back(TickSample{*tv, *lv, *cv});
+      if (!tv || !lv || !cv) {
+        ++dropped_;
+        return;
       }
+      if (!r.ticks.empty()) {
+        const TickSample& last = r.ticks.back();
+        const double dt = *tv - last.t_ms;
+        const double reach = 2.0 + max_counts_per_ms * dt;
+        if (!(dt > 0.0) || std::fabs(static_cast<double>(*lv - last.count_l)) > reach ||
+            std::fabs(static_cast<double>(*cv - last.count_r)) > reach) {
+          ++dropped_;
+          return;
+        }
+      }
+      r.ticks.push_back(TickSample{*tv, *lv, *cv});
     });
   }
   void stop() { robot_.on_ticks(nullptr); }
+  [[nodiscard]] std::size_t dropped() const { return dropped_; }
 
  private:
   RobotClient& robot_;
+  std::size_t dropped_ = 0;
 };
 
-/// Waits for the run's `# done` (within `timeout_s`), showing progress on a terminal.
+/// Removes samples that leave the path their neighbours draw by more than a few counts (a digit
+/// damaged on the line that still reads as a count: the wheels cannot jump and come back).
+/// Returns how many it removed.
+std::size_t drop_jumps(std::vector<TickSample>& ticks) {
+  std::size_t removed = 0;
+  for (std::size_t i = 1; i + 1 < ticks.size();) {
+    const TickSample& a = ticks[i - 1];
+    const TickSample& b = ticks[i + 1];
+    const double share = (ticks[i].t_ms - a.t_ms) / (b.t_ms - a.t_ms);
+    bool jump = false;
+    for (int side = 0; side < 2; ++side) {
+      const double before = static_cast<double>(side == 0 ? a.count_l : a.count_r);
+      const double after = static_cast<double>(side == 0 ? b.count_l : b.count_r);
+      const double here = static_cast<double>(side == 0 ? ticks[i].count_l : ticks[i].count_r);
+      // A wheel's counts between its neighbours', bent by no more than braking can bend them.
+      jump = jump || std::fabs(here - (before + share * (after - before))) >
+                         3.0 + 0.25 * std::fabs(after - before);
+    }
+    if (jump) {
+      ticks.erase(ticks.begin() + static_cast<std::ptrdiff_t>(i));
+      ++removed;
+    } else {
+      ++i;
+    }
+  }
+  return removed;
+}
+
+/// Whether the run is over although its `# done` did not come (lost or damaged on the line): the
+/// robot idle and its latest trial a new one.
+bool over_without_done(Context& c) {
+  const Reply status = c.robot.status();
+  if (!status.ok || status.pairs.count("mode") == 0u || status.pairs.at("mode") != "idle") {
+    return false;
+  }
+  const Reply trial = c.robot.query("trial");
+  const auto number = trial.ok && trial.pairs.count("trial") != 0u
+                          ? toolkit::parse_integer(trial.pairs.at("trial"))
+                          : std::nullopt;
+  return number && *number > c.last_trial;
+}
+
+/// Waits for the run's `# done` (within `timeout_s`), showing progress on a terminal. Every few
+/// seconds without it, asks whether the run is over (its `# done` may have been lost).
 std::map<std::string, std::string> wait_done(Context& c, double expected_s) {
   const double timeout_s = 30.0 + 3.0 * expected_s;
   const auto started = std::chrono::steady_clock::now();
   std::map<std::string, std::string> done;
+  int polls = 0;
   for (;;) {
     done = c.robot.poll_done(c.options.progress ? 2000 : 500);
     if (!done.empty()) {
+      break;
+    }
+    if (++polls % (c.options.progress ? 2 : 6) == 0 && over_without_done(c)) {
+      done = {{"done", "1"}};
       break;
     }
     const double elapsed_s =
@@ -98,13 +166,20 @@ std::map<std::string, std::string> wait_done(Context& c, double expected_s) {
   return done;
 }
 
-/// `trial` into `r`, checked against the `# done` line.
-void read_trial(RobotClient& robot, const std::map<std::string, std::string>& done, RunRecord& r) {
-  const Reply trial = robot.expect_ok("trial");
+/// `trial` into `r` (asked until two answers agree), checked against the `# done` line: a `trial`
+/// that is not newer than the last run's is another run's; a `# done` whose number differs from a
+/// newer one's was damaged on the line.
+void read_trial(RobotClient& robot, const std::map<std::string, std::string>& done, RunRecord& r,
+                std::int64_t last_trial) {
+  const Reply trial = robot.query("trial");
+  if (!trial.ok) {
+    throw LinkError("robot refused 'trial': err " + trial.code + " " + trial.message);
+  }
   r.trial = whole(trial, "trial");
   r.path = trial.text("path");
   const auto done_trial = done.find("trial");
-  if (done_trial != done.end() && done_trial->second != std::to_string(r.trial)) {
+  if (done_trial != done.end() && done_trial->second != std::to_string(r.trial) &&
+      r.trial <= last_trial) {
     throw LinkError("'# done trial=" + done_trial->second + "' but 'trial' reports trial " +
                     std::to_string(r.trial));
   }
@@ -180,22 +255,52 @@ SessionPose Context::measure(const RunRecord& r, std::size_t index, const Factor
   return pose;
 }
 
+void Context::start_motion(const std::string& command) {
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    const Reply reply = robot.command(command);
+    if (reply.ok) {
+      return;
+    }
+    if (reply.code != "garbled") {
+      throw LinkError("robot refused '" + command + "': err " + reply.code + " " + reply.message);
+    }
+    // The reply came damaged: the robot moving, or a new trial already over, says it took it.
+    const Reply status = robot.status();
+    if (status.ok && status.pairs.count("mode") != 0u && status.pairs.at("mode") != "idle") {
+      return;
+    }
+    const Reply trial = robot.query("trial");
+    const auto number = trial.ok && trial.pairs.count("trial") != 0u
+                            ? toolkit::parse_integer(trial.pairs.at("trial"))
+                            : std::nullopt;
+    if (number && *number > last_trial) {
+      return;
+    }
+  }
+  throw LinkError("the replies to '" + command + "' kept coming damaged on the line");
+}
+
 void Context::check_still_up(std::size_t index) {
-  const Reply status = robot.expect_ok("status");
-  const auto ticks = status.pairs.count("ticks") != 0u
-                         ? toolkit::parse_integer(status.text("ticks"))
-                         : std::nullopt;
-  if (!ticks) {
-    return;  // firmware that does not count its ticks: the start-up line alone tells a reset
-  }
   // The control tick counts up from power-up (1 kHz: 49 days to wrap its 32 bits); between two
-  // runs it has moved on. Back or still: the robot restarted.
-  if (last_ticks && *ticks <= *last_ticks && *last_ticks < 4000000000LL) {
-    throw RobotRestarted(
-        fmt::format("the robot restarted before run {}: its tick count went back from {} to {}",
-                    index + 1, *last_ticks, *ticks));
+  // runs it has moved on. Back or still: the robot restarted, if the count says so again (a
+  // digit lost on the line can make it look smaller once).
+  std::optional<std::int64_t> ticks;
+  for (int asked = 0; asked < 3; ++asked) {
+    const Reply status = robot.status();
+    ticks = status.pairs.count("ticks") != 0u ? toolkit::parse_integer(status.text("ticks"))
+                                              : std::nullopt;
+    if (!ticks || !last_ticks || *ticks > *last_ticks || *last_ticks >= 4000000000LL) {
+      break;
+    }
+    if (asked == 2) {
+      throw RobotRestarted(
+          fmt::format("the robot restarted before run {}: its tick count went back from {} to {}",
+                      index + 1, *last_ticks, *ticks));
+    }
   }
-  last_ticks = *ticks;
+  if (ticks) {
+    last_ticks = *ticks;  // firmware that does not count its ticks: the start-up line alone
+  }
 }
 
 void Context::wait_for_enter(const std::string& prompt, const std::string& before) {
@@ -245,18 +350,29 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
   robot.expect_ok("odom reset");
   TickLogging logging(robot);
   if (log_ticks) {
-    logging.start(r);
+    // The fastest the counts can move: the wheel speed limit, with room for a wheel that slips.
+    logging.start(r, 1.5 * get("max_wheel_radps") * get("counts_per_rev") /
+                         (2.0 * 3.14159265358979) / 1000.0);
     robot.expect_ok("stream ticks 50");
     wait_tick(robot, r.ticks, 0);  // the start row: counts before the motion
   }
   log << fmt::format("Run {}/{}: {} ({})\n", index + 1, planned, label, command);
-  robot.expect_ok(command);
+  start_motion(command);
   const std::map<std::string, std::string> done = wait_done(*this, expected_s);
   if (log_ticks) {
     robot.expect_ok("stream off");
     logging.stop();
+    // On a line known to damage bytes (lines that did not read), the counts are checked for
+    // jumps too; on a clean line the braking of a stop is not taken for one.
+    const std::size_t damaged =
+        logging.dropped() + (robot.garbled_lines() > 0u ? drop_jumps(r.ticks) : 0u);
+    if (damaged > 0u) {
+      log << fmt::format("  ({} of the run's tick lines came damaged on the line: dropped)\n",
+                         damaged);
+    }
   }
-  read_trial(robot, done, r);
+  read_trial(robot, done, r, last_trial);
+  last_trial = r.trial;
   if (log_ticks) {
     // The end row at rest: the start row's counts plus what the trial moved (the robot stood
     // still from the start row to the motion), so no wait for a stream line after `# done`.

@@ -136,5 +136,61 @@ TEST(SessionFaults, AHangUpBetweenRunsKeepsTheReadingsAndResumesOnAnotherPort) {
   fault_and_resume(When::between_runs, 1, SIGUSR2, "fault_hangup_between");
 }
 
+/// A fit session on a serial port with a person typing what the odometry shows; returns the
+/// session's JSON (resumed as often as it stops, at most 4 times) and its stderr.
+json fit_session(const std::string& robot, const std::vector<std::string>& sim_extra,
+                 const std::string& out, std::string& err) {
+  static_cast<void>(shell("rm -rf " + out));
+  SimOnPty sim(robot, "", "0", "", sim_extra);
+  std::vector<std::string> args = {"--port",   sim.path(), "--procedure", "fit",    "--runs", "6",
+                                   "--side-m", "1",        "--yes",       "--json", "--out",  out};
+  for (int attempt = 0; attempt < 5; ++attempt) {
+    Person p(args);
+    static_cast<void>(answer_until_fault(p, sim, When::never, 0, 0));
+    const int status = p.finish();
+    err += p.err;
+    if (status == 0) {
+      return json::parse(p.out, nullptr, false);
+    }
+    EXPECT_EQ(status, 2) << p.err;
+    args = {"--port", sim.path(), "--resume", out, "--yes", "--json"};
+  }
+  ADD_FAILURE() << "the session never completed:\n" << err;
+  return json();
+}
+
+// Line noise: 1 % of the bytes the robot sends lost or with a bit flipped. The session reads
+// every value twice (a damaged digit that still reads as a number does not repeat), asks again
+// when a reply does not read, drops damaged tick lines, and notices a lost `# done`: the fit it
+// makes is the one the clean line gives (a few dropped tick samples move it by far less than its
+// own interval).
+TEST(SessionFaults, GarbledRepliesAtOnePercentNeverBecomeValues) {
+  ::signal(SIGPIPE, SIG_IGN);
+  const std::string robot =
+      write("fault_noise.json", R"({"wheel_diameter_mm": 60, "wheelbase_mm": 150,
+        "counts_per_rev": 1440, "true_left_diameter_mm": 59.8, "true_right_diameter_mm": 60.2,
+        "true_wheelbase_mm": 152, "slip_sigma": 0, "bump_height_mm": 0, "measure_sigma_mm": 0})");
+  std::string clean_err, noisy_err;
+  const json clean = fit_session(robot, {}, temp("fault_noise_clean"), clean_err);
+  const json noisy = fit_session(robot, {"--corrupt", "0.01", "--seed", "5"},
+                                 temp("fault_noise_noisy"), noisy_err);
+  ASSERT_TRUE(clean.is_object()) << clean_err;
+  ASSERT_TRUE(noisy.is_object()) << noisy_err;
+  EXPECT_TRUE(noisy["complete"].get<bool>());
+  // The noise was there: tick lines came damaged and were dropped.
+  EXPECT_NE(noisy_err.find("came damaged on the line"), std::string::npos) << noisy_err;
+  for (const char* key : {"wheel_diameter_left_mm", "wheel_diameter_right_mm", "wheelbase_mm"}) {
+    const double a = clean["result"][key].get<double>();
+    const double b = noisy["result"][key].get<double>();
+    EXPECT_NEAR(b / a, 1.0, 2e-4) << key << " clean " << a << " noisy " << b;
+  }
+  // Every run's counts and odometry (read twice, agreeing) are the clean session's.
+  ASSERT_EQ(clean["runs"].size(), noisy["runs"].size());
+  for (std::size_t i = 0; i < clean["runs"].size(); ++i) {
+    EXPECT_EQ(clean["runs"][i]["count_l"], noisy["runs"][i]["count_l"]) << i;
+    EXPECT_EQ(clean["runs"][i]["count_r"], noisy["runs"][i]["count_r"]) << i;
+  }
+}
+
 }  // namespace
 }  // namespace odocal_session_test

@@ -97,7 +97,7 @@ class SimOnPty {
   /// odocal-sim on a pty; `protocol` (e.g. "ros-arduino-bridge") runs that firmware instead, and
   /// an empty `store` runs without one.
   SimOnPty(const std::string& robot, const std::string& store, const std::string& speed = "0",
-           const std::string& protocol = "") {
+           const std::string& protocol = "", const std::vector<std::string>& extra = {}) {
     int out[2];
     EXPECT_EQ(::pipe(out), 0);
     std::vector<std::string> args = {bin("odocal-sim"), "--pty", "--speed", speed,
@@ -108,6 +108,7 @@ class SimOnPty {
     if (!protocol.empty()) {
       args.insert(args.end(), {"--protocol", protocol});
     }
+    args.insert(args.end(), extra.begin(), extra.end());
     pid_ = ::fork();
     if (pid_ == 0) {
       ::dup2(out[1], STDOUT_FILENO);

@@ -47,6 +47,19 @@ class RobotClient {
                 std::vector<std::string>* listing = nullptr);
   /// Like command(), but an `err` reply throws LinkError("`line`: err ...").
   Reply expect_ok(const std::string& line, int timeout_ms = 5000);
+  /// A question whose answer does not change when asked again (`get`, `trial N`, `measure` of
+  /// odocal-sim): asked until two answers agree, twelve times at most, so that a reply damaged
+  /// on the line (a flipped digit still reads as a number) never becomes a value. Throws
+  /// LinkError when no two agree.
+  Reply query(const std::string& line, int timeout_ms = 5000);
+  /// `status`, asked again (five times at most) until its reply reads whole: ok, with `mode` one of
+  /// the console's modes, `unsaved` 0 or 1 and `ticks` a whole number (when it has them). A
+  /// flipped digit in `ticks` still reads: the caller asks again before it believes a tick count
+  /// that went back. Throws LinkError.
+  Reply status();
+  /// Lines that were neither a reply nor a `#` line (damaged on the line) since the session began
+  /// watching (watch_restarts).
+  [[nodiscard]] std::size_t garbled_lines() const { return garbled_; }
   /// Waits for `# done trial=N path=P`; returns its pairs. Throws LinkError on timeout.
   std::map<std::string, std::string> wait_done(int timeout_ms);
   /// Waits at most `timeout_ms` for `# done`: its pairs, or an empty map when it has not come.
@@ -59,7 +72,10 @@ class RobotClient {
   void drain(int quiet_ms);
   /// From now on the robot's start-up line (`# odocal ... console ...`) throws RobotRestarted
   /// from whatever read meets it (once: the clean-up that follows must talk to the robot).
-  void watch_restarts(bool on) { watch_restarts_ = on; }
+  void watch_restarts(bool on) {
+    watch_restarts_ = on;
+    in_session_ = in_session_ || on;
+  }
 
  private:
   void route(const std::string& line);
@@ -67,6 +83,8 @@ class RobotClient {
   std::deque<std::string> async_;
   std::function<void(const std::string&)> ticks_;
   bool watch_restarts_ = false;
+  bool in_session_ = false;
+  std::size_t garbled_ = 0;
 };
 
 /// `key=value` pairs of a `#` line such as "# done trial=3 path=line".

@@ -54,32 +54,19 @@ class TickLogging {
   TickLogging(const TickLogging&) = delete;
   TickLogging& operator=(const TickLogging&) = delete;
 
-  /// Logs into `r`; a line that is not exactly `# ticks t_ms=T count_l=L count_r=R` with T after
-  /// the last one and counts that moved no faster than `max_counts_per_ms` allows is damaged and
-  /// dropped (counted).
-  void start(RunRecord& r, double max_counts_per_ms) {
-    robot_.on_ticks([this, &r, max_counts_per_ms](const std::string& line) {
+  /// Logs into `r` every line that is exactly `# ticks t_ms=T count_l=L count_r=R` (whole numbers
+  /// for the counts); any other line is damaged and dropped (counted). What a damaged digit left
+  /// readable is for drop_damaged() to find once the run is over.
+  void start(RunRecord& r) {
+    robot_.on_ticks([this, &r](const std::string& line) {
       const auto pairs = hash_line_pairs(line);
       const auto t = pairs.find("t_ms"), l = pairs.find("count_l"), c = pairs.find("count_r");
-      if (pairs.size() != 3u || t == pairs.end() || l == pairs.end() || c == pairs.end()) {
+      const auto tv = t == pairs.end() ? std::nullopt : toolkit::parse_real(t->second);
+      const auto lv = l == pairs.end() ? std::nullopt : toolkit::parse_integer(l->second);
+      const auto cv = c == pairs.end() ? std::nullopt : toolkit::parse_integer(c->second);
+      if (pairs.size() != 3u || !tv || !lv || !cv) {
         ++dropped_;
         return;
-      }
-      const auto tv = toolkit::parse_real(t->second);
-      const auto lv = toolkit::parse_integer(l->second), cv = toolkit::parse_integer(c->second);
-      if (!tv || !lv || !cv) {
-        ++dropped_;
-        return;
-      }
-      if (!r.ticks.empty()) {
-        const TickSample& last = r.ticks.back();
-        const double dt = *tv - last.t_ms;
-        const double reach = 2.0 + max_counts_per_ms * dt;
-        if (!(dt > 0.0) || std::fabs(static_cast<double>(*lv - last.count_l)) > reach ||
-            std::fabs(static_cast<double>(*cv - last.count_r)) > reach) {
-          ++dropped_;
-          return;
-        }
       }
       r.ticks.push_back(TickSample{*tv, *lv, *cv});
     });
@@ -92,32 +79,59 @@ class TickLogging {
   std::size_t dropped_ = 0;
 };
 
-/// Removes samples that leave the path their neighbours draw by more than a few counts (a digit
-/// damaged on the line that still reads as a count: the wheels cannot jump and come back).
-/// Returns how many it removed.
-std::size_t drop_jumps(std::vector<TickSample>& ticks) {
-  std::size_t removed = 0;
-  for (std::size_t i = 1; i + 1 < ticks.size();) {
-    const TickSample& a = ticks[i - 1];
-    const TickSample& b = ticks[i + 1];
-    const double share = (ticks[i].t_ms - a.t_ms) / (b.t_ms - a.t_ms);
-    bool jump = false;
-    for (int side = 0; side < 2; ++side) {
-      const double before = static_cast<double>(side == 0 ? a.count_l : a.count_r);
-      const double after = static_cast<double>(side == 0 ? b.count_l : b.count_r);
-      const double here = static_cast<double>(side == 0 ? ticks[i].count_l : ticks[i].count_r);
-      // A wheel's counts between its neighbours', bent by no more than braking can bend them.
-      jump = jump || std::fabs(here - (before + share * (after - before))) >
-                         3.0 + 0.25 * std::fabs(after - before);
-    }
-    if (jump) {
-      ticks.erase(ticks.begin() + static_cast<std::ptrdiff_t>(i));
-      ++removed;
-    } else {
-      ++i;
-    }
+/// How far sample i of `ticks` leaves the line its neighbours draw (counts, the worse wheel), in
+/// units of what braking can bend it by (3 counts and a quarter of the neighbours' step): above 1
+/// it is a jump no wheel makes.
+double bend(const std::vector<TickSample>& ticks, std::size_t i) {
+  const TickSample& a = ticks[i - 1];
+  const TickSample& b = ticks[i + 1];
+  const double share = (ticks[i].t_ms - a.t_ms) / (b.t_ms - a.t_ms);
+  double worst = 0.0;
+  for (int side = 0; side < 2; ++side) {
+    const double before = static_cast<double>(side == 0 ? a.count_l : a.count_r);
+    const double after = static_cast<double>(side == 0 ? b.count_l : b.count_r);
+    const double here = static_cast<double>(side == 0 ? ticks[i].count_l : ticks[i].count_r);
+    worst = std::max(worst, std::fabs(here - (before + share * (after - before))) /
+                                (3.0 + 0.25 * std::fabs(after - before)));
   }
-  return removed;
+  return worst;
+}
+
+/// Removes the samples a line that damages bytes left readable but wrong: first those whose time
+/// is out of order (of two in the wrong order, the one its further neighbours disown), then,
+/// worst first, those whose counts jump off the path their neighbours draw (the wheels cannot
+/// jump and come back). The first row (two samples at rest that agreed) and the last (the end
+/// row from `trial`, read twice) stay. Returns how many.
+std::size_t drop_damaged(std::vector<TickSample>& ticks) {
+  std::size_t removed = 0;
+  for (std::size_t i = 0; i + 1 < ticks.size();) {
+    if (ticks[i].t_ms < ticks[i + 1].t_ms) {
+      ++i;
+      continue;
+    }
+    // i or i + 1 is wrong: i if it is also after i + 2, else i + 1 (never the first row).
+    const bool first_wrong =
+        i > 0u && (i + 2 >= ticks.size() || ticks[i].t_ms >= ticks[i + 2].t_ms);
+    ticks.erase(ticks.begin() + static_cast<std::ptrdiff_t>(first_wrong ? i : i + 1));
+    ++removed;
+    i = i > 0u ? i - 1 : 0u;
+  }
+  for (;;) {
+    std::size_t worst_at = 0;
+    double worst = 1.0;
+    for (std::size_t i = 1; i + 1 < ticks.size(); ++i) {
+      const double b = bend(ticks, i);
+      if (b > worst) {
+        worst = b;
+        worst_at = i;
+      }
+    }
+    if (worst_at == 0u) {
+      return removed;
+    }
+    ticks.erase(ticks.begin() + static_cast<std::ptrdiff_t>(worst_at));
+    ++removed;
+  }
 }
 
 /// Whether the run is over although its `# done` did not come (lost or damaged on the line): the
@@ -350,11 +364,27 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
   robot.expect_ok("odom reset");
   TickLogging logging(robot);
   if (log_ticks) {
-    // The fastest the counts can move: the wheel speed limit, with room for a wheel that slips.
-    logging.start(r, 1.5 * get("max_wheel_radps") * get("counts_per_rev") /
-                         (2.0 * 3.14159265358979) / 1000.0);
+    logging.start(r);
     robot.expect_ok("stream ticks 50");
-    wait_tick(robot, r.ticks, 0);  // the start row: counts before the motion
+    // The start row: the counts before the motion, read twice alike (the robot stands still), so
+    // that a sample damaged on the line is never the count every other rests on.
+    wait_tick(robot, r.ticks, 0);
+    int asked = 0;
+    while (r.ticks.size() < 2u || r.ticks[r.ticks.size() - 2].count_l != r.ticks.back().count_l ||
+           r.ticks[r.ticks.size() - 2].count_r != r.ticks.back().count_r) {
+      if (r.ticks.size() > 50u || ++asked > 200) {
+        throw LinkError(
+            "the robot's counts did not stand still before the run (50 tick lines, no two "
+            "alike): is a wheel turning, or is the line that noisy?");
+      }
+      // Another sample: waited for, and asked for with a line when it does not come (a robot in
+      // lockstep moves its clock only when the host talks to it).
+      const std::size_t have = r.ticks.size();
+      if (!robot.pump(300) || r.ticks.size() == have) {
+        static_cast<void>(robot.command("odom"));
+      }
+    }
+    r.ticks.erase(r.ticks.begin(), r.ticks.end() - 1);
   }
   log << fmt::format("Run {}/{}: {} ({})\n", index + 1, planned, label, command);
   start_motion(command);
@@ -362,23 +392,25 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
   if (log_ticks) {
     robot.expect_ok("stream off");
     logging.stop();
-    // On a line known to damage bytes (lines that did not read), the counts are checked for
-    // jumps too; on a clean line the braking of a stop is not taken for one.
-    const std::size_t damaged =
-        logging.dropped() + (robot.garbled_lines() > 0u ? drop_jumps(r.ticks) : 0u);
-    if (damaged > 0u) {
-      log << fmt::format("  ({} of the run's tick lines came damaged on the line: dropped)\n",
-                         damaged);
-    }
   }
   read_trial(robot, done, r, last_trial);
   last_trial = r.trial;
   if (log_ticks) {
     // The end row at rest: the start row's counts plus what the trial moved (the robot stood
     // still from the start row to the motion), so no wait for a stream line after `# done`.
+    // On a line known to damage bytes (lines that did not read), the samples that still read are
+    // checked for damage too, before the end row (which rests on the first) and again after it
+    // (the last sample is then between two); on a clean line a stop's braking is not a jump.
+    const bool noisy = robot.garbled_lines() > 0u || logging.dropped() > 0u;
+    std::size_t damaged = logging.dropped() + (noisy ? drop_damaged(r.ticks) : 0u);
     const TickSample first = r.ticks.front();
     const double end_ms = std::max(r.ticks.back().t_ms + 20.0, first.t_ms + r.duration_ms);
     r.ticks.push_back(TickSample{end_ms, first.count_l + r.count_l, first.count_r + r.count_r});
+    damaged += noisy ? drop_damaged(r.ticks) : 0u;
+    if (damaged > 0u) {
+      log << fmt::format("  ({} of the run's tick lines came damaged on the line: dropped)\n",
+                         damaged);
+    }
   }
   const Factors in_force = factors();
   r.measured = measure(r, index, in_force);

@@ -6,10 +6,8 @@
 // answer a session's commands through a RobotClient (restart watch on, `# ticks` lines logged as
 // a run logs them): every reply returned is an `ok` or an `err` line, the only exceptions are
 // LinkError's, and the `trial` reply's values go where a session puts them, session.json.
-//
-// A known finding (docs/fuzzing.md, reproducer in tests/fuzz/findings/replies/) is stepped around
-// below, marked `Finding 2`, so that the target keeps fuzzing the rest; with the fix, remove the
-// step-around and move the reproducer into corpus/replies/.
+// The `trial` reply is read as a session reads it (read_trial), and session.json is written as a
+// session writes it (any byte the robot sent, UTF-8 or not).
 
 #include <cmath>
 #include <cstddef>
@@ -102,13 +100,6 @@ const Reply& checked(const Reply& reply) {
   return reply;
 }
 
-std::int64_t whole(const Reply& reply, const std::string& key) {
-  const std::optional<std::int64_t> value = odocal::toolkit::parse_integer(reply.text(key));
-  if (!value)
-    throw LinkError("not a whole number");
-  return *value;
-}
-
 // One run as a session drives it (session_run.cpp): odom reset, the stream, the run, its `# done`,
 // `trial` into the run's record (and session.json), `get`, `params` with its listing.
 void session_run(odocal::host::RobotClient& robot) {
@@ -134,27 +125,11 @@ void session_run(odocal::host::RobotClient& robot) {
   const std::map<std::string, std::string> done = robot.poll_done(0);
   robot.expect_ok("stream off");
   robot.on_ticks(nullptr);
-  const Reply trial = robot.expect_ok("trial");
-  if (!trial.ok)
-    __builtin_trap();
   r.label = "line";
   r.command = "run line 1.000";
-  r.trial = whole(trial, "trial");
-  r.path = trial.text("path");
-  if (done.count("trial") != 0u && done.at("trial") != std::to_string(r.trial))
-    throw LinkError("'# done' names another trial");
-  r.duration_ms = trial.number("duration_ms");
-  r.count_l = whole(trial, "count_l");
-  r.count_r = whole(trial, "count_r");
-  r.odom.x_mm = trial.number("x_mm");
-  r.odom.y_mm = trial.number("y_mm");
-  r.odom.theta_deg = trial.number("theta_deg");
-  try {
-    static_cast<void>(nlohmann::json{{"runs", session::runs_json({r})}}.dump(2));
-  } catch (const nlohmann::json::type_error&) {
-    // Finding 2: a `trial` reply's path= that is not UTF-8 (a garbled byte) makes session.json's
-    // dump (write_session_json) throw type_error 316: the session ends without its session.json.
-  }
+  session::read_trial(robot, done, r, 0);
+  static_cast<void>(nlohmann::json{{"runs", session::runs_json({r})}}.dump(
+      2, ' ', false, nlohmann::json::error_handler_t::replace));
   static_cast<void>(robot.expect_ok("get c_l").number("value"));
   std::vector<std::string> listing;
   const Reply params = checked(robot.command("params", 10000, &listing));

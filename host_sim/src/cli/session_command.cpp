@@ -3,6 +3,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <csignal>
 
 #include <cstdint>
@@ -119,6 +120,21 @@ nlohmann::json recorded_options(const SessionFlags& f) {
        f.counts_per_rev ? nlohmann::json(*f.counts_per_rev) : nlohmann::json(nullptr)}};
 }
 
+/// A count of session.json's options (--runs, --seed, --baud, ...): an integer from 0 within 64
+/// bits, nothing else (InputError naming `file` and the key).
+std::uint64_t count_in(const nlohmann::json& options, const char* key, const std::string& file) {
+  const nlohmann::json& v = options.at(key);
+  if (v.is_number_unsigned()) {
+    return v.get<std::uint64_t>();
+  }
+  const double d = v.is_number() ? v.get<double>() : -1.0;
+  if (v.is_number_float() && d >= 0.0 && d == std::floor(d) && d < 18446744073709551616.0) {
+    return static_cast<std::uint64_t>(d);
+  }
+  throw InputError(file, 0, std::string("options.") + key,
+                   "not a whole number from 0 within 64 bits");
+}
+
 /// --resume DIR: the options of the interrupted session, with the command line's where they
 /// agree. A conflicting option is refused: the result must be the one session's.
 SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
@@ -127,6 +143,9 @@ SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
   session = nlohmann::json::parse(read_text_file(file), nullptr, false);
   if (!session.is_object() || !session.contains("options") || !session["options"].is_object()) {
     throw InputError(file, 0, "", "not a session.json written by odocal session");
+  }
+  if (session.contains("complete") && !session["complete"].is_boolean()) {
+    throw InputError(file, 0, "complete", "not true or false");
   }
   if (session.value("complete", false)) {
     throw InputError(file, 0, "complete", "this session is complete: nothing to resume");
@@ -157,7 +176,7 @@ SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
       f.port = o.at("port").get<std::string>();
     }
     if (cmd.count("--baud") == 0u) {
-      f.baud = o.at("baud").get<std::uint64_t>();
+      f.baud = count_in(o, "baud", file);
     }
     const auto real = [&](const char* flag, const char* key, std::optional<double>& value) {
       // Sessions from before --target have no target_mm: none was given.
@@ -185,7 +204,7 @@ SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
       const std::optional<std::uint64_t> recorded =
           !o.contains(key) || o.at(key).is_null()
               ? std::nullopt
-              : std::optional<std::uint64_t>(o.at(key).get<std::uint64_t>());
+              : std::optional<std::uint64_t>(count_in(o, key, file));
       if (cmd.count(flag) != 0u && value != recorded) {
         conflict(flag, recorded ? std::to_string(*recorded) : "", std::to_string(*value));
       }
@@ -194,7 +213,7 @@ SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
     whole("--runs", "runs", f.runs);
     whole("--passes", "passes", f.passes);
     whole("--max-measurements", "max_measurements", f.max_measurements);
-    const std::uint64_t seed = o.at("seed").get<std::uint64_t>();
+    const std::uint64_t seed = count_in(o, "seed", file);
     if (cmd.count("--seed") != 0u && f.seed != seed) {
       conflict("--seed", std::to_string(seed), std::to_string(f.seed));
     }
@@ -366,7 +385,7 @@ int run(const SessionFlags& given, const CLI::App& cmd) {
   prepare_out_dir(options.out_dir, true);
   const SessionReport report = run_session(robot, *source, options);
   if (f.json) {
-    std::cout << report.json.dump(2) << "\n";
+    std::cout << report.json.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
   } else {
     // The result was shown on stderr as it came; on a terminal showing both, once is enough.
     const bool same_screen = ::isatty(STDOUT_FILENO) == 1 && ::isatty(STDERR_FILENO) == 1;

@@ -95,7 +95,10 @@ void Context::write_session_json(bool complete, const nlohmann::json& result, bo
   if (last_factors) {
     doc["factors"] = factors_json(*last_factors);
   }
-  write_file("session.json", doc.dump(2) + "\n");
+  // A byte the robot sent that is not UTF-8 (a damaged reply that still read) is written as U+FFFD:
+  // session.json is written whatever the robot said.
+  write_file("session.json",
+             doc.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
 void Context::write_file(const std::string& name, const std::string& content) {
@@ -201,6 +204,33 @@ void write_report(Context& c, const nlohmann::json& result, const std::string& s
 
 }  // namespace session
 
+namespace {
+
+/// What a whole number of session.json must be: an integer within 64 bits (a number with a
+/// fraction, or beyond the range, is not one).
+struct NotWhole {
+  std::string key;
+};
+
+std::int64_t whole_of(const nlohmann::json& v, const char* key) {
+  if (v.is_number_unsigned()) {
+    if (v.get<std::uint64_t>() <= static_cast<std::uint64_t>(INT64_MAX)) {
+      return static_cast<std::int64_t>(v.get<std::uint64_t>());
+    }
+  } else if (v.is_number_integer()) {
+    return v.get<std::int64_t>();
+  } else if (v.is_number_float()) {
+    const double d = v.get<double>();
+    // 2^63 is exact in a double; every integral double in (-2^63, 2^63) converts exactly.
+    if (std::isfinite(d) && d == std::floor(d) && std::fabs(d) < 9223372036854775808.0) {
+      return static_cast<std::int64_t>(d);
+    }
+  }
+  throw NotWhole{key};
+}
+
+}  // namespace
+
 std::vector<RunRecord> recorded_runs(const nlohmann::json& session, const std::string& dir) {
   const std::string file = dir + "/session.json";
   std::vector<RunRecord> runs;
@@ -214,11 +244,11 @@ std::vector<RunRecord> recorded_runs(const nlohmann::json& session, const std::s
       RunRecord r;
       r.label = run.at("label").get<std::string>();
       r.command = run.at("command").get<std::string>();
-      r.trial = run.at("trial").get<std::int64_t>();
+      r.trial = whole_of(run.at("trial"), "trial");
       r.path = run.at("path").get<std::string>();
       r.duration_ms = run.at("duration_ms").get<double>();
-      r.count_l = run.at("count_l").get<std::int64_t>();
-      r.count_r = run.at("count_r").get<std::int64_t>();
+      r.count_l = whole_of(run.at("count_l"), "count_l");
+      r.count_r = whole_of(run.at("count_r"), "count_r");
       const auto pose = [](const nlohmann::json& j) {
         SessionPose p;
         p.x_mm = j.at("x_mm").get<double>();
@@ -232,13 +262,17 @@ std::vector<RunRecord> recorded_runs(const nlohmann::json& session, const std::s
       r.measured = pose(run.at("measured"));
       if (run.contains("ticks") && run["ticks"].is_array()) {
         for (const nlohmann::json& t : run["ticks"]) {
-          r.ticks.push_back(TickSample{t.at(0).get<double>(), t.at(1).get<std::int64_t>(),
-                                       t.at(2).get<std::int64_t>()});
+          r.ticks.push_back(TickSample{t.at(0).get<double>(), whole_of(t.at(1), "ticks"),
+                                       whole_of(t.at(2), "ticks")});
         }
       }
       runs.push_back(r);
     } catch (const nlohmann::json::exception& e) {
       throw InputError(file, 0, "runs", "run " + std::to_string(index) + ": " + e.what());
+    } catch (const NotWhole& e) {
+      throw InputError(
+          file, 0, "runs",
+          "run " + std::to_string(index) + ": " + e.key + " is not a whole number within 64 bits");
     }
   }
   return runs;

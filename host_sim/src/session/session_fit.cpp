@@ -29,7 +29,8 @@ std::string tick_log_csv(const RunRecord& r) {
   out << "# odocal session: trial " << r.trial << " (" << r.path
       << "), counts from 'stream ticks'; last row: the measured stop point\n"
          "t_s,count_l,count_r,x_mm,y_mm,theta_deg\n";
-  const double t0 = r.ticks.front().t_ms;
+  const double t0 =
+      r.ticks.empty() ? 0.0 : r.ticks.front().t_ms;  // no rows: read_tick_log refuses it
   for (std::size_t i = 0; i < r.ticks.size(); ++i) {
     const TickSample& s = r.ticks[i];
     char line[160];

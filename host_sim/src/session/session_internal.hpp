@@ -178,6 +178,16 @@ void write_ros_yaml(Context& c, Outcome& outcome);
 /// A logged run as a tick log (`t_s,count_l,count_r,x_mm,y_mm,theta_deg`; the measured stop point
 /// on its last row): what `odocal fit` reads.
 std::string tick_log_csv(const RunRecord& r);
+
+/// Throws InputError naming `file` unless the replayed run `r` (run `number`, from session.json)
+/// has a tick log a fit can read: two or more rows, their times finite and increasing.
+void check_replayed_ticks(const RunRecord& r, std::size_t number, const std::string& file);
+
+/// Reads the run's `trial` reply (asked until two answers agree) into `r`: trial, path, duration
+/// and counts, the odometry at its end. LinkError when the reply does not read, names a path that
+/// is no name, or is for another trial than `# done` announced (`done`, empty when it was lost).
+void read_trial(RobotClient& robot, const std::map<std::string, std::string>& done, RunRecord& r,
+                std::int64_t last_trial);
 /// What report.html shows.
 struct ReportInput {
   std::string title;

@@ -77,8 +77,11 @@ std::vector<PathPoint> trace_of(const RunRecord& r, double d_l, double d_r, doub
   drive::model::PoseOf<double> pose;
   out.push_back(PathPoint{0.0, 0.0});
   for (std::size_t i = 1; i < r.ticks.size(); ++i) {
-    const auto count_l = static_cast<double>(r.ticks[i].count_l - r.ticks[i - 1].count_l);
-    const auto count_r = static_cast<double>(r.ticks[i].count_r - r.ticks[i - 1].count_r);
+    // In doubles: counts read back from a file may lie further apart than 64 bits can subtract.
+    const double count_l =
+        static_cast<double>(r.ticks[i].count_l) - static_cast<double>(r.ticks[i - 1].count_l);
+    const double count_r =
+        static_cast<double>(r.ticks[i].count_r) - static_cast<double>(r.ticks[i - 1].count_r);
     drive::model::advance(pose, count_l * kPi * d_l / cpr, count_r * kPi * d_r / cpr,
                           drive::model::wheelbase_for(b, b_arc, count_l, count_r));
     out.push_back(PathPoint{pose.x, pose.y});

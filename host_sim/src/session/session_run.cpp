@@ -2,6 +2,7 @@
 // tick log, the measurement and its journal.
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -180,6 +181,45 @@ std::map<std::string, std::string> wait_done(Context& c, double expected_s) {
   return done;
 }
 
+/// Whether a run's measurement needs its heading: the self-test's (which way the robot turned
+/// tells the fault) and a turn in place's (the heading is all it shows).
+bool heading_needed(const RunRecord& r, const std::optional<drive::Path>& path) {
+  if (r.label.rfind("selftest", 0) == 0) {
+    return true;
+  }
+  return path && path->count == 1 && path->segments[0].distance_m == 0.0f &&
+         path->segments[0].angle_rad != 0.0f;
+}
+
+/// A logged run's end row: the start row's counts plus what the trial moved, at `t_ms`.
+TickSample end_row(const TickSample& first, const RunRecord& r, double t_ms) {
+  TickSample end{t_ms, 0, 0};
+  if (__builtin_add_overflow(first.count_l, r.count_l, &end.count_l) ||
+      __builtin_add_overflow(first.count_r, r.count_r, &end.count_r)) {
+    throw LinkError(
+        fmt::format("the run's counts go beyond 64 bits (start row {} {}, trial {} "
+                    "{}): damaged replies?",
+                    first.count_l, first.count_r, r.count_l, r.count_r));
+  }
+  return end;
+}
+
+}  // namespace
+
+void check_replayed_ticks(const RunRecord& r, std::size_t number, const std::string& file) {
+  bool in_order = r.ticks.size() >= 2u && std::isfinite(r.ticks.front().t_ms);
+  for (std::size_t i = 1; in_order && i < r.ticks.size(); ++i) {
+    in_order = std::isfinite(r.ticks[i].t_ms) && r.ticks[i - 1].t_ms < r.ticks[i].t_ms;
+  }
+  if (!in_order) {
+    throw InputError(file, 0, "runs",
+                     fmt::format("run {} ({}) is a logged run without a tick log in time order "
+                                 "(its `ticks` need two or more [t_ms, count_l, count_r] rows, "
+                                 "t_ms increasing)",
+                                 number, r.label));
+  }
+}
+
 /// `trial` into `r` (asked until two answers agree), checked against the `# done` line: a `trial`
 /// that is not newer than the last run's is another run's; a `# done` whose number differs from a
 /// newer one's was damaged on the line.
@@ -191,6 +231,12 @@ void read_trial(RobotClient& robot, const std::map<std::string, std::string>& do
   }
   r.trial = whole(trial, "trial");
   r.path = trial.text("path");
+  // A path is a name the robot gives (letters, digits, '-' and '_'): anything else came damaged.
+  for (const char ch : r.path) {
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_') {
+      throw LinkError("'trial' reply with a damaged path name: '" + trial.line + "'");
+    }
+  }
   const auto done_trial = done.find("trial");
   if (done_trial != done.end() && done_trial->second != std::to_string(r.trial) &&
       r.trial <= last_trial) {
@@ -204,18 +250,6 @@ void read_trial(RobotClient& robot, const std::map<std::string, std::string>& do
   r.odom.y_mm = trial.number("y_mm");
   r.odom.theta_deg = trial.number("theta_deg");
 }
-
-/// Whether a run's measurement needs its heading: the self-test's (which way the robot turned
-/// tells the fault) and a turn in place's (the heading is all it shows).
-bool heading_needed(const RunRecord& r, const std::optional<drive::Path>& path) {
-  if (r.label.rfind("selftest", 0) == 0) {
-    return true;
-  }
-  return path && path->count == 1 && path->segments[0].distance_m == 0.0f &&
-         path->segments[0].angle_rad != 0.0f;
-}
-
-}  // namespace
 
 SessionPose Context::measure(const RunRecord& r, std::size_t index, const Factors& in_force) {
   ReadingFacts facts;
@@ -346,6 +380,9 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
                                    "the interrupted session ran with other settings",
                                    index + 1, r.command, r.label, command, label));
     }
+    if (log_ticks) {
+      check_replayed_ticks(r, index + 1, options.out_dir + "/session.json");
+    }
     r.replayed = true;
     run_factors.emplace_back(std::nullopt);
     log << fmt::format("Run {}/{}: {} - measured before the interruption, not driven again\n",
@@ -405,7 +442,7 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
     std::size_t damaged = logging.dropped() + (noisy ? drop_damaged(r.ticks) : 0u);
     const TickSample first = r.ticks.front();
     const double end_ms = std::max(r.ticks.back().t_ms + 20.0, first.t_ms + r.duration_ms);
-    r.ticks.push_back(TickSample{end_ms, first.count_l + r.count_l, first.count_r + r.count_r});
+    r.ticks.push_back(end_row(first, r, end_ms));
     damaged += noisy ? drop_damaged(r.ticks) : 0u;
     if (damaged > 0u) {
       log << fmt::format("  ({} of the run's tick lines came damaged on the line: dropped)\n",

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <optional>
 #include <regex>
 #include <sstream>
@@ -267,12 +268,16 @@ TEST(SessionWayOut, UmbmarkEveryWayOutPutsBackKeepsItsRunsAndResumes) {
                          {Moment::driving, 1, WayOut::sigint}}});
 }
 
-TEST(SessionWayOut, AResumeRefusedKeepsTheRunsItWouldHaveTakenOver) {
+// A session.json edited or damaged into what no session writes (a run driven otherwise than this
+// session would; and what fuzzing found: a crash, undefined conversions, an error naming nothing):
+// each is refused on --resume with exit 2, a message naming the file and what is wrong, and the
+// record kept as it was, runs this session would have taken over included.
+TEST(SessionWayOut, AResumeRefusesADamagedSessionJsonNamingWhatIsWrong) {
   ::signal(SIGPIPE, SIG_IGN);
-  const std::string robot = write("exit_refused.json", plain_robot);
-  const std::string out = temp("exit_refused_out");
+  const std::string robot = write("exit_damaged.json", plain_robot);
+  const std::string out = temp("exit_damaged_out");
   std::system(("rm -rf " + out).c_str());
-  SimOnPty sim(robot, temp("exit_refused.store"));
+  SimOnPty sim(robot, temp("exit_damaged.store"));
   ASSERT_FALSE(sim.path().empty());
   {
     Person p({"--port", sim.path(), "--procedure", "fit", "--runs", "3", "--out", out});
@@ -280,19 +285,53 @@ TEST(SessionWayOut, AResumeRefusedKeepsTheRunsItWouldHaveTakenOver) {
     EXPECT_EQ(answer(p, &stop), 2u);
     EXPECT_EQ(p.finish(), 2) << p.err;
   }
-  // Run 2 as if driven otherwise: this session would drive something else there, and refuses.
-  json doc = read_json(out + "/session.json");
-  ASSERT_EQ(doc["runs"].size(), 2u);
-  doc["runs"][1]["command"] = "run line 9";
-  std::ofstream(out + "/session.json") << doc.dump(2);
+  const json interrupted = read_json(out + "/session.json");
+  ASSERT_EQ(interrupted["runs"].size(), 2u);
+  ASSERT_GE(interrupted["runs"][0]["ticks"].size(), 2u);
+  struct Damage {
+    const char* what;
+    std::function<void(json&)> edit;
+    const char* said;
+  };
+  const std::vector<Damage> damages = {
+      {"run 2 driven otherwise", [](json& d) { d["runs"][1]["command"] = "run line 9"; },
+       "other settings"},
+      {"a logged run without ticks", [](json& d) { d["runs"][0]["ticks"] = nullptr; },
+       "without a tick log"},
+      {"a logged run with one tick row",
+       [](json& d) { d["runs"][0]["ticks"] = json::array({d["runs"][0]["ticks"][0]}); },
+       "without a tick log"},
+      {"tick rows out of time order", [](json& d) { d["runs"][1]["ticks"][1][0] = -5.0; },
+       "in time order"},
+      {"a trial number with a fraction", [](json& d) { d["runs"][0]["trial"] = 1.5; },
+       "trial is not a whole number"},
+      {"a count beyond 64 bits", [](json& d) { d["runs"][1]["count_l"] = 1e300; },
+       "count_l is not a whole number"},
+      {"a tick count beyond 64 bits", [](json& d) { d["runs"][0]["ticks"][0][2] = -1e19; },
+       "ticks is not a whole number"},
+      {"complete as a number", [](json& d) { d["complete"] = 1; }, "not true or false"},
+      {"a negative seed", [](json& d) { d["options"]["seed"] = -3; }, "options.seed"},
+      {"a baud rate beyond 64 bits", [](json& d) { d["options"]["baud"] = 1e300; }, "options.baud"},
+  };
+  for (const Damage& damage : damages) {
+    json doc = interrupted;
+    damage.edit(doc);
+    std::ofstream(out + "/session.json") << doc.dump(2);
+    Person p({"--port", sim.path(), "--resume", out});
+    static_cast<void>(answer(p, nullptr));
+    EXPECT_EQ(p.finish(), 2) << damage.what << ": " << p.err;
+    EXPECT_NE(p.err.find("session.json"), std::string::npos) << damage.what << ": " << p.err;
+    EXPECT_NE(p.err.find(damage.said), std::string::npos) << damage.what << ": " << p.err;
+    const json after = read_json(out + "/session.json");
+    EXPECT_FALSE(after["complete"].is_boolean() && after["complete"].get<bool>()) << damage.what;
+    EXPECT_EQ(after["runs"], doc["runs"]) << damage.what;
+    EXPECT_EQ(rows_of(out + "/measurements.csv"), 2u) << damage.what;
+  }
+  // Put back as it was, the record resumes to the end.
+  std::ofstream(out + "/session.json") << interrupted.dump(2);
   Person p({"--port", sim.path(), "--resume", out});
   static_cast<void>(answer(p, nullptr));
-  EXPECT_EQ(p.finish(), 2) << p.err;
-  EXPECT_NE(p.err.find("other settings"), std::string::npos) << p.err;
-  const json after = read_json(out + "/session.json");
-  EXPECT_FALSE(after["complete"].get<bool>());
-  EXPECT_EQ(after["runs"], doc["runs"]);
-  EXPECT_EQ(rows_of(out + "/measurements.csv"), 2u);
+  EXPECT_EQ(p.finish(), 0) << p.err;
 }
 
 TEST(SessionWayOut, ALostRobotEndsTheSessionKeepingEveryRun) {

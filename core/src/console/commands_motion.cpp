@@ -89,7 +89,7 @@ void Console::cmd_run(Handler handler, const Token* words) {
               "ok path=%s segments=%u", drive::path_name(path.id), path.count, length_m);
 }
 
-void Console::cmd_stream(Handler handler, const Token* words) {
+void Console::cmd_stream(Handler handler, const Token* words, std::size_t count) {
   if (handler == Handler::stream_off) {
     streams_[0].period_us = 0u;
     streams_[1].period_us = 0u;
@@ -99,8 +99,15 @@ void Console::cmd_stream(Handler handler, const Token* words) {
   const bool odom = handler == Handler::stream_odom;
   // Tick logs want the control rate's detail; odometry is for watching.
   float hz = 0.0f;
+  if (count == 4u && !words[3].is("crc")) {
+    send_usage(ErrorCode::bad_argument);
+    return;
+  }
   if (!number_arg(words[2], 0.1f, odom ? 100.0f : 1000.0f, hz)) {
     return;
+  }
+  if (!odom) {
+    ticks_crc_ = count == 4u;
   }
   const auto period_us = static_cast<std::uint32_t>(1.0e6f / hz + 0.5f);
   StreamTimer& timer = streams_[odom ? 0u : 1u];

@@ -44,7 +44,7 @@ const Console::Form Console::form_table_[] = {
     {"fit apply <c_l> <c_r> <wheelbase_mm> [unix_s [runs]] [arc <mm>]", 5, 9, form_sub,
      Handler::fit_apply},
     {"stream odom <hz>", 3, 3, form_sub, Handler::stream_odom},
-    {"stream ticks <hz>", 3, 3, form_sub, Handler::stream_ticks},
+    {"stream ticks <hz> [crc]", 3, 4, form_sub, Handler::stream_ticks},
     {"stream off", 2, 2, form_sub, Handler::stream_off},
     {"echo on|off", 2, 2, 0, Handler::echo},
 };
@@ -157,7 +157,7 @@ void Console::dispatch(Handler handler, const Token* words, std::size_t count) {
     case Handler::stream_odom:
     case Handler::stream_ticks:
     case Handler::stream_off:
-      cmd_stream(handler, words);
+      cmd_stream(handler, words, count);
       return;
     case Handler::echo:
       cmd_echo(words);

@@ -110,6 +110,10 @@ void Console::emit_streams(std::uint32_t now_us) {
       pose_pairs(line, pose);
     } else {
       append(line, "# ticks t_ms=%U count_l=%I count_r=%I", &t_ms, &counts.left, &counts.right);
+      if (ticks_crc_) {
+        // What the line says, checked: a host drops a line whose bytes came damaged.
+        line.pair_u("crc", crc16(line.data(), line.size()));
+      }
     }
     send_async(line, mark, typed);
   }

@@ -1,6 +1,6 @@
 // The odocal console of a ROSArduinoBridge robot, kept on the host (bridge_console.hpp).
 
-#include "odocal/host/bridge_console.hpp"
+#include "odocal/console/text.hpp"
 
 #include "bridge_internal.hpp"
 
@@ -14,6 +14,7 @@
 
 #include <fmt/format.h>
 
+#include "odocal/console/text.hpp"
 #include "odocal/console/version.hpp"
 #include "odocal/toolkit/numbers.hpp"
 
@@ -236,8 +237,12 @@ void BridgeConsole::frame() {
   odometry_.update(dl * kinematics_.left_m_per_count(), dr * kinematics_.right_m_per_count(),
                    kinematics_.wheelbase_for_rates_m(dl, dr));
   if (streaming_) {
-    reply(fmt::format("# ticks t_ms={:.0f} count_l={} count_r={}", t_ms, cumulative_[0],
-                      cumulative_[1]));
+    std::string line = fmt::format("# ticks t_ms={:.0f} count_l={} count_r={}", t_ms,
+                                   cumulative_[0], cumulative_[1]);
+    if (streaming_crc_) {  // as odocal's console writes it (`stream ticks <hz> crc`)
+      line += fmt::format(" crc={}", console::crc16(line.data(), line.size()));
+    }
+    reply(line);
   }
   switch (motion_) {
     case Motion::idle:
@@ -404,13 +409,16 @@ void BridgeConsole::answer(const std::string& line) {
   } else if (verb == "stream" && w.size() >= 2 && w[1] == "off") {
     streaming_ = false;
     reply("ok stream=off");
-  } else if (verb == "stream" && w.size() == 3 && w[1] == "ticks") {
+  } else if (verb == "stream" && w.size() == 4 && w[1] == "ticks" && w[3] != "crc") {
+    reply("err bad_argument usage: stream ticks <hz> [crc]");
+  } else if (verb == "stream" && (w.size() == 3 || w.size() == 4) && w[1] == "ticks") {
     const auto hz = toolkit::parse_real(w[2]);
     if (!hz || *hz < 0.1 || *hz > 1000.0) {
       reply("err bad_value stream ticks: hz 0.1 to 1000");
       return;
     }
     streaming_ = true;  // one line per frame: 30 Hz whatever is asked
+    streaming_crc_ = w.size() == 4u;
     reply(fmt::format("ok stream=ticks hz={:.3f}", static_cast<double>(frame_hz)));
   } else if (verb == "odom" && w.size() == 1) {
     const drive::Pose p = odometry_.pose();

@@ -179,6 +179,16 @@ void write_ros_yaml(Context& c, Outcome& outcome);
 /// on its last row): what `odocal fit` reads.
 std::string tick_log_csv(const RunRecord& r);
 
+/// One `# ticks t_ms=T count_l=L count_r=R` line as a sample, or nothing when it does not read
+/// exactly so. `checked`: the line must end with ` crc=N`, N the CRC-16 (console::crc16) of the
+/// bytes before it (what `stream ticks <hz> crc` sends); a damaged line does not read.
+std::optional<TickSample> read_tick_line(const std::string& line, bool checked);
+
+/// Removes the samples of an unchecked tick log that a line damaging bytes left readable but
+/// wrong: out of time order, or off the path their neighbours draw (tick_lines.cpp). The first
+/// and last rows stay. Returns how many.
+std::size_t drop_damaged(std::vector<TickSample>& ticks);
+
 /// Throws InputError naming `file` unless the replayed run `r` (run `number`, from session.json)
 /// has a tick log a fit can read: two or more rows, their times finite and increasing.
 void check_replayed_ticks(const RunRecord& r, std::size_t number, const std::string& file);

@@ -51,7 +51,7 @@ void write_ros_yaml(Context& c, Outcome& outcome) {
   const double separation = g.wheelbase / nominal.wheelbase_mm;
   std::string text = fmt::format(
       "# ROS 2 diff_drive_controller parameters from odocal session {} ({} runs, date {})\n"
-      "# robot: ROSArduinoBridge on {}; told wheel diameter {} mm, wheelbase {} mm, {} counts "
+      "# robot: {}; told wheel diameter {} mm, wheelbase {} mm, {} counts "
       "per wheel turn\n"
       "# calibrated: left wheel {:.4f} mm, right wheel {:.4f} mm, wheelbase {:.4f} mm (turns in "
       "place)\n",

@@ -55,84 +55,50 @@ class TickLogging {
   TickLogging(const TickLogging&) = delete;
   TickLogging& operator=(const TickLogging&) = delete;
 
-  /// Logs into `r` every line that is exactly `# ticks t_ms=T count_l=L count_r=R` (whole numbers
-  /// for the counts); any other line is damaged and dropped (counted). What a damaged digit left
-  /// readable is for drop_damaged() to find once the run is over.
+  /// Logs into `r` every `# ticks` line that reads (read_tick_line, checked with its CRC while
+  /// checked(): the robot streams `stream ticks <hz> crc`); any other is damaged and dropped
+  /// (counted). Unchecked, what a damaged digit left readable is for drop_damaged() to find once
+  /// the run is over.
   void start(RunRecord& r) {
     robot_.on_ticks([this, &r](const std::string& line) {
-      const auto pairs = hash_line_pairs(line);
-      const auto t = pairs.find("t_ms"), l = pairs.find("count_l"), c = pairs.find("count_r");
-      const auto tv = t == pairs.end() ? std::nullopt : toolkit::parse_real(t->second);
-      const auto lv = l == pairs.end() ? std::nullopt : toolkit::parse_integer(l->second);
-      const auto cv = c == pairs.end() ? std::nullopt : toolkit::parse_integer(c->second);
-      if (pairs.size() != 3u || !tv || !lv || !cv) {
+      const std::optional<TickSample> sample = read_tick_line(line, checked_);
+      if (!sample) {
         ++dropped_;
         return;
       }
-      r.ticks.push_back(TickSample{*tv, *lv, *cv});
+      r.ticks.push_back(*sample);
     });
   }
   void stop() { robot_.on_ticks(nullptr); }
   [[nodiscard]] std::size_t dropped() const { return dropped_; }
+  /// Asks for the checked stream at 50 Hz (`stream ticks 50 crc`); a robot whose firmware has no
+  /// such form (err) streams unchecked lines (`stream ticks 50`).
+  void stream() {
+    checked_ = true;
+    if (!robot_.command("stream ticks 50 crc").ok) {
+      checked_ = false;
+      robot_.expect_ok("stream ticks 50");
+    }
+  }
+  [[nodiscard]] bool checked() const { return checked_; }
 
  private:
   RobotClient& robot_;
   std::size_t dropped_ = 0;
+  bool checked_ = false;
 };
 
-/// How far sample i of `ticks` leaves the line its neighbours draw (counts, the worse wheel), in
-/// units of what braking can bend it by (3 counts and a quarter of the neighbours' step): above 1
-/// it is a jump no wheel makes.
-double bend(const std::vector<TickSample>& ticks, std::size_t i) {
-  const TickSample& a = ticks[i - 1];
-  const TickSample& b = ticks[i + 1];
-  const double share = (ticks[i].t_ms - a.t_ms) / (b.t_ms - a.t_ms);
-  double worst = 0.0;
-  for (int side = 0; side < 2; ++side) {
-    const double before = static_cast<double>(side == 0 ? a.count_l : a.count_r);
-    const double after = static_cast<double>(side == 0 ? b.count_l : b.count_r);
-    const double here = static_cast<double>(side == 0 ? ticks[i].count_l : ticks[i].count_r);
-    worst = std::max(worst, std::fabs(here - (before + share * (after - before))) /
-                                (3.0 + 0.25 * std::fabs(after - before)));
+/// Whether the last two samples show the wheels at rest: the same counts, and (unchecked lines,
+/// whose time may have come damaged) at most 100 ms apart in time order, so that a sample damaged
+/// into a later time is never the start row every other must come after.
+bool at_rest(const std::vector<TickSample>& ticks, bool checked) {
+  if (ticks.size() < 2u) {
+    return false;
   }
-  return worst;
-}
-
-/// Removes the samples a line that damages bytes left readable but wrong: first those whose time
-/// is out of order (of two in the wrong order, the one its further neighbours disown), then,
-/// worst first, those whose counts jump off the path their neighbours draw (the wheels cannot
-/// jump and come back). The first row (two samples at rest that agreed) and the last (the end
-/// row from `trial`, read twice) stay. Returns how many.
-std::size_t drop_damaged(std::vector<TickSample>& ticks) {
-  std::size_t removed = 0;
-  for (std::size_t i = 0; i + 1 < ticks.size();) {
-    if (ticks[i].t_ms < ticks[i + 1].t_ms) {
-      ++i;
-      continue;
-    }
-    // i or i + 1 is wrong: i if it is also after i + 2, else i + 1 (never the first row).
-    const bool first_wrong =
-        i > 0u && (i + 2 >= ticks.size() || ticks[i].t_ms >= ticks[i + 2].t_ms);
-    ticks.erase(ticks.begin() + static_cast<std::ptrdiff_t>(first_wrong ? i : i + 1));
-    ++removed;
-    i = i > 0u ? i - 1 : 0u;
-  }
-  for (;;) {
-    std::size_t worst_at = 0;
-    double worst = 1.0;
-    for (std::size_t i = 1; i + 1 < ticks.size(); ++i) {
-      const double b = bend(ticks, i);
-      if (b > worst) {
-        worst = b;
-        worst_at = i;
-      }
-    }
-    if (worst_at == 0u) {
-      return removed;
-    }
-    ticks.erase(ticks.begin() + static_cast<std::ptrdiff_t>(worst_at));
-    ++removed;
-  }
+  const TickSample& a = ticks[ticks.size() - 2];
+  const TickSample& b = ticks.back();
+  return a.count_l == b.count_l && a.count_r == b.count_r &&
+         (checked || (b.t_ms > a.t_ms && b.t_ms - a.t_ms <= 100.0));
 }
 
 /// Whether the run is over although its `# done` did not come (lost or damaged on the line): the
@@ -402,13 +368,12 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
   TickLogging logging(robot);
   if (log_ticks) {
     logging.start(r);
-    robot.expect_ok("stream ticks 50");
+    logging.stream();
     // The start row: the counts before the motion, read twice alike (the robot stands still), so
     // that a sample damaged on the line is never the count every other rests on.
     wait_tick(robot, r.ticks, 0);
     int asked = 0;
-    while (r.ticks.size() < 2u || r.ticks[r.ticks.size() - 2].count_l != r.ticks.back().count_l ||
-           r.ticks[r.ticks.size() - 2].count_r != r.ticks.back().count_r) {
+    while (!at_rest(r.ticks, logging.checked())) {
       if (r.ticks.size() > 50u || ++asked > 200) {
         throw LinkError(
             "the robot's counts did not stand still before the run (50 tick lines, no two "
@@ -438,7 +403,7 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
     // On a line known to damage bytes (lines that did not read), the samples that still read are
     // checked for damage too, before the end row (which rests on the first) and again after it
     // (the last sample is then between two); on a clean line a stop's braking is not a jump.
-    const bool noisy = robot.garbled_lines() > 0u || logging.dropped() > 0u;
+    const bool noisy = !logging.checked() && (robot.garbled_lines() > 0u || logging.dropped() > 0u);
     std::size_t damaged = logging.dropped() + (noisy ? drop_damaged(r.ticks) : 0u);
     const TickSample first = r.ticks.front();
     const double end_ms = std::max(r.ticks.back().t_ms + 20.0, first.t_ms + r.duration_ms);

@@ -6,8 +6,10 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "console_rig.hpp"
+#include "odocal/console/text.hpp"
 
 namespace odocal {
 namespace {
@@ -156,6 +158,44 @@ TEST(ConsoleTerminal, TrialCommandsWithoutTrialsAnswerNoTrial) {
   EXPECT_EQ(test::error_code(rig->reply("lateral redo")), "bad_argument");
   EXPECT_EQ(test::error_code(rig->reply("stream ticks 0")), "out_of_range");
   EXPECT_EQ(test::error_code(rig->reply("stream ticks")), "wrong_arity");
+  EXPECT_EQ(test::error_code(rig->reply("stream ticks 50 sum")), "bad_argument");
+  EXPECT_EQ(test::error_code(rig->reply("stream ticks 50 crc now")), "wrong_arity");
+  EXPECT_EQ(test::error_code(rig->reply("stream ticks 0 crc")), "out_of_range");
+}
+
+// The check a `# ticks` line carries with `stream ticks <hz> crc`: CRC-16/CCITT-FALSE, whose
+// standard check value (of "123456789") is 0x29B1; one flipped bit changes it.
+TEST(ConsoleTerminal, TickLinesCarryTheirCrcWhenAskedFor) {
+  EXPECT_EQ(odocal::console::crc16("123456789", 9u), 0x29B1u);
+  EXPECT_NE(odocal::console::crc16("123456788", 9u), 0x29B1u);
+  EXPECT_EQ(odocal::console::crc16("", 0u), 0xFFFFu);
+  auto rig = std::make_unique<Rig>();
+  EXPECT_EQ(rig->reply("stream ticks 100 crc"), "ok stream=ticks hz=100.000");
+  const std::size_t mark = rig->stream.output_size;
+  for (int i = 0; i < 35; ++i) {
+    rig->tick(1);
+    rig->console.poll(rig->now_us);
+  }
+  std::size_t checked = 0;
+  for (const std::string& line : rig->split_lines(mark)) {
+    if (line.rfind("# ticks t_ms=", 0) != 0u) {
+      continue;
+    }
+    const std::size_t at = line.find(" crc=");
+    ASSERT_NE(at, std::string::npos) << line;
+    EXPECT_EQ(line.substr(at + 5), std::to_string(odocal::console::crc16(line.data(), at))) << line;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 3u);          // 35 ms at 100 Hz
+  rig->reply("stream ticks 100");  // without: the contract's line
+  const std::size_t plain_mark = rig->stream.output_size;
+  for (int i = 0; i < 15; ++i) {
+    rig->tick(1);
+    rig->console.poll(rig->now_us);
+  }
+  const std::vector<std::string> plain = rig->split_lines(plain_mark);
+  ASSERT_FALSE(plain.empty());
+  EXPECT_EQ(plain.back().find(" crc="), std::string::npos) << plain.back();
 }
 
 }  // namespace

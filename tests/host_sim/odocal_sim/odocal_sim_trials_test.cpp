@@ -167,6 +167,55 @@ TEST(OdocalSimTrials, StreamTicksGivesCumulativeCountsThatAgreeWithTheTrial) {
   EXPECT_NEAR(num(ticks[1], "t_ms") - num(ticks[0], "t_ms"), 10.0, 1.0);
 }
 
+// CRC-16/CCITT-FALSE written out here, bit by bit from the top: the check the docs give for
+// `stream ticks <hz> crc` (polynomial 0x1021, initial 0xFFFF, no reflection, no final XOR).
+unsigned ccitt_false(const std::string& bytes) {
+  unsigned crc = 0xFFFFu;
+  for (const char ch : bytes) {
+    for (int bit = 7; bit >= 0; --bit) {
+      const bool top = ((crc >> 15u) & 1u) != ((static_cast<unsigned char>(ch) >> bit) & 1u);
+      crc = ((crc << 1u) & 0xFFFFu) ^ (top ? 0x1021u : 0u);
+    }
+  }
+  return crc;
+}
+
+// `stream ticks <hz> crc`: the same lines, each ending with ` crc=N`, N the CRC of the bytes
+// before it; `stream ticks <hz>` again streams them without; a fourth word that is not `crc` is
+// refused and changes nothing.
+TEST(OdocalSimTrials, StreamTicksCrcEndsEachLineWithItsCheck) {
+  REQUIRE_SIM();
+  ASSERT_EQ(ccitt_false("123456789"), 0x29B1u);  // the standard check value
+  std::vector<std::string> lines;
+  ASSERT_EQ(run_sim("",
+                    "stream ticks 100 sum\nstream ticks 100 crc\ndrive 0.2 0 500\n"
+                    "stream ticks 100\ndrive 0.2 0 300\nstream off\n",
+                    lines),
+            0);
+  const std::vector<std::string> r = replies(lines);
+  ASSERT_GE(r.size(), 2u);
+  EXPECT_EQ(r[0].rfind("err bad_argument", 0), 0u) << r[0];
+  EXPECT_EQ(r[1].rfind("ok stream=ticks", 0), 0u) << r[1];
+  std::size_t checked = 0, plain = 0;
+  for (const std::string& l : lines) {
+    if (l.rfind("# ticks ", 0) != 0) {
+      continue;
+    }
+    const std::size_t at = l.find(" crc=");
+    if (at == std::string::npos) {
+      EXPECT_EQ(pairs(l).size(), 3u) << l;
+      ++plain;
+      continue;
+    }
+    EXPECT_EQ(plain, 0u) << "a checked line after the unchecked ones: " << l;
+    EXPECT_EQ(pairs(l).size(), 4u) << l;
+    EXPECT_EQ(l.substr(at + 5), std::to_string(ccitt_false(l.substr(0, at)))) << l;
+    ++checked;
+  }
+  EXPECT_GT(checked, 30u);  // 0.5 s at 100 Hz, and the time to the next command
+  EXPECT_GT(plain, 20u);
+}
+
 TEST(OdocalSimTrials, MeasureIsTheTruePoseInTheOdometryFrame) {
   REQUIRE_SIM();
   std::vector<std::string> lines;

@@ -2,13 +2,16 @@
 // measurement file (strict, errors naming file, line and field).
 #include <cstdio>
 #include <fstream>
+#include <random>
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include "odocal/console/text.hpp"
 #include "odocal/host/csv.hpp"
 #include "odocal/host/robot_client.hpp"
 #include "odocal/host/session.hpp"
+#include "session_internal.hpp"
 
 namespace {
 
@@ -120,6 +123,65 @@ TEST(SessionMeasurementFile, GarbageIsRefusedNamingFileLineAndField) {
   expect_file_error("j1.csv", "run,x_mm,y_mm,theta_deg\n2,1,2,\n", ":2", "run");
   expect_file_error("j2.csv", "run,x_mm,y_mm,theta_deg\n1,1,2,\n1,3,4,\n", ":3", "run");
   expect_file_error("j3.csv", "run,x_mm,y_mm\n1,1,2\n", ":1", "");
+}
+
+}  // namespace
+
+namespace {
+
+// A checked `# ticks` line damaged as a serial line damages it (bytes lost, bits flipped, one to
+// four times) never reads as another sample: it reads as the line sent or not at all. Unchecked,
+// the same damage leaves values that read but are wrong: what the check is for.
+TEST(SessionTickLine, ADamagedCheckedLineNeverReadsAsAnotherSample) {
+  using odocal::host::TickSample;
+  using odocal::host::session::read_tick_line;
+  std::mt19937_64 random(7);
+  std::size_t read_wrong_unchecked = 0;
+  for (int n = 0; n < 20000; ++n) {
+    const std::int64_t l = static_cast<std::int64_t>(random() % 2000000) - 1000000;
+    const std::int64_t r = static_cast<std::int64_t>(random() % 2000000) - 1000000;
+    const std::uint64_t t = random() % 100000000;
+    const std::string text = "# ticks t_ms=" + std::to_string(t) + " count_l=" + std::to_string(l) +
+                             " count_r=" + std::to_string(r);
+    const std::string sent =
+        text + " crc=" + std::to_string(odocal::console::crc16(text.data(), text.size()));
+    const std::optional<TickSample> clean = read_tick_line(sent, true);
+    ASSERT_TRUE(clean && clean->t_ms == static_cast<double>(t) && clean->count_l == l &&
+                clean->count_r == r)
+        << sent;
+    std::string damaged = sent;
+    std::string plain = text;
+    const int hits = 1 + static_cast<int>(random() % 4);
+    for (int h = 0; h < hits; ++h) {
+      const std::size_t at = random() % damaged.size();
+      const std::size_t at_plain = at % plain.size();
+      if (random() % 2 == 0) {
+        damaged.erase(at, 1);
+        plain.erase(at_plain, 1);
+      } else {
+        const auto flip = static_cast<char>(1u << (random() % 8));
+        damaged[at] = static_cast<char>(damaged[at] ^ flip);
+        plain[at_plain] = static_cast<char>(plain[at_plain] ^ flip);
+      }
+    }
+    const std::optional<TickSample> got = read_tick_line(damaged, true);
+    if (got) {
+      EXPECT_TRUE(got->t_ms == static_cast<double>(t) && got->count_l == l && got->count_r == r)
+          << "'" << damaged << "' read as " << got->t_ms << " " << got->count_l << " "
+          << got->count_r << " (sent '" << sent << "')";
+    }
+    const std::optional<TickSample> unchecked = read_tick_line(plain, false);
+    if (unchecked && (unchecked->t_ms != static_cast<double>(t) || unchecked->count_l != l ||
+                      unchecked->count_r != r)) {
+      ++read_wrong_unchecked;
+    }
+    // A checked line read without its check, or an unchecked one read as checked: not a sample.
+    EXPECT_FALSE(read_tick_line(text, true)) << text;
+    EXPECT_FALSE(read_tick_line(sent, false)) << sent;
+  }
+  // Without the check, many such lines read as wrong values (a digit's low bit flipped leaves a
+  // digit, a lost digit leaves a number): more than 1 in 20 here; with it none do.
+  EXPECT_GT(read_wrong_unchecked, 1000u);
 }
 
 }  // namespace

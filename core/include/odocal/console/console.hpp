@@ -352,7 +352,7 @@ class Console {
   /// `run <path>` (handler: which path).
   void cmd_run(Handler handler, const Token* words);
   /// `stream odom|ticks <hz>`, `stream off` (handler: which form).
-  void cmd_stream(Handler handler, const Token* words);
+  void cmd_stream(Handler handler, const Token* words, std::size_t count);
   void cmd_trial(const Token* words, std::size_t count);
   /// `trials` and `trials clear` (handler: which form).
   void cmd_trials(Handler handler);
@@ -416,6 +416,7 @@ class Console {
     std::uint32_t next_us = 0u;
   };
   std::array<StreamTimer, 2> streams_{};  ///< odom, ticks: emitted in this order
+  bool ticks_crc_ = false;                ///< `# ticks` lines end with " crc=" (stream ticks crc)
   std::uint64_t clock_us_ = 0u;           ///< unwrapped time since start, µs
   std::uint32_t last_now_us_ = 0u;
 

@@ -62,6 +62,20 @@ std::size_t format_fixed(float value, int decimals, char* out, std::size_t capac
 /// Writes an unsigned decimal integer; @return characters written, 0 when it does not fit.
 std::size_t format_unsigned(std::uint64_t value, char* out, std::size_t capacity);
 
+/// CRC-16/CCITT-FALSE (polynomial 0x1021, initial value 0xFFFF, no reflection, no final XOR) of
+/// `length` bytes: the check of a `# ticks` line streamed with `stream ticks <hz> crc`, over the
+/// line's bytes before " crc=". Its check value, of "123456789", is 0x29B1.
+[[nodiscard]] constexpr std::uint16_t crc16(const char* bytes, std::size_t length) {
+  std::uint32_t crc = 0xFFFFu;
+  for (std::size_t i = 0u; i < length; ++i) {
+    crc ^= static_cast<std::uint32_t>(static_cast<std::uint8_t>(bytes[i])) << 8u;
+    for (int bit = 0; bit < 8; ++bit) {
+      crc = (crc & 0x8000u) != 0u ? (crc << 1u) ^ 0x1021u : crc << 1u;
+    }
+  }
+  return static_cast<std::uint16_t>(crc);
+}
+
 /// Splits `line` at spaces into at most `capacity` tokens.
 /// @return the number of tokens, or capacity + 1 when there are more than `capacity`.
 std::size_t split(const char* line, std::size_t length, Token* tokens, std::size_t capacity);

@@ -112,6 +112,7 @@ class BridgeConsole final : public LineChannel {
   drive::MotionExecutor executor_{};
   std::deque<std::string> queue_;
   bool streaming_ = false;
+  bool streaming_crc_ = false;  ///< `# ticks` lines end with " crc=" (stream ticks <hz> crc)
   bool unsaved_ = false;
   std::map<std::string, std::string> provenance_;
 

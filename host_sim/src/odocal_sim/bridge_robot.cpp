@@ -58,6 +58,18 @@ class BridgeRobot {
     update_pid();
   }
 
+  /// A reset of the board (a brown-out): the motors stop, the PID starts afresh and the counts
+  /// start again from 0 (ROSArduinoBridge keeps nothing over a reset); the body stays where it is.
+  void restart() {
+    set_motors(0, 0);
+    moving_ = false;
+    reset_pid();
+    left_.target = 0;
+    right_.target = 0;
+    offset_[0] = plant_.left().encoder_count();
+    offset_[1] = plant_.right().encoder_count();
+  }
+
   [[nodiscard]] std::uint64_t next_frame_ns() const { return frame_ns(frame_ + 1); }
   [[nodiscard]] double simulated_s() const { return static_cast<double>(plant_.now_ns()) * 1e-9; }
 
@@ -279,7 +291,8 @@ void reply(hal::ByteStream& stream, const std::string& text) {
 
 }  // namespace
 
-int run_bridge(const host::RobotSpec& spec, std::uint64_t seed, bool use_pty, double speed) {
+int run_bridge(const host::RobotSpec& spec, std::uint64_t seed, bool use_pty, double speed,
+               double reset_after_s) {
   BridgeRobot robot(spec, seed);
   std::unique_ptr<posix::PtyByteStream> pty;
   std::unique_ptr<posix::FdByteStream> stdio;
@@ -313,7 +326,14 @@ int run_bridge(const host::RobotSpec& spec, std::uint64_t seed, bool use_pty, do
   LineSplitter splitter;
   std::string line;
   std::uint8_t chunk[256];
+  bool reset_done = false;
   while (!stop_requested()) {
+    // A reset (SIGUSR1, or --reset-after once): the board restarts on the same line.
+    if (take_reset_request() ||
+        (reset_after_s > 0.0 && !reset_done && robot.simulated_s() >= reset_after_s)) {
+      robot.restart();
+      reset_done = true;
+    }
     const std::size_t n = stream->read(chunk, sizeof chunk);
     for (std::size_t i = 0; i < n; ++i) {
       if (!splitter.feed(chunk[i], line)) {

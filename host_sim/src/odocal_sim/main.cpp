@@ -329,7 +329,7 @@ int run_bridge_robot(const Options& o, const host::RobotSpec& spec) {
                  o.robot_file.c_str());
     return 2;
   }
-  return run_bridge(spec, o.seed, o.use_pty, o.speed);
+  return run_bridge(spec, o.seed, o.use_pty, o.speed, o.reset_after_s);
 }
 
 /// What one boot of the simulated robot's firmware runs with.

@@ -176,8 +176,10 @@ class CorruptingStream final : public hal::ByteStream {
 
 /// odocal-sim --protocol ros-arduino-bridge (bridge_robot.cpp): a simulated robot running
 /// ROSArduinoBridge, on a pty or stdio, in lockstep (speed 0 or scripted input: one PID frame per
-/// `e`) or in real time times `speed`. @return the exit status.
-int run_bridge(const host::RobotSpec& spec, std::uint64_t seed, bool use_pty, double speed);
+/// `e`) or in real time times `speed`; reset (its counts from 0 again) on SIGUSR1 or once after
+/// `reset_after_s` of robot time (0: never). @return the exit status.
+int run_bridge(const host::RobotSpec& spec, std::uint64_t seed, bool use_pty, double speed,
+               double reset_after_s);
 
 /// Whether the robot is busy: a motion, its trial not yet closed, or the self-test. Scripted
 /// input waits for it (so `# done` comes first).

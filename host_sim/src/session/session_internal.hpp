@@ -190,7 +190,7 @@ std::optional<TickSample> read_tick_line(const std::string& line, bool checked);
 std::size_t drop_damaged(std::vector<TickSample>& ticks);
 
 /// Throws InputError naming `file` unless the replayed run `r` (run `number`, from session.json)
-/// has a tick log a fit can read: two or more rows, their times finite and increasing.
+/// has a tick log a fit can read: two or more rows, their times finite and never decreasing.
 void check_replayed_ticks(const RunRecord& r, std::size_t number, const std::string& file);
 
 /// Reads the run's `trial` reply (asked until two answers agree) into `r`: trial, path, duration

@@ -175,13 +175,13 @@ TickSample end_row(const TickSample& first, const RunRecord& r, double t_ms) {
 void check_replayed_ticks(const RunRecord& r, std::size_t number, const std::string& file) {
   bool in_order = r.ticks.size() >= 2u && std::isfinite(r.ticks.front().t_ms);
   for (std::size_t i = 1; in_order && i < r.ticks.size(); ++i) {
-    in_order = std::isfinite(r.ticks[i].t_ms) && r.ticks[i - 1].t_ms < r.ticks[i].t_ms;
+    in_order = std::isfinite(r.ticks[i].t_ms) && r.ticks[i - 1].t_ms <= r.ticks[i].t_ms;
   }
   if (!in_order) {
     throw InputError(file, 0, "runs",
                      fmt::format("run {} ({}) is a logged run without a tick log in time order "
                                  "(its `ticks` need two or more [t_ms, count_l, count_r] rows, "
-                                 "t_ms increasing)",
+                                 "t_ms never decreasing)",
                                  number, r.label));
   }
 }

@@ -311,5 +311,66 @@ TEST(SessionBridge, EveryWayOutStopsTheRobotKeepsItsReadingsAndResumes) {
   }
 }
 
+// A ROSArduinoBridge robot that resets in the middle of a run (a brown-out: its counts start
+// again from 0, its motors stop): the counts' jump, read twice, stops the session with exit 2, the
+// run under way not counted and every reading kept; --resume on the same robot ends it.
+TEST(SessionBridge, AResetMidRunStopsTheSessionAndResumeEndsIt) {
+  ::signal(SIGPIPE, SIG_IGN);
+  const std::string robot = write("bridge_reset.json",
+                                  R"({"wheel_diameter_mm": 60, "wheelbase_mm": 150,
+                                      "counts_per_rev": 1440, "true_left_diameter_mm": 59.9,
+                                      "true_right_diameter_mm": 60.1, "true_wheelbase_mm": 152,
+                                      "slip_sigma": 0, "measure_sigma_mm": 0})");
+  // In real time, so that the reset lands 1.2 s into the second run (a 0.4 m line: about 0.2 m
+  // driven, 1,500 counts, where a frame at the wheel speed limit is under 200).
+  SimOnPty sim(robot, "", "1", "ros-arduino-bridge");
+  ASSERT_FALSE(sim.path().empty());
+  const std::string out = temp("bridge_reset_out");
+  static_cast<void>(shell("rm -rf " + out));
+  const auto answer = [&sim](Person& p, bool reset) {
+    std::size_t enters = 0, readings = 0;
+    const auto deadline = PersonClock::now() + std::chrono::seconds(180);
+    while (!p.closed() && PersonClock::now() < deadline) {
+      if (p.count("press Enter to start") > enters) {
+        p.type("");
+        if (++enters == 2 && reset) {
+          ::usleep(1200000);
+          sim.signal(SIGUSR1);
+        }
+      } else if (p.count("Measured stop point") > readings) {
+        p.type(odometry_reading(p));
+        ++readings;
+      }
+      static_cast<void>(p.wait_for("\x01", 1, 0.05));
+    }
+    return readings;
+  };
+  {
+    Person p({"--port", sim.path(), "--json", "--protocol", "ros-arduino-bridge",
+              "--wheel-diameter-mm", "60", "--wheelbase-mm", "150", "--counts-per-rev", "1440",
+              "--procedure", "fit", "--runs", "4", "--side-m", "0.4", "--out", out});
+    EXPECT_EQ(answer(p, true), 1u);
+    EXPECT_EQ(p.finish(), 2) << p.err;
+    EXPECT_NE(p.err.find("it restarted"), std::string::npos) << p.err;
+    EXPECT_NE(p.err.find("is not counted"), std::string::npos) << p.err;
+    EXPECT_NE(p.err.find("--resume " + out), std::string::npos) << p.err;
+    const json doc = read_json(out + "/session.json");
+    ASSERT_TRUE(doc.is_object()) << p.err;
+    EXPECT_FALSE(doc["complete"].get<bool>());
+    EXPECT_EQ(doc["runs"].size(), 1u);
+    EXPECT_EQ(rows_of(out + "/measurements.csv"), 1u);
+    EXPECT_TRUE(wheels_still(sim.path()));
+  }
+  Person p({"--port", sim.path(), "--resume", out, "--json"});
+  EXPECT_EQ(answer(p, false), 3u);
+  ASSERT_EQ(p.finish(), 0) << p.err;
+  const json done = json::parse(p.out, nullptr, false);
+  ASSERT_TRUE(done.is_object()) << p.err;
+  EXPECT_TRUE(done["complete"].get<bool>());
+  EXPECT_EQ(done["runs"].size(), 4u);
+  // The geometry from the four runs (odometry typed as the readings): the nominal one.
+  EXPECT_NEAR(done["result"]["wheelbase_mm"].get<double>(), 150.0, 0.3);
+}
+
 }  // namespace
 }  // namespace odocal_session_test

@@ -98,6 +98,10 @@ class BridgeConsole final : public LineChannel {
   void command_params();
   void command_measure(const std::string& line);
   long wheel_counts(int side, double counts_per_frame_wanted);
+  /// `e`: the robot's two counts.
+  void read_counts(std::int32_t raw[2]);
+  /// Whether `raw` lies farther from the last counts than the wheels turn in a frame.
+  [[nodiscard]] bool jumped(const std::int32_t raw[2]) const;
   void reply(const std::string& text) { queue_.push_back(text); }
 
   FdChannel& link_;

@@ -214,9 +214,8 @@ bool BridgeConsole::read_line(std::string& line, int timeout_ms) {
 }
 
 bool BridgeConsole::jumped(const std::int32_t raw[2]) const {
-  // One and a half times the wheel speed limit over the time since the last reading (and a frame
-  // more), and a margin: no wheel turns that far. (A reset early in a run, before the counts
-  // pass that, goes unseen: docs/ros.md.)
+  // 1.5 times the wheel speed limit over the time since the last reading and a frame, and a
+  // margin: no wheel turns that far. (A reset early in a run goes unseen: docs/ros.md.)
   const double elapsed_s = std::max(0.0, now_ms() - last_frame_ms_) / 1000.0 + 1.0 / frame_hz;
   const double limit = 1.5 * config_.max_wheel_radps / (2.0 * std::numbers::pi) *
                            nominal_.counts_per_rev * elapsed_s +
@@ -241,21 +240,17 @@ void BridgeConsole::frame() {
   std::int32_t raw[2] = {0, 0};
   read_counts(raw);
   if (have_raw_ && jumped(raw)) {
-    // A reply damaged on the line does not repeat itself; a robot that restarted (its counts
-    // from 0 again) reads so again.
+    // A damaged reply does not repeat itself; a robot that restarted (counts from 0) does.
     std::int32_t again[2] = {0, 0};
     read_counts(again);
     if (jumped(again)) {
       throw LinkError(fmt::format(
-          "the robot's encoder counts went from {} {} to {} {} between two readings, farther "
-          "than its wheels turn, and read so again: it restarted (a brown-out, a loose battery "
-          "lead: "
-          "its counts start again from 0) or an encoder is loose. The run under way is not "
-          "counted",
+          "the robot's encoder counts went from {} {} to {} {} between two readings, farther than "
+          "its wheels turn, and read so again: it restarted (a brown-out, a loose battery lead: "
+          "its counts start again from 0) or an encoder is loose. The run under way is not counted",
           raw_[0], raw_[1], again[0], again[1]));
     }
-    raw[0] = again[0];
-    raw[1] = again[1];
+    std::copy(again, again + 2, raw);
   }
   ++frames_;
   const double t_ms = now_ms();

@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <utility>
 
 #include <fmt/format.h>
@@ -300,6 +301,20 @@ const FitCandidate* candidate_of(const FitResult& r, FitModelKind kind) {
   return nullptr;
 }
 
+double stop_factor_for(double dof) {
+  if (!(dof > 0.0)) {
+    return 1.0;
+  }
+  // Wilson-Hilferty: chi2_p(v) ~ v (1 - 2/(9v) + z_p sqrt(2/(9v)))^3, z_0.16 = -0.994458.
+  const double a = 2.0 / (9.0 * dof);
+  const double cube = 1.0 - a - 0.994458 * std::sqrt(a);
+  // Below about 0.45 degrees of freedom the cube's base is not positive: no bound at all.
+  if (cube <= 0.0) {
+    return std::numeric_limits<double>::infinity();
+  }
+  return std::sqrt(1.0 / (cube * cube * cube));
+}
+
 double target_in_force(std::optional<double> target, double sigma_random_mm) {
   return target.value_or(std::max(kDefaultTargetMm, kTargetDriftShare * sigma_random_mm));
 }
@@ -365,12 +380,17 @@ Precision precision_of(const FitResult& r, const FitNominal& nominal,
   }
   out.target_mm = target_in_force(target, out.sigma_random_mm);
   out.min_runs = target || out.target_mm <= kDefaultTargetMm ? 0 : kDriftTargetMinRuns;
+  // The target counts as met only when the precision, widened to what its own degrees of
+  // freedom allow, is within it. Each run still to come is taken to add one degree of freedom.
+  out.stop_factor = stop_factor_for(dof < 1e9 ? dof : 0.0);
   // The next run: the kind whose measurement lowers sigma_sys the most; then how many such
   // greedy choices reach the target.
   Eigen::MatrixXd now = c;
   for (std::size_t n = 0; n < room; ++n) {
-    if (inflation * sigma_sys(gu, now) <= out.target_mm && logs.size() + n >= out.min_runs &&
-        !(n == 0 && arc_unresolved)) {
+    const double widen =
+        n == 0 ? out.stop_factor : stop_factor_for(dof < 1e9 ? dof + static_cast<double>(n) : 0.0);
+    if (widen * inflation * sigma_sys(gu, now) <= out.target_mm &&
+        logs.size() + n >= out.min_runs && !(n == 0 && arc_unresolved)) {
       break;
     }
     auto [pick, best_c] = best_run(now, plan, g, gu);

@@ -37,6 +37,12 @@ constexpr double kTargetDriftShare = 0.0;
 /// times the systematic error it stated). A 2 mm target needs no such floor.
 constexpr std::size_t kDriftTargetMinRuns = 10;
 
+/// The one-sided bound a variance estimated with `dof` degrees of freedom has below it with the
+/// probability of one sigma (84 %), as a factor on the estimated standard deviation:
+/// sqrt(dof / chi2_0.16(dof)) (Wilson-Hilferty's chi-square quantile), 1 without an estimate
+/// (dof <= 0). About 1.5 at 6 degrees of freedom, 1.2 at 20, 1.1 at 100.
+double stop_factor_for(double dof);
+
 /// The target in force: `target` (the user's --target) when given, else the default above for a
 /// robot whose drift is estimated as `sigma_random_mm` (0: not estimated yet).
 double target_in_force(std::optional<double> target, double sigma_random_mm);
@@ -74,6 +80,10 @@ struct Precision {
   Kind next = Kind::line;
   std::size_t more = 0;      ///< runs expected before the target is met (capped)
   std::size_t min_runs = 0;  ///< calibration runs before the target may count as met
+  /// What sigma_sys_mm is widened by before it is compared with the target: the runs' scatter
+  /// is itself estimated from few degrees of freedom, and stopping at the first estimate below
+  /// the target picks the estimates that came out low (stop_factor_for).
+  double stop_factor = 1.0;
   /// The arcs look like another wheelbase the runs cannot pin yet: not done before more arcs.
   bool arc_unresolved = false;
   nlohmann::json noise;  ///< `odocal fit`'s `noise` object, null when not estimated

@@ -64,8 +64,11 @@ class AutoSession {
   void drive_one(Kind k, const std::string& why);
   FitResult fit_with(const FitOptions& options);
   FitResult fit_now();
-  /// The target met by the runs so far (and by enough of them, p_.min_runs).
-  bool target_met() const { return p_.sigma_sys_mm <= p_.target_mm && logs_.size() >= p_.min_runs; }
+  /// The target met by the runs so far (their precision widened by its own uncertainty,
+  /// p_.stop_factor, and enough runs, p_.min_runs).
+  bool target_met() const {
+    return p_.stop_factor * p_.sigma_sys_mm <= p_.target_mm && logs_.size() >= p_.min_runs;
+  }
   /// Records and says the precision so far; true when measuring is done.
   bool report();
 
@@ -168,17 +171,25 @@ FitResult AutoSession::fit_now() {
 }
 
 bool AutoSession::report() {
+  // What sigma_sys may be, as far as the runs' own degrees of freedom tell (target_met).
+  const double bound = p_.stop_factor * p_.sigma_sys_mm;
   progress_.push_back({{"runs", logs_.size()},
                        {"sigma_sys_mm", p_.sigma_sys_mm},
+                       {"sigma_sys_bound_mm",
+                        std::isfinite(bound) ? nlohmann::json(bound) : nlohmann::json(nullptr)},
                        {"sigma_random_mm", p_.sigma_random_mm},
                        {"target_mm", p_.target_mm},
                        {"model", model_name(fitted_.geometry.model)}});
   c_.partial["precision"] = progress_;
   const bool done = (target_met() && !p_.arc_unresolved) || logs_.size() >= budget_;
   c_.log << fmt::format(
-      "Precision after {} runs: the factors leave about {:.1f} mm (1 sigma) on the unseen "
+      "Precision after {} runs: the factors leave about {:.1f} mm (1 sigma; {}) on the unseen "
       "path, target {:.1f} mm ({}). {}\n",
-      logs_.size(), p_.sigma_sys_mm, p_.target_mm,
+      logs_.size(), p_.sigma_sys_mm,
+      std::isfinite(bound)
+          ? fmt::format("up to {:.1f} mm as far as {} runs can tell", bound, logs_.size())
+          : std::string("too few runs yet to tell how sure that is"),
+      p_.target_mm,
       p_.sigma_random_mm > 0.05
           ? fmt::format("the robot's own random drift, as far as the runs show it, about {:.1f} mm",
                         p_.sigma_random_mm)

@@ -97,5 +97,37 @@ TEST(AutoPlan, TheTargetLikelyTakesMoreRunsTheTighterItIs) {
   EXPECT_NEAR(more.sigma_sys_mm / fewer.sigma_sys_mm, 1.0 / std::sqrt(2.0), 0.15);
 }
 
+// The target's stop bound: a variance estimated from v degrees of freedom is below the true one
+// by the chi-square law; the bound is sqrt(v / chi2_0.16(v)). For even v that law's CDF has a
+// closed form, 1 - exp(-x/2) sum_{k < v/2} (x/2)^k / k!, solved here by bisection: the
+// Wilson-Hilferty approximation the session uses is within 1.5 % of it from 2 degrees of freedom,
+// and the bound shrinks towards 1 as the runs add degrees of freedom.
+TEST(AutoPlan, TheStopBoundIsTheChiSquareBoundOfTheRunsDegreesOfFreedom) {
+  const auto cdf = [](double x, int v) {
+    double term = 1.0, sum = 0.0;
+    for (int k = 0; k < v / 2; ++k) {
+      sum += term;
+      term *= 0.5 * x / (k + 1);
+    }
+    return 1.0 - std::exp(-0.5 * x) * sum;
+  };
+  const double one_sigma_below = 0.158655254;
+  for (const int v : {2, 4, 6, 10, 20, 40}) {
+    double lo = 0.0, hi = 10.0 * v;
+    for (int i = 0; i < 200; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (cdf(mid, v) < one_sigma_below ? lo : hi) = mid;
+    }
+    const double exact = std::sqrt(v / lo);
+    EXPECT_NEAR(stop_factor_for(v), exact, 0.015 * exact) << v << " degrees of freedom";
+    EXPECT_GT(stop_factor_for(v), stop_factor_for(v + 1.0));
+  }
+  EXPECT_GT(stop_factor_for(1e6), 1.0);
+  EXPECT_LT(stop_factor_for(1e6), 1.002);
+  // No estimate of the runs' scatter: nothing to widen; too few degrees of freedom: no bound.
+  EXPECT_EQ(stop_factor_for(0.0), 1.0);
+  EXPECT_FALSE(std::isfinite(stop_factor_for(0.3)));
+}
+
 }  // namespace
 }  // namespace odocal::host::session::auto_plan

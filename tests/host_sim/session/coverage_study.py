@@ -19,6 +19,7 @@ Usage: coverage_study.py BIN_DIR [--robots N] [--seed S] [--runs N] [--max-measu
        [--check] [--json]
 """
 import argparse
+import concurrent.futures
 import json
 import math
 import os
@@ -81,6 +82,60 @@ def binomial_floor(n, p, alpha=0.025):
     return n
 
 
+def study_one(a, work, k, doc):
+    """Robot k's auto session, its factors and the oracle's driven over the unseen path: a row."""
+    robot = os.path.join(work, "robot-%d.json" % k)
+    with open(robot, "w") as f:
+        json.dump(doc, f)
+    store = os.path.join(work, "robot-%d.store" % k)
+    oracle = os.path.join(work, "oracle-%d.store" % k)
+    study_robots.oracle_store(a.bindir, doc, robot, oracle)
+    best = stops(a.bindir, robot, oracle, a.runs, os.path.join(work, "o-%d" % k))
+    mo, sd_o, rms_o = mean_and_scatter(best)
+    # An owner who knows the robot's drift and asks for a share of it (the study knows it from
+    # the oracle's runs; a session reports its estimate as sigma_random_mm).
+    target = [] if a.target_share is None else [
+        "--target", "%.3f" % max(0.5, a.target_share * sd_o)]
+    out, err = run([a.bindir + "/odocal", "session", "--sim", robot, "--store", store,
+                    "--seed", str(100 + k), "--procedure", "auto", "--yes", "--json",
+                    "--out", os.path.join(work, "auto-%d" % k)] + target +
+                   ([] if a.max_measurements is None else
+                    ["--max-measurements", str(a.max_measurements)]))
+    session = json.loads(out)
+    last = session["result"]["precision"][-1]
+    mine = stops(a.bindir, robot, store, a.runs, os.path.join(work, "v-%d" % k))
+    m, sd, rms = mean_and_scatter(mine)
+    systematic = math.hypot(m[0] - mo[0], m[1] - mo[1])
+    allowed = 2.0 * math.sqrt(last["sigma_sys_mm"] ** 2 + (sd * sd + sd_o * sd_o) / a.runs)
+    predicted = last["sigma_random_mm"]
+    row = {
+        "robot": doc,
+        "measurements": session["measurements"],
+        "target_met": session["result"]["target_met"],
+        "target_mm": session["result"]["target_mm"],
+        "sigma_sys_mm": last["sigma_sys_mm"],
+        "sigma_random_mm": predicted,
+        "systematic_mm": systematic,
+        "systematic_allowed_mm": allowed,
+        "systematic_ok": systematic <= allowed,
+        "scatter_mm": sd,
+        "scatter_ok": predicted > 0.0 and 0.5 <= sd / predicted <= 2.0,
+        "unseen_rms_mm": rms,
+        "oracle_rms_mm": rms_o,
+        "ratio": rms / rms_o,
+        "questioned": err.count("reading check questions"),
+    }
+    print("robot %2d (d %.0f b %.0f slip %.4f): %d meas, target %.1f mm %s, sys %.1f mm (said "
+          "%.1f, allowed %.1f)%s, scatter %.1f mm (said %.1f)%s, %.2fx oracle%s"
+          % (k, doc["wheel_diameter_mm"], doc["wheelbase_mm"], doc["slip_sigma"],
+             row["measurements"], row["target_mm"], "met" if row["target_met"] else "not met",
+             systematic, row["sigma_sys_mm"], allowed, "" if row["systematic_ok"] else " MISS",
+             sd, predicted, "" if row["scatter_ok"] else " MISS", row["ratio"],
+             "" if not row["questioned"] else ", %d readings questioned" % row["questioned"]),
+          file=sys.stderr, flush=True)
+    return row
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("bindir")
@@ -91,64 +146,24 @@ def main():
     ap.add_argument("--keep", default=None, help="write the sessions here and keep them")
     ap.add_argument("--max-measurements", type=int, default=None,
                     help="the sessions' budget (default: auto's own)")
+    ap.add_argument("--target-share", type=float, default=None,
+                    help="give each session --target this share of the robot's true drift (the "
+                         "oracle's scatter on the unseen path; default: auto's own target)")
+    ap.add_argument("--min-met", type=int, default=0,
+                    help="with --check, fail when fewer sessions met their target")
+    ap.add_argument("--jobs", type=int, default=1, help="robots studied side by side")
     ap.add_argument("--check", action="store_true")
     ap.add_argument("--json", action="store_true")
     a = ap.parse_args()
     rng = random.Random(a.seed)
-    rows = []
+    robots = [generate_robot(rng) for _ in range(a.robots)]
+    chosen = [k for k in range(a.robots) if a.only is None or k == a.only]
     with tempfile.TemporaryDirectory() as scratch:
         work = a.keep or scratch
         os.makedirs(work, exist_ok=True)
-        for k in range(a.robots):
-            doc = generate_robot(rng)
-            if a.only is not None and k != a.only:
-                continue
-            robot = os.path.join(work, "robot-%d.json" % k)
-            with open(robot, "w") as f:
-                json.dump(doc, f)
-            store = os.path.join(work, "robot-%d.store" % k)
-            out, err = run([a.bindir + "/odocal", "session", "--sim", robot, "--store", store,
-                            "--seed", str(100 + k), "--procedure", "auto", "--yes", "--json",
-                            "--out", os.path.join(work, "auto-%d" % k)] +
-                           ([] if a.max_measurements is None else
-                            ["--max-measurements", str(a.max_measurements)]))
-            session = json.loads(out)
-            last = session["result"]["precision"][-1]
-            oracle = os.path.join(work, "oracle-%d.store" % k)
-            study_robots.oracle_store(a.bindir, doc, robot, oracle)
-            mine = stops(a.bindir, robot, store, a.runs, os.path.join(work, "v-%d" % k))
-            best = stops(a.bindir, robot, oracle, a.runs, os.path.join(work, "o-%d" % k))
-            m, sd, rms = mean_and_scatter(mine)
-            mo, sd_o, rms_o = mean_and_scatter(best)
-            systematic = math.hypot(m[0] - mo[0], m[1] - mo[1])
-            allowed = 2.0 * math.sqrt(last["sigma_sys_mm"] ** 2 +
-                                      (sd * sd + sd_o * sd_o) / a.runs)
-            predicted = last["sigma_random_mm"]
-            row = {
-                "robot": doc,
-                "measurements": session["measurements"],
-                "target_met": session["result"]["target_met"],
-                "sigma_sys_mm": last["sigma_sys_mm"],
-                "sigma_random_mm": predicted,
-                "systematic_mm": systematic,
-                "systematic_allowed_mm": allowed,
-                "systematic_ok": systematic <= allowed,
-                "scatter_mm": sd,
-                "scatter_ok": predicted > 0.0 and 0.5 <= sd / predicted <= 2.0,
-                "unseen_rms_mm": rms,
-                "oracle_rms_mm": rms_o,
-                "ratio": rms / rms_o,
-                "questioned": err.count("reading check questions"),
-            }
-            rows.append(row)
-            print("robot %2d (d %.0f b %.0f slip %.4f): %d meas, target %s, sys %.1f mm (said "
-                  "%.1f, allowed %.1f)%s, scatter %.1f mm (said %.1f)%s, %.2fx oracle%s"
-                  % (k, doc["wheel_diameter_mm"], doc["wheelbase_mm"], doc["slip_sigma"],
-                     row["measurements"], "met" if row["target_met"] else "not met", systematic,
-                     row["sigma_sys_mm"], allowed, "" if row["systematic_ok"] else " MISS", sd,
-                     predicted, "" if row["scatter_ok"] else " MISS", row["ratio"],
-                     "" if not row["questioned"] else ", %d readings questioned"
-                     % row["questioned"]), file=sys.stderr)
+        # Each robot's sessions are independent processes: run them side by side, report in order.
+        with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
+            rows = list(pool.map(lambda k: study_one(a, work, k, robots[k]), chosen))
     n = len(rows)
     floor = binomial_floor(n, 0.9)
     sys_ok = sum(r["systematic_ok"] for r in rows)
@@ -165,6 +180,9 @@ def main():
     if met and (statistics.median(met) > 1.3 or max(met) > 1.6):
         failures.append("sessions that met the target: median %.2fx, worst %.2fx of the oracle "
                         "(1.3x, 1.6x allowed)" % (statistics.median(met), max(met)))
+    if len(met) < a.min_met:
+        failures.append("%d sessions met their target (at least %d needed)"
+                        % (len(met), a.min_met))
     if questioned:
         failures.append("%d correct readings questioned by the reading check" % questioned)
     counts = sorted(r["measurements"] for r in rows)

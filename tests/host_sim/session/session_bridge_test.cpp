@@ -232,17 +232,20 @@ bool wheels_still(const std::string& pty) {
   return !last.empty() && last == previous;
 }
 
+// The robot of the way-out and reset tests: 60 mm wheels 0.33 % apart, a wheelbase 1.3 % wider
+// than told, no slip, an exact tape (the faults are what the tests are about).
+constexpr const char* kSmallBridgeRobot =
+    R"({"wheel_diameter_mm": 60, "wheelbase_mm": 150, "counts_per_rev": 1440,
+        "true_left_diameter_mm": 59.9, "true_right_diameter_mm": 60.1, "true_wheelbase_mm": 152,
+        "slip_sigma": 0, "measure_sigma_mm": 0})";
+
 // A ROSArduinoBridge robot on a serial port, the person at the session interrupting it while it
 // drives (SIGINT), at a reading (SIGTERM) and at the Enter before a run (end of input): each time
 // the wheels are stopped, every reading kept, and `--resume` goes on; the last session ends
 // complete with the YAML, and nothing was ever written to the robot (it has nowhere to).
 TEST(SessionBridge, EveryWayOutStopsTheRobotKeepsItsReadingsAndResumes) {
   ::signal(SIGPIPE, SIG_IGN);
-  const std::string robot = write("bridge_exit.json",
-                                  R"({"wheel_diameter_mm": 60, "wheelbase_mm": 150,
-                                      "counts_per_rev": 1440, "true_left_diameter_mm": 59.9,
-                                      "true_right_diameter_mm": 60.1, "true_wheelbase_mm": 152,
-                                      "slip_sigma": 0, "measure_sigma_mm": 0})");
+  const std::string robot = write("bridge_exit.json", kSmallBridgeRobot);
   SimOnPty sim(robot, "", "0", "ros-arduino-bridge");
   ASSERT_FALSE(sim.path().empty());
   const std::string out = temp("bridge_exit_out");
@@ -316,11 +319,7 @@ TEST(SessionBridge, EveryWayOutStopsTheRobotKeepsItsReadingsAndResumes) {
 // run under way not counted and every reading kept; --resume on the same robot ends it.
 TEST(SessionBridge, AResetMidRunStopsTheSessionAndResumeEndsIt) {
   ::signal(SIGPIPE, SIG_IGN);
-  const std::string robot = write("bridge_reset.json",
-                                  R"({"wheel_diameter_mm": 60, "wheelbase_mm": 150,
-                                      "counts_per_rev": 1440, "true_left_diameter_mm": 59.9,
-                                      "true_right_diameter_mm": 60.1, "true_wheelbase_mm": 152,
-                                      "slip_sigma": 0, "measure_sigma_mm": 0})");
+  const std::string robot = write("bridge_reset.json", kSmallBridgeRobot);
   // In real time, so that the reset lands 1.2 s into the second run (a 0.4 m line: about 0.2 m
   // driven, 1,500 counts, where a frame at the wheel speed limit is under 200).
   SimOnPty sim(robot, "", "1", "ros-arduino-bridge");

@@ -387,8 +387,7 @@ Precision precision_of(const FitResult& r, const FitNominal& nominal,
   // greedy choices reach the target.
   Eigen::MatrixXd now = c;
   for (std::size_t n = 0; n < room; ++n) {
-    const double widen =
-        n == 0 ? out.stop_factor : stop_factor_for(dof < 1e9 ? dof + static_cast<double>(n) : 0.0);
+    const double widen = stop_factor_for(dof < 1e9 ? dof + static_cast<double>(n) : 0.0);
     if (widen * inflation * sigma_sys(gu, now) <= out.target_mm &&
         logs.size() + n >= out.min_runs && !(n == 0 && arc_unresolved)) {
       break;

@@ -107,6 +107,13 @@ void check_fix(Context& c, const std::vector<std::string>& sides) {
   }
 }
 
+/// The self-test's outcome and its measured runs in the partial result, for --resume.
+void record(Context& c, const Outcome& out, std::size_t runs_before) {
+  c.partial["selftest"] = out.result;
+  c.partial["selftest_runs"] = c.runs.size() - runs_before;
+  c.partial["selftest_text"] = out.text;
+}
+
 /// --resume: the self-test the interrupted session finished is not driven again. Its measured
 /// runs are taken over and its fix (put back by the interruption) is applied again.
 std::optional<Outcome> replayed(Context& c) {
@@ -123,6 +130,7 @@ std::optional<Outcome> replayed(Context& c) {
   Outcome out;
   out.result = before["selftest"];
   out.text = before.value("selftest_text", std::string());
+  const std::size_t runs_before = c.runs.size();
   for (std::size_t i = 0; i < measured; ++i) {
     const RunRecord& r = c.options.replay[c.runs.size()];
     static_cast<void>(c.run(r.label, r.command, 1.2));
@@ -136,14 +144,9 @@ std::optional<Outcome> replayed(Context& c) {
   }
   c.log << "Self-test: done before the interruption (" << out.result["faults"].size()
         << " fault(s)), not driven again" << again << ".\n";
+  // Kept for the next --resume too: a session interrupted again takes it over once more.
+  record(c, out, runs_before);
   return out;
-}
-
-/// The self-test's outcome and its measured runs in the partial result, for --resume.
-void record(Context& c, const Outcome& out, std::size_t runs_before) {
-  c.partial["selftest"] = out.result;
-  c.partial["selftest_runs"] = c.runs.size() - runs_before;
-  c.partial["selftest_text"] = out.text;
 }
 
 }  // namespace

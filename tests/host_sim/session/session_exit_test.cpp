@@ -178,6 +178,7 @@ void interrupt_and_resume(const Procedure& procedure) {
   ASSERT_FALSE(lockstep.path().empty());
   const RobotState initial = robot_state(lockstep.path());
   json kept = json::array();
+  bool selftest_done = false;
   for (std::size_t stage = 0; stage <= procedure.stops.size(); ++stage) {
     const bool last = stage == procedure.stops.size();
     const Stop* stop = last ? nullptr : &procedure.stops[stage];
@@ -198,8 +199,12 @@ void interrupt_and_resume(const Procedure& procedure) {
     } else {
       args.insert(args.end(), {"--resume", out});
     }
-    const bool selftest_done =
+    // Once finished, the self-test stays finished in every session.json after (a session that
+    // took it over and is interrupted again hands it on).
+    const bool done_before = selftest_done;
+    selftest_done =
         stage > 0 && read_json(out + "/session.json")["result"].contains("selftest_runs");
+    EXPECT_TRUE(selftest_done || !done_before) << "the finished self-test was lost";
     Person p(args);
     const std::size_t typed = answer(p, stop);
     const int status = p.finish();

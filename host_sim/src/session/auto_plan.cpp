@@ -207,6 +207,16 @@ Eigen::MatrixXd covariance_of(const FitResult& r, int np) {
 
 }  // namespace
 
+std::optional<Kind> kind_of_label(const std::string& label) {
+  for (const Kind k :
+       {Kind::line, Kind::spin_ccw, Kind::spin_cw, Kind::arc_left, Kind::arc_right}) {
+    if (label == kind_label(k)) {
+      return k;
+    }
+  }
+  return std::nullopt;
+}
+
 const char* kind_label(Kind k) {
   switch (k) {
     case Kind::line:

@@ -51,6 +51,8 @@ enum class Kind { line, spin_ccw, spin_cw, arc_left, arc_right };
 
 /// The label of a run of `k` (`line`, `turns-ccw`, ...).
 const char* kind_label(Kind k);
+/// The kind a label names (nullopt: not a calibration run's label, e.g. `verify`).
+std::optional<Kind> kind_of_label(const std::string& label);
 
 /// What the runs are made of, from the robot's size and speeds.
 struct Plan {

@@ -15,6 +15,18 @@ drive::model::Geometry<double> geometry_in_force(const Factors& f, double wheel_
   return drive::model::geometry_in_force(parameters_of(f, wheel_diameter_mm));
 }
 
+FitGeometry fit_geometry_of(const drive::model::Geometry<double>& g) {
+  FitGeometry f;
+  f.wheel_diameter_left_mm = g.left_diameter;
+  f.wheel_diameter_right_mm = g.right_diameter;
+  f.wheelbase_mm = g.wheelbase;
+  if (g.wheelbase_arc > 0.0 && g.wheelbase_arc != g.wheelbase) {
+    f.model = FitModelKind::arc_wheelbase;
+    f.second_wheelbase_mm = g.wheelbase_arc;
+  }
+  return f;
+}
+
 Factors factors_for_fit(const drive::model::Geometry<double>& fitted, double wheel_diameter_mm) {
   const drive::model::Parameters<double> p =
       drive::model::parameters_for(fitted, wheel_diameter_mm);

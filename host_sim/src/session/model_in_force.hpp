@@ -16,6 +16,10 @@ drive::model::Parameters<double> parameters_of(const Factors& f, double wheel_di
 /// and drive use (drive::model::geometry_in_force).
 drive::model::Geometry<double> geometry_in_force(const Factors& f, double wheel_diameter_mm);
 
+/// The same geometry as the fit describes one (the arc-wheelbase model when it has an arc
+/// wheelbase of its own).
+FitGeometry fit_geometry_of(const drive::model::Geometry<double>& g);
+
 /// What a fit result becomes on the robot: the fitted effective geometry with F_lat = F_lon = 1
 /// (a fit sees the whole geometry: it replaces c_l, c_r, the wheelbases and the Maddahi factors).
 Factors factors_for_fit(const drive::model::Geometry<double>& fitted, double wheel_diameter_mm);

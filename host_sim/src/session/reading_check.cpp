@@ -15,12 +15,53 @@
 
 namespace odocal::host::session {
 
-std::string pose_text(const SessionPose& p) {
-  std::string text = fmt::format("{:.1f} {:.1f}", p.x_mm, p.y_mm);
+namespace {
+
+/// `value` with `decimals` decimals, trailing zeros dropped down to one.
+std::string number_text(double value, int decimals) {
+  std::string text = fmt::format("{:.{}f}", value, decimals);
+  while (decimals > 1 && text.back() == '0') {
+    text.pop_back();
+    --decimals;
+  }
+  return text == "-0.0" ? "0.0" : text;
+}
+
+}  // namespace
+
+std::string pose_text(const SessionPose& p, int decimals) {
+  std::string text = number_text(p.x_mm, decimals) + " " + number_text(p.y_mm, decimals);
   if (p.theta_deg) {
-    text += fmt::format(" {:.1f}", *p.theta_deg);
+    text += " " + number_text(*p.theta_deg, decimals);
   }
   return text;
+}
+
+int decimals_of(const SessionPose& p) {
+  int most = 1;
+  for (const double v : {p.x_mm, p.y_mm, p.theta_deg.value_or(0.0)}) {
+    int d = 1;
+    while (d < 3 && std::fabs(v * std::pow(10.0, d) - std::round(v * std::pow(10.0, d))) > 1e-6) {
+      ++d;
+    }
+    most = std::max(most, d);
+  }
+  return most;
+}
+
+int typed_decimals(const std::string& typed) {
+  int most = 1;
+  int run = -1;  // digits after a decimal point so far, -1 outside one
+  for (const char c : typed) {
+    if (c == '.') {
+      run = 0;
+    } else if (run >= 0 && std::isdigit(static_cast<unsigned char>(c)) != 0) {
+      most = std::max(most, ++run);
+    } else {
+      run = -1;
+    }
+  }
+  return std::min(most, 4);
 }
 
 namespace {
@@ -120,31 +161,45 @@ std::string problem_of(const ReadingFacts& f, const SessionPose& reading) {
     return fmt::format(
         "the heading {:.1f} deg is more than half a turn (headings are typed from -180 to 180)",
         *reading.theta_deg);
-  }  // The same run driven before: its stop differs from this one's by the noise, or (a calibration
-  // applied between them) by at most what that calibration corrected.
+  }
+  // The same run driven before: its stop differs from this one's by the noise, or (a calibration
+  // applied between them) by at most what that calibration corrected. An earlier reading is not
+  // right because it came first: this one is questioned only when it is off from two or more of
+  // them (one earlier reading alone cannot tell which of the two is off).
+  std::size_t off = 0;
+  std::string first_off;
   for (const EarlierReading& e : f.earlier) {
     const Residual before = residual(e.measured, e.odom);
     const double share = e.same_factors ? 0.0 : 1.0;
     const double allow_mm =
         2.0 * noise_position_mm(f.extent) + share * std::hypot(before.x_mm, before.y_mm);
     const double apart_mm = std::hypot(r.x_mm - before.x_mm, r.y_mm - before.y_mm);
+    std::string why;
     if (apart_mm > allow_mm) {
-      return fmt::format(
+      why = fmt::format(
           "it is {:.0f} mm from where the same run stopped before ({}), measured against the "
           "odometry; repeats differ by at most {:.0f} mm",
           apart_mm, pose_text(e.measured), allow_mm);
-    }
-    if (r.theta_deg && before.theta_deg) {
+    } else if (r.theta_deg && before.theta_deg) {
       const double allow_deg =
           2.0 * noise_heading_deg(f.extent) + share * std::fabs(*before.theta_deg);
       const double apart_deg = std::fabs(std::remainder(*r.theta_deg - *before.theta_deg, 360.0));
       if (apart_deg > allow_deg) {
-        return fmt::format(
+        why = fmt::format(
             "its heading is {:.1f} deg from the same run's before ({:.1f} deg), measured against "
             "the odometry; repeats differ by at most {:.1f} deg",
             apart_deg, *e.measured.theta_deg, allow_deg);
       }
     }
+    if (!why.empty()) {
+      ++off;
+      if (first_off.empty()) {
+        first_off = why;
+      }
+    }
+  }
+  if (off >= 2 && 2 * off > f.earlier.size()) {
+    return first_off;
   }
   return std::string();
 }
@@ -313,9 +368,53 @@ ReadingAllowance allowance_of(const drive::Path& path,
   return reach;
 }
 
+std::vector<SlipCandidate> slip_candidates(const SessionPose& reading, const std::string& typed,
+                                           const SessionPose& odom) {
+  std::vector<SlipCandidate> out;
+  const std::optional<SessionPose> comma = decimal_comma(typed);
+  if (comma) {
+    out.push_back({"a comma for a decimal point", *comma});
+  }
+  ReadingFacts facts;
+  facts.odom = odom;
+  for (const auto& [base_what, base] :
+       {std::pair<std::string, std::optional<SessionPose>>{"", reading},
+        std::pair<std::string, std::optional<SessionPose>>{"a comma for a decimal point, and ",
+                                                           comma}}) {
+    if (!base) {
+      continue;
+    }
+    for (const Slip& slip : slips()) {
+      const std::optional<SessionPose> undone = slip.undo(*base, facts);
+      if (undone) {
+        out.push_back({base_what + slip.what, *undone});
+      }
+    }
+  }
+  return out;
+}
+
+std::string comma_note(const std::string& typed, const SessionPose& read) {
+  if (typed.find(',') == std::string::npos) {
+    return std::string();
+  }
+  std::string note =
+      fmt::format("read as x {}, y {}", number_text(read.x_mm, typed_decimals(typed)),
+                  number_text(read.y_mm, typed_decimals(typed)));
+  if (read.theta_deg) {
+    note += fmt::format(", heading {}", number_text(*read.theta_deg, typed_decimals(typed)));
+  }
+  note += " (a comma separates numbers here; '.' is the decimal point)";
+  if (const std::optional<SessionPose> comma = decimal_comma(typed)) {
+    note += fmt::format(": did you mean {}?", pose_text(*comma, typed_decimals(typed)));
+  }
+  return note;
+}
+
 ReadingVerdict judge_reading(const ReadingFacts& facts, const SessionPose& reading,
                              const std::string& typed) {
   ReadingVerdict verdict;
+  verdict.decimals = typed.empty() ? decimals_of(reading) : typed_decimals(typed);
   const std::string problem = problem_of(facts, reading);
   if (problem.empty()) {
     return verdict;
@@ -327,29 +426,14 @@ ReadingVerdict judge_reading(const ReadingFacts& facts, const SessionPose& readi
   }
   // The slips that would explain it: a decimal comma read as a separator alone, one slip, or a
   // decimal comma and one slip.
-  const std::optional<SessionPose> comma = decimal_comma(typed);
-  if (comma) {
+  if (decimal_comma(typed)) {
     verdict.comma = "a comma between digits separates numbers here ('.' is the decimal point)";
-    if (problem_of(facts, *comma).empty()) {
-      verdict.likely = "a comma for a decimal point";
-      verdict.suggestion = *comma;
-      return verdict;
-    }
   }
-  for (const auto& [base_what, base] :
-       {std::pair<std::string, std::optional<SessionPose>>{"", reading},
-        std::pair<std::string, std::optional<SessionPose>>{"a comma for a decimal point, and ",
-                                                           comma}}) {
-    if (!base) {
-      continue;
-    }
-    for (const Slip& slip : slips()) {
-      const std::optional<SessionPose> undone = slip.undo(*base, facts);
-      if (undone && problem_of(facts, *undone).empty()) {
-        verdict.likely = base_what + slip.what;
-        verdict.suggestion = *undone;
-        return verdict;
-      }
+  for (const SlipCandidate& slip : slip_candidates(reading, typed, facts.odom)) {
+    if (problem_of(facts, slip.reading).empty()) {
+      verdict.likely = slip.what;
+      verdict.suggestion = slip.reading;
+      return verdict;
     }
   }
   return verdict;
@@ -368,7 +452,8 @@ std::string ReadingVerdict::explained() const {
     text += "  Note: " + comma + ".\n";
   }
   if (suggestion) {
-    text += "  Likely " + likely + ": did you mean " + session::pose_text(*suggestion) + "?\n";
+    text += "  Likely " + likely + ": did you mean " + session::pose_text(*suggestion, decimals) +
+            "?\n";
   } else if (!likely.empty()) {
     text += "  Likely " + likely + ".\n";
   } else {

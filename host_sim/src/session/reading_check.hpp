@@ -61,7 +61,8 @@ struct PathExtent {
 [[nodiscard]] ReadingAllowance allowance_of(const drive::Path& path,
                                             const drive::model::Geometry<double>& in_force_mm);
 
-/// A run of the same command measured before in this session.
+/// A run of the same command measured before in this session (procedures whose runs are not judged
+/// by all the others, run_jury.hpp: UMBmark's squares, the lateral lines, the extended figure).
 struct EarlierReading {
   SessionPose odom;
   SessionPose measured;
@@ -77,8 +78,36 @@ struct ReadingFacts {
   bool heading_needed = false;
 };
 
-/// "x y [theta]" as a person would type it back.
-[[nodiscard]] std::string pose_text(const SessionPose& pose);
+/// "x y [theta]" as a person would type it back: `decimals` decimals at most, trailing zeros
+/// dropped down to one (a suggestion keeps the digits typed: typed_decimals).
+[[nodiscard]] std::string pose_text(const SessionPose& pose, int decimals = 1);
+
+/// The most decimals of any number in `typed` (at least 1, at most 4).
+[[nodiscard]] int typed_decimals(const std::string& typed);
+
+/// The decimals a reading's numbers need (at least 1, at most 3): a suggestion for a reading that
+/// came from a file keeps them.
+[[nodiscard]] int decimals_of(const SessionPose& pose);
+
+/// A slip a person makes reading a tape or typing a reading, and the reading it would have been.
+struct SlipCandidate {
+  std::string what;
+  SessionPose reading;
+};
+
+/// Every single slip that could have turned a reading into `reading` (typed as `typed`, "" from
+/// a file), each undone: a decimal comma read as a separator, the sign of the heading, a heading a
+/// turn off, x and y swapped (and a sign), the sign of x or of y, metres or centimetres for
+/// millimetres, the difference from the odometry `odom` typed instead of the stop; and each of
+/// these after a decimal comma.
+[[nodiscard]] std::vector<SlipCandidate> slip_candidates(const SessionPose& reading,
+                                                         const std::string& typed,
+                                                         const SessionPose& odom);
+
+/// How the reading `typed` was read, when it holds a comma (a comma is never a silent
+/// separator): "read as x 2998, y -103, heading 5" and, for a comma between digits, what a decimal
+/// comma would have meant. "" without a comma.
+[[nodiscard]] std::string comma_note(const std::string& typed, const SessionPose& read);
 
 /// Judges `reading` (typed as `typed`, "" when it came from a file).
 [[nodiscard]] ReadingVerdict judge_reading(const ReadingFacts& facts, const SessionPose& reading,

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
@@ -19,6 +20,7 @@
 #include "odocal/host/fit.hpp"
 #include "odocal/host/fit_noise.hpp"
 #include "odocal/host/path_geometry.hpp"
+#include "run_jury.hpp"
 #include "session_internal.hpp"
 #include "unseen_path.hpp"
 
@@ -67,7 +69,24 @@ class AutoSession {
   /// The target met by the runs so far (their precision widened by its own uncertainty,
   /// p_.stop_factor, and enough runs, p_.min_runs).
   bool target_met() const {
-    return p_.stop_factor * p_.sigma_sys_mm <= p_.target_mm && logs_.size() >= p_.min_runs;
+    return p_.stop_factor * p_.sigma_sys_mm <= p_.target_mm && in_use() >= p_.min_runs;
+  }
+  /// Calibration runs measured (each a tape measurement of the budget), and those the fit uses
+  /// (every one but those that disagreed and were driven again or left out).
+  std::size_t driven() const { return jury_->size(); }
+  std::size_t in_use() const { return jury_->runs_in_use().size(); }
+  /// Calibration measurements the budget has left.
+  std::size_t room() const { return budget_ > driven() ? budget_ - driven() : 0; }
+  /// --resume: the kind of the run the interrupted session drove next (nullopt: none, or a
+  /// verification run).
+  std::optional<Kind> recorded_kind() const {
+    if (c_.runs.size() >= c_.options.replay.size()) {
+      return std::nullopt;
+    }
+    return kind_of_label(c_.options.replay[c_.runs.size()].label);
+  }
+  bool recorded_verification_next() const {
+    return c_.runs.size() < c_.options.replay.size() && !recorded_kind();
   }
   /// Records and says the precision so far; true when measuring is done.
   bool report();
@@ -80,7 +99,8 @@ class AutoSession {
   std::size_t max_measurements_ = 0;
   nlohmann::json expected_runs_ = nullptr;  ///< before the first run: runs the target likely takes
   std::vector<SuspectRun> suspects_;        ///< runs the final fit cannot explain
-  std::vector<TickLog> logs_;
+  std::unique_ptr<RunJury> jury_;           ///< every calibration run judged by the others
+  Factors applied_;                         ///< the factors the session applied
   std::size_t arc_runs_ = 0;
   nlohmann::json chosen_ = nlohmann::json::array();
   nlohmann::json progress_ = nlohmann::json::array();
@@ -113,24 +133,38 @@ void AutoSession::check_wiring(Outcome& out) {
 }
 
 void AutoSession::drive_one(Kind k, const std::string& why) {
+  // --resume: a run the interrupted session drove is taken as it was, whatever the plan would
+  // choose now (a reading edited in measurements.csv changes the plan from there on).
+  const std::optional<Kind> recorded = recorded_kind();
   double expected_s = 0.0;
-  const std::string command = command_of(k, plan_, expected_s, c_);
-  c_.log << fmt::format("Next: {} ({}).\n", what_to_do(k, plan_), why);
+  std::string command;
+  if (recorded) {
+    k = *recorded;
+    command = c_.options.replay[c_.runs.size()].command;
+  } else {
+    command = command_of(k, plan_, expected_s, c_);
+    c_.log << fmt::format("Next: {} ({}).\n", what_to_do(k, plan_), why);
+  }
   const RunRecord r = c_.run(kind_label(k), command, expected_s, true);
   if (!r.measured.theta_deg) {
     c_.log << "  (no heading given: this run counts with its position only)\n";
   }
-  const std::string name = fmt::format("auto_run_{:02d}.csv", logs_.size() + 1);
-  c_.write_file(name, tick_log_csv(r));
-  logs_.push_back(read_tick_log(c_.options.out_dir + "/" + name));
+  c_.write_file(fmt::format("auto_run_{:02d}.csv", jury_->size() + 1), tick_log_csv(r));
+  jury_->add(c_.runs.size() - 1);
   chosen_.push_back({{"kind", kind_label(k)}, {"command", command}, {"why", why}});
   if (k == Kind::arc_left || k == Kind::arc_right) {
     ++arc_runs_;
   }
+  for (const std::size_t again : jury_->settle()) {
+    if (const std::optional<Kind> kind = kind_of_label(c_.runs[again].label)) {
+      drive_one(*kind,
+                fmt::format("run {} again: its reading disagreed with the other runs", again + 1));
+    }
+  }
 }
 
 FitResult AutoSession::fit_with(const FitOptions& options) {
-  const FitOutcome f = fit_geometry(logs_, nominal_, options);
+  const FitOutcome f = fit_geometry(jury_->logs_in_use(), nominal_, options);
   if (!f) {
     throw std::runtime_error("auto: the fit of the runs failed: " + f.error.message +
                              " (nothing applied; check the measurements and the wiring)");
@@ -173,7 +207,7 @@ FitResult AutoSession::fit_now() {
 bool AutoSession::report() {
   // What sigma_sys may be, as far as the runs' own degrees of freedom tell (target_met).
   const double bound = p_.stop_factor * p_.sigma_sys_mm;
-  progress_.push_back({{"runs", logs_.size()},
+  progress_.push_back({{"runs", in_use()},
                        {"sigma_sys_mm", p_.sigma_sys_mm},
                        {"sigma_sys_bound_mm",
                         std::isfinite(bound) ? nlohmann::json(bound) : nlohmann::json(nullptr)},
@@ -181,13 +215,13 @@ bool AutoSession::report() {
                        {"target_mm", p_.target_mm},
                        {"model", model_name(fitted_.geometry.model)}});
   c_.partial["precision"] = progress_;
-  const bool done = (target_met() && !p_.arc_unresolved) || logs_.size() >= budget_;
+  const bool done = (target_met() && !p_.arc_unresolved) || driven() >= budget_;
   c_.log << fmt::format(
       "Precision after {} runs: the factors leave about {:.1f} mm (1 sigma; {}) on the unseen "
       "path, target {:.1f} mm ({}). {}\n",
-      logs_.size(), p_.sigma_sys_mm,
+      in_use(), p_.sigma_sys_mm,
       std::isfinite(bound)
-          ? fmt::format("up to {:.1f} mm as far as {} runs can tell", bound, logs_.size())
+          ? fmt::format("up to {:.1f} mm as far as {} runs can tell", bound, in_use())
           : std::string("too few runs yet to tell how sure that is"),
       p_.target_mm,
       p_.sigma_random_mm > 0.05
@@ -210,6 +244,9 @@ void AutoSession::plan_the_budget() {
   nominal_.wheelbase_mm = c_.get("wheelbase_mm");
   nominal_.counts_per_rev = c_.get("counts_per_rev");
   plan_ = plan_for(c_, nominal_.wheelbase_mm);
+  // The jury judges every run about the geometry in force when the session started.
+  jury_ = std::make_unique<RunJury>(
+      c_, nominal_, fit_geometry_of(geometry_in_force(c_.initial, nominal_.wheel_diameter_mm)));
   // The budget: every tape measurement of the session (--max-measurements), the self-test's
   // and the verification's included; the first round always fits.
   const std::size_t total = c_.options.max_measurements.value_or(kDefaultMaxMeasurements);
@@ -263,19 +300,19 @@ void AutoSession::measure_until_known(Outcome& out) {
   fo_.max_relative_sd = 0.05;
   fo_.cluster_covariance = true;  // the runs' own scatter in the precision (precision_of)
   fitted_ = fit_now();
-  p_ = precision_of(fitted_, nominal_, logs_, plan_, c_.options.target_mm, budget_ - logs_.size(),
+  p_ = precision_of(fitted_, nominal_, jury_->logs_in_use(), plan_, c_.options.target_mm, room(),
                     arc_runs_);
-  while (!report()) {
-    c_.planned =
-        selftest_runs_ + logs_.size() + std::max<std::size_t>(p_.more, 1) + auto_verify_runs;
+  while (!report() && !recorded_verification_next()) {
+    c_.planned = selftest_runs_ + driven() + std::max<std::size_t>(p_.more, 1) + auto_verify_runs;
     drive_one(p_.next, p_.arc_unresolved
                            ? "the arcs seem to turn about another wheelbase: one more arc pins it"
                            : "lowers the unseen path's uncertainty the most");
     fitted_ = fit_now();
-    p_ = precision_of(fitted_, nominal_, logs_, plan_, c_.options.target_mm, budget_ - logs_.size(),
+    p_ = precision_of(fitted_, nominal_, jury_->logs_in_use(), plan_, c_.options.target_mm, room(),
                       arc_runs_);
   }
   out.result["runs_chosen"] = chosen_;
+  out.result["disagreeing_runs"] = jury_->record();
   out.result["precision"] = progress_;
   out.result["target_mm"] = p_.target_mm;
   out.result["target_met"] = target_met();
@@ -283,8 +320,8 @@ void AutoSession::measure_until_known(Outcome& out) {
   out.result["expected_runs_before"] = expected_runs_;
   if (!target_met()) {
     // How many more the target would take: the same choice of runs, with room.
-    const Precision beyond =
-        precision_of(fitted_, nominal_, logs_, plan_, c_.options.target_mm, 500, arc_runs_);
+    const Precision beyond = precision_of(fitted_, nominal_, jury_->logs_in_use(), plan_,
+                                          c_.options.target_mm, 500, arc_runs_);
     const bool reachable = beyond.more < 500;
     out.result["runs_to_target"] =
         reachable ? nlohmann::json(beyond.more) : nlohmann::json(nullptr);
@@ -294,7 +331,7 @@ void AutoSession::measure_until_known(Outcome& out) {
         "sigma) on the unseen path, against the target {:.1f} mm. With the robot's own drift "
         "({}), expect the unseen path to end about {:.1f} mm RMS from where it should. {}\n"
         "The factors are still the best these runs give.\n",
-        logs_.size(), p_.sigma_sys_mm, p_.target_mm,
+        in_use(), p_.sigma_sys_mm, p_.target_mm,
         p_.sigma_random_mm > 0.05 ? fmt::format("about {:.1f} mm", p_.sigma_random_mm)
                                   : std::string("not estimated"),
         expect,
@@ -312,7 +349,7 @@ void AutoSession::apply_final_fit(Outcome& out) {
   fo_.progress = [this](const std::string& message) { c_.log << "  " << message << "\n"; };
   fitted_ = fit_now();
   // The JSON of `odocal fit` on these logs (noise with its intervals): what `odocal ros2` reads.
-  out.result["fit"] = fit_json(fitted_, noise_for_fit(logs_, fitted_, fo_));
+  out.result["fit"] = fit_json(fitted_, noise_for_fit(jury_->logs_in_use(), fitted_, fo_));
   c_.log << fit_text_for_auto(fitted_);
   // The one apply step (model_in_force.hpp): the fitted geometry with F_lat = F_lon = 1, checked
   // against the one table of plausible results.
@@ -324,7 +361,11 @@ void AutoSession::apply_final_fit(Outcome& out) {
       nominal_.wheel_diameter_mm);
   // A run the fitted geometry cannot explain as it explains the others: named, so that the
   // owner checks its reading; the verification is then flagged whatever it shows.
-  suspects_ = suspect_runs(logs_, nominal_, fitted_.geometry);
+  suspects_ = suspect_runs(jury_->logs_in_use(), nominal_, fitted_.geometry);
+  const std::vector<std::size_t> numbered = jury_->runs_in_use();
+  for (SuspectRun& s : suspects_) {
+    s.index = numbered[s.index] - selftest_runs_;  // describe_suspects counts from the first
+  }
   std::string named;
   const nlohmann::json listed = describe_suspects(suspects_, c_, selftest_runs_ + 1, named);
   out.result["suspect_runs"] = listed;
@@ -337,6 +378,7 @@ void AutoSession::apply_final_fit(Outcome& out) {
                              " (correct them in measurements.csv and --resume)."));
   }
   apply_fit(c_, next, c_.log);
+  applied_ = next;
   out.applied = true;
   if (!named.empty()) {
     c_.log << "WARNING: runs that do not agree with the others: " << named
@@ -357,7 +399,7 @@ void AutoSession::verify(Outcome& out) {
       auto_verify_runs, plain(goal.x_m * 1e3, 0), plain(goal.y_m * 1e3, 0));
   nlohmann::json stops = nlohmann::json::array();
   double sum2 = 0.0;
-  for (const UnseenStop& stop : drive_unseen(c_, unseen, "verify", auto_verify_runs)) {
+  for (const UnseenStop& stop : drive_unseen(c_, unseen, "verify", auto_verify_runs, true)) {
     const double ex = stop.error.x_mm;
     const double ey = stop.error.y_mm;
     sum2 += ex * ex + ey * ey;
@@ -378,11 +420,32 @@ void AutoSession::verify(Outcome& out) {
         std::pow(r.measured.x_mm - r.odom.x_mm, 2) + std::pow(r.measured.y_mm - r.odom.y_mm, 2);
   }
   const double odometry_rms = std::sqrt(odometry2 / static_cast<double>(auto_verify_runs));
+  // Where the same runs would have ended with the geometry the robot had before the session, at no
+  // measurement's cost: the robot steers by its odometry, so with the old geometry it would have
+  // ended where it did, moved by how far the old odometry of these very counts is from the new
+  // one's (first order in the difference; tick_log_of and the one model's exact-arc step).
+  const FitGeometry before_g =
+      fit_geometry_of(geometry_in_force(c_.initial, nominal_.wheel_diameter_mm));
+  const FitGeometry after_g =
+      fit_geometry_of(geometry_in_force(applied_, nominal_.wheel_diameter_mm));
+  double before2 = 0.0;
+  for (std::size_t i = c_.runs.size() - auto_verify_runs; i < c_.runs.size(); ++i) {
+    const RunRecord& r = c_.runs[i];
+    const TickLog log = tick_log_of(r, false);
+    const std::size_t last = log.rows.size() - 1;
+    const EndSensitivity old_end = end_sensitivity(log, 0, last, nominal_, before_g);
+    const EndSensitivity new_end = end_sensitivity(log, 0, last, nominal_, after_g);
+    const double ex = r.measured.x_mm - goal.x_m * 1e3 - (old_end.end[0] - new_end.end[0]);
+    const double ey = r.measured.y_mm - goal.y_m * 1e3 - (old_end.end[1] - new_end.end[1]);
+    before2 += ex * ex + ey * ey;
+  }
+  const double before_rms = std::sqrt(before2 / static_cast<double>(auto_verify_runs));
   const double expected =
       std::sqrt(p_.sigma_sys_mm * p_.sigma_sys_mm + p_.sigma_random_mm * p_.sigma_random_mm);
   out.result["verify"] = {{"goal", {{"x_mm", goal.x_m * 1e3}, {"y_mm", goal.y_m * 1e3}}},
                           {"stops", stops},
                           {"rms_mm", rms},
+                          {"before_rms_mm", before_rms},
                           {"odometry_rms_mm", odometry_rms},
                           {"expected_mm", expected}};
   std::ostringstream text;
@@ -391,9 +454,11 @@ void AutoSession::verify(Outcome& out) {
       "Unseen path end error {:.1f} mm RMS from the goal, {:.1f} mm from where the calibrated "
       "odometry says it stopped (the runs predict about {:.1f} mm there: {:.1f} of random "
       "drift, {:.1f} from what the factors are unsure of; the path's own tracking error comes "
-      "on top of it at the goal).\n",
-      logs_.size(), auto_verify_runs, c_.runs.size(), model_name(fitted_.geometry.model), rms,
-      odometry_rms, expected, p_.sigma_random_mm, p_.sigma_sys_mm);
+      "on top of it at the goal).\n"
+      "With the factors it had before the session, the robot would have ended about {:.1f} mm RMS "
+      "from the goal on the same runs (their counts replayed; no extra measurement).\n",
+      driven(), auto_verify_runs, c_.runs.size(), model_name(fitted_.geometry.model), rms,
+      odometry_rms, expected, p_.sigma_random_mm, p_.sigma_sys_mm, before_rms);
   const bool far_off =
       expected > 0.0 && odometry_rms > 3.0 * std::max(expected, 2.0 * kMeasureSigmaMm);
   if (far_off) {

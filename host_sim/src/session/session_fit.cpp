@@ -20,6 +20,7 @@
 #include "odocal/calib/quantile.hpp"
 #include "odocal/host/fit.hpp"
 #include "odocal/host/fit_noise.hpp"
+#include "run_jury.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
@@ -52,37 +53,78 @@ std::string tick_log_csv(const RunRecord& r) {
   return out.str();
 }
 
+TickLog tick_log_of(const RunRecord& r, bool with_reading) {
+  TickLog log;
+  log.source = fmt::format("trial {} ({})", r.trial, r.path);
+  const double t0 = r.ticks.empty() ? 0.0 : r.ticks.front().t_ms;
+  for (const TickSample& s : r.ticks) {
+    TickRow row;
+    row.t_s = (s.t_ms - t0) / 1000.0;
+    row.count_l = static_cast<double>(s.count_l);
+    row.count_r = static_cast<double>(s.count_r);
+    log.rows.push_back(row);
+  }
+  if (with_reading && !log.rows.empty()) {
+    TickRow& end = log.rows.back();
+    end.has_xy = true;
+    end.x_mm = r.measured.x_mm;
+    end.y_mm = r.measured.y_mm;
+    end.has_theta = r.measured.theta_deg.has_value();
+    end.theta_deg = r.measured.theta_deg.value_or(0.0);
+  }
+  return log;
+}
+
 namespace {
 
-/// The fit's runs: a line, a left arc, a right arc, repeated, each logged with `stream ticks`;
-/// their tick logs (the measured stop point on each log's last row).
-std::vector<TickLog> drive_fit_runs(Context& c, std::size_t n, double length_m) {
+/// The fit's runs: a line, a left arc, a right arc, repeated, each logged with `stream ticks` and
+/// judged by the others as it is measured (run_jury.hpp: a run that disagrees and is driven again
+/// is followed by another of its kind). The logs the fit may use (the measured stop point on each
+/// log's last row).
+std::vector<TickLog> drive_fit_runs(Context& c, std::size_t n, double length_m, RunJury& jury) {
   const double cruise = c.get("v_max_mps");
   c.log << "Fit: " << n << " runs logged with 'stream ticks' (a " << fmt::format("{:.2f}", length_m)
         << " m line, a left arc, a right arc, repeated); measure the stop point of each, with "
            "its heading if you can.\n";
-  std::vector<TickLog> logs;
-  char command[96];
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t kind = i % 3;
+  const auto drive = [&](const std::string& label) {
+    char command[96];
     RunRecord r;
-    if (kind == 0) {
+    if (label == "line") {
       std::snprintf(command, sizeof command, "run line %.3f", length_m);
       r = c.run("line", command, c.path_seconds(length_m, 0.0, 1), true);
     } else {
       // ~140° arcs of 0.3 m radius at 0.75 of the cruise speed.
       const double v = 0.75 * cruise;
-      const double w = (kind == 1 ? 1.0 : -1.0) * v / 0.3;
+      const double w = (label == "arc-left" ? 1.0 : -1.0) * v / 0.3;
       const int ms = static_cast<int>(std::lround(2.5 / std::fabs(w) * 1000.0));
       std::snprintf(command, sizeof command, "drive %.3f %.3f %d", v, w, ms);
-      r = c.run(kind == 1 ? "arc-left" : "arc-right", command, ms / 1000.0 + 2.0, true);
+      r = c.run(label, command, ms / 1000.0 + 2.0, true);
     }
-    char name[48];
-    std::snprintf(name, sizeof name, "fit_run_%02zu.csv", i + 1);
-    c.write_file(name, tick_log_csv(r));
-    logs.push_back(read_tick_log(c.options.out_dir + "/" + name));
+    c.write_file(fmt::format("fit_run_{:02d}.csv", jury.size() + 1), tick_log_csv(r));
+    jury.add(c.runs.size() - 1);
+    return jury.settle();
+  };
+  static const char* const kinds[3] = {"line", "arc-left", "arc-right"};
+  std::vector<std::size_t> again;  // runs that disagreed, to drive again
+  for (;;) {
+    // The plan's runs (those driven again not counted), in order; --resume: the run recorded
+    // next is taken as it was.
+    const std::size_t planned = jury.size() - jury.driven_again();
+    std::string label;
+    if (c.runs.size() < c.options.replay.size()) {
+      label = c.options.replay[c.runs.size()].label;
+    } else if (!again.empty()) {
+      label = c.runs[again.front()].label;
+      again.erase(again.begin());
+    } else if (planned < n) {
+      label = kinds[planned % 3];
+    } else {
+      break;
+    }
+    const std::vector<std::size_t> more = drive(label);
+    again.insert(again.end(), more.begin(), more.end());
   }
-  return logs;
+  return jury.logs_in_use();
 }
 
 /// What the fit changes, by the parts of the geometry it measures (the one composition rule): the
@@ -160,7 +202,9 @@ Outcome run_fit(Context& c) {
   nominal.wheelbase_mm = c.get("wheelbase_mm");
   nominal.counts_per_rev = c.get("counts_per_rev");
   const std::size_t first_run = c.runs.size() + 1;
-  const std::vector<TickLog> logs = drive_fit_runs(c, n, length_m);
+  RunJury jury(c, nominal,
+               fit_geometry_of(geometry_in_force(c.initial, nominal.wheel_diameter_mm)));
+  const std::vector<TickLog> logs = drive_fit_runs(c, n, length_m, jury);
 
   FitOptions options;
   options.seed = c.options.seed;
@@ -184,8 +228,14 @@ Outcome run_fit(Context& c) {
   // A run the fitted geometry cannot explain as it explains the others (auto's rule): named, so
   // that the owner checks its reading before trusting what is applied.
   std::string named;
-  outcome.result["suspect_runs"] = auto_plan::describe_suspects(
-      auto_plan::suspect_runs(logs, nominal, result.geometry), c, first_run, named);
+  std::vector<auto_plan::SuspectRun> suspects =
+      auto_plan::suspect_runs(logs, nominal, result.geometry);
+  const std::vector<std::size_t> numbered = jury.runs_in_use();
+  for (auto_plan::SuspectRun& s : suspects) {
+    s.index = numbered[s.index] + 1 - first_run;  // describe_suspects counts from first_run
+  }
+  outcome.result["suspect_runs"] = auto_plan::describe_suspects(suspects, c, first_run, named);
+  outcome.result["disagreeing_runs"] = jury.record();
   const std::string refusal = implausible_factors(next, c.initial.wheelbase_mm);
   if (!refusal.empty()) {
     throw std::runtime_error(

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "odocal/host/fit.hpp"
 #include "odocal/host/session.hpp"
 
 namespace odocal::host::session {
@@ -33,6 +34,8 @@ struct Outcome {
   std::string text;      ///< the result for people (with intervals)
   bool applied = false;  ///< new factors are in force on the robot
 };
+
+class RunJury;
 
 /// The session's state and the steps every procedure uses.
 class Context {
@@ -60,6 +63,9 @@ class Context {
   nlohmann::json partial = nlohmann::json::object();
   /// The factors in force as last read from the robot (session.json's `factors`).
   std::optional<Factors> last_factors;
+  /// The jury of the runs being measured (run_jury.hpp; nullptr: runs checked alone and against
+  /// their repeats). A run it judges is checked at typing time against what the others predict.
+  RunJury* jury = nullptr;
   /// The factors in force during each run of `runs` (unset: a run taken over on --resume).
   std::vector<std::optional<Factors>> run_factors;
 
@@ -178,6 +184,8 @@ void write_ros_yaml(Context& c, Outcome& outcome);
 /// A logged run as a tick log (`t_s,count_l,count_r,x_mm,y_mm,theta_deg`; the measured stop point
 /// on its last row): what `odocal fit` reads.
 std::string tick_log_csv(const RunRecord& r);
+/// The same log in memory (no file in between); `with_reading`: the measured stop on its last row.
+TickLog tick_log_of(const RunRecord& r, bool with_reading = true);
 
 /// One `# ticks t_ms=T count_l=L count_r=R` line as a sample, or nothing when it does not read
 /// exactly so. `checked`: the line must end with ` crc=N`, N the CRC-16 (console::crc16) of the

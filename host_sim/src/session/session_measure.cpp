@@ -16,6 +16,7 @@
 #include "odocal/host/csv.hpp"
 #include "odocal/host/session.hpp"
 #include "odocal/toolkit/numbers.hpp"
+#include "reading_check.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host {
@@ -168,16 +169,39 @@ class PromptMeasure final : public MeasurementSource {
             << ") has stopped. The robot's odometry says x=" << fmt::format("{:.1f}", run.odom.x_mm)
             << " y=" << fmt::format("{:.1f}", run.odom.y_mm) << " mm, heading "
             << fmt::format("{:.1f}", run.odom.theta_deg.value_or(0.0)) << " deg.\n";
+    return reading(index + 1, check_, heading_needed_);
+  }
+  std::optional<std::string> ask(const std::string& question) override {
+    prompt_ << question << std::flush;
+    return read_line(0, "answer to: " + question);
+  }
+  std::optional<SessionPose> retype(const RunRecord& run, std::size_t number,
+                                    const ReadingCheck& check, bool heading_needed) override {
+    prompt_ << "Run " << number << " (" << run.label << ", trial " << run.trial
+            << "): its reading again (the odometry said x=" << fmt::format("{:.1f}", run.odom.x_mm)
+            << " y=" << fmt::format("{:.1f}", run.odom.y_mm) << " mm, heading "
+            << fmt::format("{:.1f}", run.odom.theta_deg.value_or(0.0)) << " deg).\n";
+    return reading(number, check, heading_needed);
+  }
+  std::size_t available(std::size_t) const override {
+    return std::numeric_limits<std::size_t>::max();
+  }
+  std::string describe() const override { return "the terminal (you type them)"; }
+
+ private:
+  /// Asks for run `number`'s reading until one is taken: checked, shown back when it does not
+  /// read, holds a comma, or the check questions it (then taken as typed on `y`).
+  SessionPose reading(std::size_t number, const ReadingCheck& check, bool heading_needed) {
     const std::string ask =
-        heading_needed_
+        heading_needed
             ? "Measured stop point from the start mark, mm, and the heading, deg (this run needs "
               "it): x (ahead) y (left) heading (counter-clockwise +): "
             : "Measured stop point from the start mark, mm: x (ahead) y (left) [heading deg]: ";
-    std::optional<SessionPose> questioned;  // a reading the check showed back, awaiting y
+    std::optional<SessionPose> questioned;  // a reading shown back, awaiting y
     for (;;) {
       prompt_ << (questioned ? "Type the reading again, or y to take it as it is: " : ask)
               << std::flush;
-      const std::string line = read_line(index);
+      const std::string line = read_line(number, "measurement for run " + std::to_string(number));
       if (questioned && (line == "y" || line == "yes" || line == "Y")) {
         prompt_ << "  Taken as typed.\n";
         return *questioned;
@@ -191,36 +215,36 @@ class PromptMeasure final : public MeasurementSource {
                                                  "numbers)"
                                                : "")
                 << "\n";
+        questioned.reset();
         continue;
       }
-      if (heading_needed_ && !pose.theta_deg) {
+      if (heading_needed && !pose.theta_deg) {
         prompt_ << "  Not taken: this run needs the heading too (the third number, degrees, "
                    "counter-clockwise positive), e.g. "
                 << fmt::format("{:.1f} {:.1f} -12", pose.x_mm, pose.y_mm) << "\n";
         questioned.reset();
         continue;
       }
-      const ReadingVerdict verdict = check_ ? check_(pose, line) : ReadingVerdict{};
-      if (verdict.plausible) {
+      const ReadingVerdict verdict = check ? check(pose, line) : ReadingVerdict{};
+      // A comma is never a silent separator: the reading as it was read is shown back.
+      const std::string comma = session::comma_note(line, pose);
+      if (verdict.plausible && comma.empty()) {
         return pose;
+      }
+      if (!comma.empty()) {
+        prompt_ << "  Note: " << comma << "\n";
       }
       prompt_ << verdict.explained();
       questioned = pose;
     }
   }
-  std::size_t available(std::size_t) const override {
-    return std::numeric_limits<std::size_t>::max();
-  }
-  std::string describe() const override { return "the terminal (you type them)"; }
-
- private:
   /// One typed line, shown when it came from a pipe; the end of the input ends the session.
-  std::string read_line(std::size_t index) {
+  std::string read_line(std::size_t number, const std::string& what) {
     std::string line;
     if (!session::read_typed_line(in_, line)) {
       throw InputError("terminal", 0, "",
-                       "no measurement for run " + std::to_string(index + 1) +
-                           " (end of input); nothing was saved");
+                       "no " + what + " (end of input)" +
+                           (number > 0 ? std::string("; nothing was saved") : std::string()));
     }
     if (echo_) {
       prompt_ << line << "\n";  // input from a file or pipe: show what was read

@@ -18,6 +18,7 @@
 #include "odocal/host/csv.hpp"
 #include "odocal/toolkit/numbers.hpp"
 #include "reading_check.hpp"
+#include "run_jury.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
@@ -228,7 +229,9 @@ SessionPose Context::measure(const RunRecord& r, std::size_t index, const Factor
     facts.extent.wheelbase_mm = g.wheelbase;
   }
   facts.heading_needed = heading_needed(r, path);
-  for (std::size_t i = 0; i < runs.size(); ++i) {
+  // Runs a jury judges are checked against what all the others predict (run_jury.hpp); the
+  // others against the repeats of their command.
+  for (std::size_t i = 0; i < runs.size() && jury == nullptr; ++i) {
     // The same run: the same command for the same purpose (the extended UMBmark's runs over
     // cables repeat its bump-free squares' command, not their conditions).
     if (runs[i].command == r.command && runs[i].label == r.label && path) {
@@ -240,9 +243,12 @@ SessionPose Context::measure(const RunRecord& r, std::size_t index, const Factor
       facts.earlier.push_back(EarlierReading{runs[i].odom, runs[i].measured, same});
     }
   }
-  const ReadingCheck check = [facts](const SessionPose& pose, const std::string& typed) {
+  ReadingCheck check = [facts](const SessionPose& pose, const std::string& typed) {
     return judge_reading(facts, pose, typed);
   };
+  if (jury != nullptr) {
+    check = jury->check_for(r, check);
+  }
   const bool checked = source.check_next(check, facts.heading_needed);
   const SessionPose pose = source.take(r, index, planned);
   if (checked) {

@@ -57,10 +57,10 @@ UnseenPath unseen_path(Context& c) {
 }
 
 std::vector<UnseenStop> drive_unseen(Context& c, const UnseenPath& unseen, const std::string& label,
-                                     std::size_t n) {
+                                     std::size_t n, bool log_ticks) {
   std::vector<UnseenStop> stops;
   for (std::size_t i = 0; i < n; ++i) {
-    const RunRecord r = c.run(label, "run unseen", unseen.expected_s);
+    const RunRecord r = c.run(label, "run unseen", unseen.expected_s, log_ticks);
     stops.push_back(UnseenStop{r.measured.x_mm, r.measured.y_mm,
                                calib::EndError{r.measured.x_mm - unseen.goal.x_m * 1e3,
                                                r.measured.y_mm - unseen.goal.y_m * 1e3}});

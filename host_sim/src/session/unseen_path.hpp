@@ -32,8 +32,9 @@ struct UnseenStop {
 };
 
 /// Drives the unseen path `n` times (runs labelled `label`), each measured as any run
-/// (Context::run: Enter, `Run N/M`, the journal).
+/// (Context::run: Enter, `Run N/M`, the journal); `log_ticks`: each run logged (its counts replay
+/// it through another geometry).
 std::vector<UnseenStop> drive_unseen(Context& c, const UnseenPath& unseen, const std::string& label,
-                                     std::size_t n);
+                                     std::size_t n, bool log_ticks = false);
 
 }  // namespace odocal::host::session

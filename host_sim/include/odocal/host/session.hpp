@@ -71,6 +71,7 @@ struct ReadingVerdict {
   std::string likely;                     ///< the slip that explains it ("" when none does)
   std::optional<SessionPose> suggestion;  ///< the reading that slip would have been
   std::string comma;                      ///< a note on a comma typed between digits
+  int decimals = 1;                       ///< the suggestion keeps the decimals typed
   /// The lines that show it back to the person who typed it ("" when plausible).
   [[nodiscard]] std::string explained() const;
 };
@@ -90,6 +91,23 @@ class MeasurementSource {
     static_cast<void>(check);
     static_cast<void>(heading_needed);
     return false;
+  }
+  /// Asks the person at the robot `question` and returns the line typed (its end trimmed);
+  /// nullopt when no person is there to answer (a file, the simulator's tape). The end of the
+  /// input throws InputError (the session's way out).
+  virtual std::optional<std::string> ask(const std::string& question) {
+    static_cast<void>(question);
+    return std::nullopt;
+  }
+  /// The reading of `run` (session run `number`, 1-based) typed again, checked by `check`;
+  /// nullopt when no person is there to type it.
+  virtual std::optional<SessionPose> retype(const RunRecord& run, std::size_t number,
+                                            const ReadingCheck& check, bool heading_needed) {
+    static_cast<void>(run);
+    static_cast<void>(number);
+    static_cast<void>(check);
+    static_cast<void>(heading_needed);
+    return std::nullopt;
   }
   /// Whether its readings are a person's (typed, or from a file): the simulator's tape is not.
   [[nodiscard]] virtual bool by_hand() const { return true; }

@@ -201,6 +201,7 @@ TEST(Session, TypedMeasurementsAreAskedAgainUntilTheyMakeSense) {
                                   "-40 -45\n"  // scattered about the origin: no second
                                   "\n"
                                   "41, 44\n"  // pass is expected to help
+                                  "y\n"       // a comma is shown back: taken as read
                                   "\n"
                                   "-5 8 0.5\n"
                                   "\n"
@@ -217,6 +218,8 @@ TEST(Session, TypedMeasurementsAreAskedAgainUntilTheyMakeSense) {
   EXPECT_NE(r.err.find("Not taken: expected 2 or 3 numbers, got 1 word"), std::string::npos);
   EXPECT_NE(r.err.find("expected 2 or 3 numbers, got 4 words"), std::string::npos);
   EXPECT_NE(r.err.find("Not taken: empty line"), std::string::npos);
+  EXPECT_NE(r.err.find("read as x 41.0, y 44.0 (a comma separates numbers here"), std::string::npos)
+      << r.err;
   ASSERT_EQ(doc["runs"].size(), 4u);
   EXPECT_EQ(doc["runs"][0]["measured"]["x_mm"], -40.0);
   EXPECT_EQ(doc["runs"][2]["measured"]["theta_deg"], 0.5);

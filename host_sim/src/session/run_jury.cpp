@@ -57,6 +57,12 @@ nlohmann::json pose_json(const SessionPose& p) {
           {"theta_deg", p.theta_deg ? nlohmann::json(*p.theta_deg) : nlohmann::json(nullptr)}};
 }
 
+/// `out` with `member` left out too.
+std::vector<bool> excluding(std::vector<bool> out, std::size_t member) {
+  out[member] = true;
+  return out;
+}
+
 bool turns_in_place(const RunRecord& r) {
   return r.label.rfind("turns", 0) == 0;
 }
@@ -192,45 +198,99 @@ ReadingCheck RunJury::check_for(const RunRecord& r, const ReadingCheck& base) co
   };
 }
 
-std::string RunJury::show(const Disagreement& d, const AgreementResult&) {
+RunJury::Shown RunJury::show(const Disagreement& d) {
   const Member& w = runs_[d.judgement.index];
   const RunRecord& r = c_.runs[w.run_index];
   const bool heading = r.measured.theta_deg.has_value();
-  c_.log << fmt::format(
-      "\nCheck run {} ({}): it disagrees with the other runs. They predict {}; it reads {} "
-      "({:.1f} standard deviations off).\n",
-      w.run_index + 1, r.label, predicted_text(d.judgement, heading),
-      pose_text(r.measured, decimals_of(r.measured)),
-      std::sqrt(d.judgement.distance2 / d.judgement.dof));
-  std::string likely;
-  if (const std::optional<SlipCandidate> s =
-          best_slip(d.judgement, r.measured, "", r.odom, d.judgement.allowed2)) {
-    likely = s->what;
-    c_.log << fmt::format("  Likely {}: did you mean {}?\n", s->what,
-                          pose_text(s->reading, decimals_of(r.measured)));
-  } else {
-    c_.log << "  No single slip (a sign, x and y swapped, metres, a decimal comma) explains it: "
-              "check the reading, and whether the run went wrong (a wheel caught, the robot "
-              "touched).\n";
-  }
+  Shown shown;
+  const std::optional<SlipCandidate> own =
+      best_slip(d.judgement, r.measured, "", r.odom, d.judgement.allowed2);
+  shown.likely = own ? own->what : std::string();
+  // The runs that may be the wrong one instead (their leaving out alone makes this one agree),
+  // each with the slip that would make it agree with all the others (this one among them).
   const std::vector<TickLog> all = logs();
-  std::vector<bool> out = left_out();
-  out[d.judgement.index] = true;
-  for (std::size_t i = 0; i < d.partners.size() && i < 2; ++i) {
+  const std::vector<bool> out = left_out();
+  std::vector<std::pair<std::size_t, std::optional<SlipCandidate>>> others;
+  for (std::size_t i = 0; i < d.partners.size(); ++i) {
     const Member& p = runs_[d.partners[i]];
     const RunRecord& pr = c_.runs[p.run_index];
-    const RunJudgement pj = predict_run(all, p.log, nominal_, centre_, options_, out);
-    const std::optional<SlipCandidate> s = best_slip(pj, pr.measured, "", pr.odom, pj.allowed2);
-    c_.log << fmt::format(
-        "  Or run {} ({}) is the one that is off: the two disagree with each other and the other "
-        "runs cannot tell which. Run {} reads {}{}.\n",
-        p.run_index + 1, pr.label, p.run_index + 1,
-        pose_text(pr.measured, decimals_of(pr.measured)),
-        s ? fmt::format("; as {} ({}) it would agree",
-                        pose_text(s->reading, decimals_of(pr.measured)), s->what)
-          : std::string());
+    // The slip of this run's reading that, undone, lets the run named agree with all the others
+    // and agrees with them itself.
+    std::optional<SlipCandidate> slip;
+    double best = d.judgement.allowed2;
+    for (const SlipCandidate& candidate : slip_candidates(pr.measured, "", pr.odom)) {
+      std::vector<TickLog> changed = all;
+      TickRow& end = changed[d.partners[i]].rows.back();
+      end.x_mm = candidate.reading.x_mm;
+      end.y_mm = candidate.reading.y_mm;
+      end.has_theta = candidate.reading.theta_deg.has_value();
+      end.theta_deg = candidate.reading.theta_deg.value_or(0.0);
+      const RunJudgement named = predict_run(changed, w.log, nominal_, centre_, options_,
+                                             excluding(out, d.judgement.index));
+      const RunJudgement itself =
+          predict_run(changed, p.log, nominal_, centre_, options_, excluding(out, d.partners[i]));
+      const double d2 = distance2_of(named, r.measured);
+      if (d2 <= best && distance2_of(itself, candidate.reading) <= itself.allowed2) {
+        best = d2;
+        slip = candidate;
+      }
+    }
+    if (slip && others.size() < 2) {
+      others.emplace_back(d.partners[i], slip);
+      shown.partners.push_back(d.partners[i]);
+    }
   }
-  return likely;
+  const auto reads = [this](std::size_t member, const std::optional<SlipCandidate>& slip) {
+    const RunRecord& x = c_.runs[runs_[member].run_index];
+    return fmt::format(
+        "  Run {} ({}) reads {}{}.\n", runs_[member].run_index + 1, x.label,
+        pose_text(x.measured, decimals_of(x.measured)),
+        slip ? fmt::format("; as {} ({}) it would agree with the others",
+                           pose_text(slip->reading, decimals_of(x.measured)), slip->what)
+             : std::string());
+  };
+  if (others.empty()) {
+    c_.log << fmt::format(
+        "\nCheck run {} ({}): it disagrees with the other runs. They predict {}; it reads {} "
+        "({:.1f} standard deviations off).\n",
+        w.run_index + 1, r.label, predicted_text(d.judgement, heading),
+        pose_text(r.measured, decimals_of(r.measured)),
+        std::sqrt(d.judgement.distance2 / d.judgement.dof));
+    if (own) {
+      c_.log << fmt::format("  Likely {}: did you mean {}?\n", own->what,
+                            pose_text(own->reading, decimals_of(r.measured)));
+    } else {
+      c_.log << "  No single slip (a sign, x and y swapped, metres, a decimal comma) explains it: "
+                "check the reading, and whether the run went wrong (a wheel caught, the robot "
+                "touched).\n";
+    }
+    return shown;
+  }
+  // Two (or three) runs that contradict each other and nothing else: neither is assumed right.
+  std::string names = fmt::format("run {}", w.run_index + 1);
+  for (const auto& [member, slip] : others) {
+    names += fmt::format(" and run {}", runs_[member].run_index + 1);
+  }
+  c_.log << fmt::format(
+      "\nCheck {}: they disagree with each other, and the other runs cannot tell which one is "
+      "off.\n",
+      names);
+  c_.log << reads(d.judgement.index, own);
+  for (const auto& [member, slip] : others) {
+    c_.log << reads(member, slip);
+  }
+  // The run just driven can be measured again where it stopped.
+  std::size_t latest = d.judgement.index;
+  for (const auto& [member, slip] : others) {
+    latest = runs_[member].run_index > runs_[latest].run_index ? member : latest;
+  }
+  if (runs_[latest].run_index + 1 == c_.runs.size()) {
+    c_.log << fmt::format(
+        "  The robot is still where run {} stopped: measure it again. If it reads the same, the "
+        "other run's reading is the one to check.\n",
+        runs_[latest].run_index + 1);
+  }
+  return shown;
 }
 
 void RunJury::note(std::size_t member, const std::string& choice, const Disagreement& d,
@@ -319,15 +379,17 @@ std::vector<std::size_t> RunJury::settle() {
     const Disagreement& d = a.disagreements.front();
     const std::size_t member = d.judgement.index;
     const std::size_t number = runs_[member].run_index + 1;
-    const std::string likely = show(d, a);
+    const Shown shown = show(d);
+    const std::string& likely = shown.likely;
     std::string question = fmt::format("What now? r: type run {}'s reading again", number);
-    for (std::size_t i = 0; i < d.partners.size() && i < 2; ++i) {
-      question += fmt::format(", r {0}: type run {0}'s again", runs_[d.partners[i]].run_index + 1);
+    std::string kept_runs = fmt::format("run {}", number);
+    for (const std::size_t p : shown.partners) {
+      question += fmt::format(", r {0}: type run {0}'s again", runs_[p].run_index + 1);
+      kept_runs += fmt::format(" and run {}", runs_[p].run_index + 1);
     }
     question += fmt::format(
-        ", k: keep run {0} as it is (you checked it), d: drive run {0} again (this reading is "
-        "left out): ",
-        number);
+        ", k: keep {} as read (you checked), d: drive run {} again (this reading is left out): ",
+        kept_runs, number);
     bool settled = false;
     while (!settled) {
       const std::optional<std::string> answer = c_.source.ask(question);
@@ -350,7 +412,11 @@ std::vector<std::size_t> RunJury::settle() {
       if (word == "k" && !with_number) {
         runs_[member].kept = true;
         note(member, "kept", d, likely);
-        c_.log << fmt::format("  Run {} kept as read: you confirmed it.\n", number);
+        for (const std::size_t p : shown.partners) {
+          runs_[p].kept = true;
+          note(p, "kept", d, std::string());
+        }
+        c_.log << fmt::format("  Kept as read: {} (you confirmed it).\n", kept_runs);
         settled = true;
       } else if (word == "d" && !with_number) {
         runs_[member].left_out = true;

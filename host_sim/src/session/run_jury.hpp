@@ -64,8 +64,15 @@ class RunJury {
   [[nodiscard]] std::vector<bool> left_out() const;
   void note(std::size_t member, const std::string& choice, const Disagreement& d,
             const std::string& likely);
-  /// Shows `d` and returns the most likely slip's text for its run ("" when none explains it).
-  std::string show(const Disagreement& d, const AgreementResult& all);
+  /// What show() said: the slip that explains the run named ("" when none does), and the runs
+  /// shown beside it as possibly the wrong one instead (members).
+  struct Shown {
+    std::string likely;
+    std::vector<std::size_t> partners;
+  };
+  /// Shows `d`: the run alone with what the others predict and the likely slip, or, when runs
+  /// contradict each other and nothing else, each of them and the slip that would make it agree.
+  Shown show(const Disagreement& d);
   /// Member `member`'s reading typed again (its run or the disagreeing run `disagreeing_run`'s
   /// partner), judged by the other runs.
   void retype(std::size_t member, std::size_t disagreeing_run);

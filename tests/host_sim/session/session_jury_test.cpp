@@ -76,9 +76,21 @@ TEST(SessionJury, AWrongSignHeadingAtTheFirstTurnInPlaceIsNamedAndTypedAgain) {
       // The slipped run is named, by its number, as disagreeing (or as the one the run that
       // disagrees may be instead); it is typed again.
       ASSERT_GT(wrong_run, 0) << "a right reading was questioned:\n" << p.err;
-      const std::string named = "run " + std::to_string(wrong_run) + " (turns-ccw)";
-      EXPECT_NE(p.err.find(named), std::string::npos) << p.err;
-      EXPECT_NE(p.err.rfind("disagree"), std::string::npos) << p.err;
+      const auto at = p.err.rfind("\nCheck run");
+      ASSERT_NE(at, std::string::npos) << p.err;
+      const std::string check = p.err.substr(at + 1, p.err.find('\n', at + 1) - at - 1);
+      const std::string named = "run " + std::to_string(wrong_run);
+      EXPECT_TRUE(check.find(named + " ") != std::string::npos ||
+                  check.find(named + ":") != std::string::npos)
+          << check;
+      EXPECT_NE(check.find("disagree"), std::string::npos) << check;
+      // Named with the slip that explains it, never a right reading alone.
+      const std::string shown = p.err.substr(at);
+      EXPECT_TRUE(shown.find("Run " + std::to_string(wrong_run) + " (turns-ccw) reads") !=
+                      std::string::npos ||
+                  shown.find("Check " + named + " (turns-ccw): it disagrees") != std::string::npos)
+          << shown;
+      EXPECT_NE(shown.find("(the heading's sign)"), std::string::npos) << shown;
       p.type("r " + std::to_string(wrong_run));
       continue;
     }

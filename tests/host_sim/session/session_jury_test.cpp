@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -136,6 +138,89 @@ TEST(SessionJury, AWrongSignHeadingAtTheFirstTurnInPlaceIsNamedAndTypedAgain) {
   EXPECT_NEAR(f["c_r"].get<double>() / f["c_l"].get<double>(), 44.12 / 43.9, 1e-3);
   EXPECT_LT(doc["result"]["verify"]["rms_mm"].get<double>(),
             doc["result"]["verify"]["before_rms_mm"].get<double>());
+}
+
+/// Types the tape's reading at every prompt until `limit` readings (0: no limit) or the end.
+std::size_t type_tape(Person& p, const SimOnPty& sim, std::size_t limit) {
+  std::size_t prompts = 0;
+  while (!p.closed() && (limit == 0 || prompts < limit)) {
+    const auto deadline = PersonClock::now() + std::chrono::seconds(120);
+    while (p.count("Measured stop point") == prompts && !p.closed() &&
+           PersonClock::now() < deadline) {
+      p.wait_for("\n", p.count("\n") + 1, 1.0);
+    }
+    if (p.count("Measured stop point") > prompts) {
+      ++prompts;
+      p.type(line_of(tape(sim.path())));
+    }
+  }
+  return prompts;
+}
+
+TEST(SessionJury, AReadingEditedAfterAnInterruptionIsTakenAndTheSessionGoesOn) {
+  // Auto interrupted (the input ends) after 10 readings; a line's reading corrected in
+  // measurements.csv by 40 mm across; --resume takes it, keeps every run driven as it was even
+  // where the corrected reading would have planned others, and finishes.
+  const std::string robot = write("jury_resume_robot.json", jury_robot);
+  const std::string store = temp("jury_resume.store");
+  std::remove(store.c_str());
+  SimOnPty sim(robot, store, "0", "", {"--seed", "8"});
+  ASSERT_FALSE(sim.path().empty());
+  const std::string out = temp("jury_resume_out");
+  std::system(("rm -rf " + out).c_str());
+  json first;
+  {
+    Person p({"--port", sim.path(), "--no-wait", "--procedure", "auto", "--out", out});
+    EXPECT_EQ(type_tape(p, sim, 10), 10u);
+    p.close_input();
+    EXPECT_EQ(p.finish(), 2) << p.err;
+    first = read_json(out + "/session.json");
+    ASSERT_TRUE(first.is_object());
+    EXPECT_FALSE(first["complete"].get<bool>());
+  }
+  // The journal: the last line run's y moved by 40 mm.
+  std::ifstream in(out + "/measurements.csv");
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) {
+    lines.push_back(l);
+  }
+  ASSERT_EQ(lines.size(), 11u);
+  int edited = 0;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    if (first["runs"][i - 1]["label"] == "line") {
+      edited = static_cast<int>(i);
+    }
+  }
+  ASSERT_GT(edited, 0);
+  std::vector<std::string> f;
+  std::stringstream split(lines[static_cast<std::size_t>(edited)]);
+  for (std::string x; std::getline(split, x, ',');) {
+    f.push_back(x);
+  }
+  const double y = std::atof(f[2].c_str()) + 40.0;
+  char row[128];
+  std::snprintf(row, sizeof row, "%s,%s,%.1f,%s", f[0].c_str(), f[1].c_str(), y,
+                f.size() > 3 ? f[3].c_str() : "");
+  lines[static_cast<std::size_t>(edited)] = row;
+  std::ofstream rewrite(out + "/measurements.csv", std::ios::trunc);
+  for (const std::string& l : lines) {
+    rewrite << l << "\n";
+  }
+  rewrite.close();
+  Person p({"--port", sim.path(), "--no-wait", "--resume", out, "--json"});
+  type_tape(p, sim, 0);
+  // The reading moved 40 mm may disagree with the others: kept or not, the session goes on.
+  ASSERT_EQ(p.finish(), 0) << p.err;
+  EXPECT_NE(p.err.find("Resume: run " + std::to_string(edited) + ":"), std::string::npos) << p.err;
+  const json done = json::parse(p.out, nullptr, false);
+  ASSERT_TRUE(done.is_object()) << p.out;
+  EXPECT_TRUE(done["complete"].get<bool>());
+  for (std::size_t i = 0; i < 10; ++i) {
+    EXPECT_EQ(done["runs"][i]["trial"], first["runs"][i]["trial"]) << "run " << i + 1;
+    EXPECT_EQ(done["runs"][i]["label"], first["runs"][i]["label"]) << "run " << i + 1;
+  }
+  EXPECT_NEAR(done["runs"][static_cast<std::size_t>(edited) - 1]["measured"]["y_mm"].get<double>(),
+              y, 0.05);
 }
 
 }  // namespace

@@ -365,6 +365,41 @@ void RunJury::retype(std::size_t member, std::size_t disagreeing_run) {
                         m.run_index + 1, pose_text(*pose));
 }
 
+nlohmann::json RunJury::checks() const {
+  nlohmann::json out = nlohmann::json::array();
+  if (runs_.empty()) {
+    return out;
+  }
+  const AgreementResult a = judge_runs(logs(), nominal_, centre_, options_, left_out());
+  for (const RunJudgement& j : a.runs) {
+    const Member& m = runs_[j.index];
+    const RunRecord& r = c_.runs[m.run_index];
+    const double predicted_deg = std::remainder(j.predicted[2] * deg_per_rad, 360.0);
+    const std::string status = m.again                    ? "driven again"
+                               : m.left_out               ? "left out"
+                               : m.kept                   ? "kept"
+                               : j.distance2 > j.allowed2 ? "disagrees"
+                                                          : "agrees";
+    out.push_back(
+        {{"run", m.run_index + 1},
+         {"label", r.label},
+         {"measured", pose_json(r.measured)},
+         {"predicted",
+          {{"x_mm", j.predicted[0]}, {"y_mm", j.predicted[1]}, {"theta_deg", predicted_deg}}},
+         {"sd",
+          {{"x_mm", std::sqrt(j.covariance(0, 0))},
+           {"y_mm", std::sqrt(j.covariance(1, 1))},
+           {"theta_deg", std::sqrt(j.covariance(2, 2)) * deg_per_rad}}},
+         {"off_mm", std::hypot(r.measured.x_mm - j.predicted[0], r.measured.y_mm - j.predicted[1])},
+         {"off_deg", r.measured.theta_deg ? nlohmann::json(std::remainder(
+                                                *r.measured.theta_deg - predicted_deg, 360.0))
+                                          : nlohmann::json(nullptr)},
+         {"sigmas", std::sqrt(j.distance2 / j.dof)},
+         {"status", status}});
+  }
+  return out;
+}
+
 std::vector<std::size_t> RunJury::settle() {
   std::vector<std::size_t> again;
   for (int round = 0; round < 64; ++round) {

@@ -49,6 +49,10 @@ class RunJury {
   [[nodiscard]] std::size_t size() const { return runs_.size(); }
   /// Runs left out to be driven again (each followed by another of its kind).
   [[nodiscard]] std::size_t driven_again() const;
+  /// `result.run_checks`: every run's reading against what all the others predict for it
+  /// (run, label, measured, predicted, sd, off_mm, off_deg, sigmas, status: agrees, disagrees,
+  /// kept, left out, driven again).
+  [[nodiscard]] nlohmann::json checks() const;
   /// `result.disagreeing_runs`: each run that disagreed, what was shown and what the owner chose.
   [[nodiscard]] const nlohmann::json& record() const { return record_; }
 

@@ -313,6 +313,7 @@ void AutoSession::measure_until_known(Outcome& out) {
   }
   out.result["runs_chosen"] = chosen_;
   out.result["disagreeing_runs"] = jury_->record();
+  out.result["run_checks"] = jury_->checks();
   out.result["precision"] = progress_;
   out.result["target_mm"] = p_.target_mm;
   out.result["target_met"] = target_met();

@@ -236,6 +236,7 @@ Outcome run_fit(Context& c) {
   }
   outcome.result["suspect_runs"] = auto_plan::describe_suspects(suspects, c, first_run, named);
   outcome.result["disagreeing_runs"] = jury.record();
+  outcome.result["run_checks"] = jury.checks();
   const std::string refusal = implausible_factors(next, c.initial.wheelbase_mm);
   if (!refusal.empty()) {
     throw std::runtime_error(

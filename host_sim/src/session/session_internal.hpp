@@ -227,6 +227,13 @@ struct ReportInput {
 /// answer: the page then shows what the host knows).
 void write_report(Context& c, const nlohmann::json& result, const std::string& summary,
                   bool complete, bool saved, const std::string& interruption);
+/// `text` with HTML's special characters escaped.
+std::string html_escape(const std::string& text);
+/// report.html's table and picture of every run against what the others predict
+/// (`result.run_checks`; "" without it), session_report_checks.cpp.
+std::string run_checks_section(const nlohmann::json& result);
+/// report.html's line of the unseen path before and after (`result.verify.before_rms_mm`; "").
+std::string before_after_line(const nlohmann::json& result);
 /// report.html: one self-contained page (inline SVG, no script, nothing from the network).
 std::string report_html(const ReportInput& input);
 

@@ -19,13 +19,8 @@
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
-namespace {
 
-constexpr double kPi = std::numbers::pi;
-const char* const kPalette[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd",
-                                "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
-
-std::string escape(const std::string& text) {
+std::string html_escape(const std::string& text) {
   std::string out;
   for (char ch : text) {
     switch (ch) {
@@ -46,6 +41,16 @@ std::string escape(const std::string& text) {
     }
   }
   return out;
+}
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+const char* const kPalette[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd",
+                                "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
+
+std::string escape(const std::string& text) {
+  return html_escape(text);
 }
 
 /// An SvgFigure as an inline element that scales to the page (viewBox) and needs no namespace.
@@ -414,10 +419,21 @@ std::string factors_table(const ReportInput& in, const nlohmann::json* fit) {
   }
   if (fit != nullptr && fit->is_object() && fit->contains("noise") && (*fit)["noise"].is_object() &&
       (*fit)["noise"].contains("k_l")) {
-    table << fmt::format(
-        "<p>Random error growth (odometry covariance, Chong &amp; Kleeman): k_l = {:.3g} "
-        "mm&sup2;/mm, k_r = {:.3g} mm&sup2;/mm.</p>\n",
-        (*fit)["noise"]["k_l"].get<double>(), (*fit)["noise"]["k_r"].get<double>());
+    // A k estimated at 0 is not resolved by the runs, not a wheel that never slips: its upper end.
+    const nlohmann::json& noise = (*fit)["noise"];
+    const auto k_text = [&noise](const char* name) {
+      const double k = noise[name].get<double>();
+      if (k > 0.0) {
+        return fmt::format("{} = {:.3g} mm&sup2;/mm", name, k);
+      }
+      const bool has_ci = noise.contains("ci") && noise["ci"].contains(name) &&
+                          noise["ci"][name].is_array() && noise["ci"][name].size() == 2u;
+      return has_ci ? fmt::format("{} not resolved by the runs (at most {:.3g} mm&sup2;/mm)", name,
+                                  noise["ci"][name][1].get<double>())
+                    : fmt::format("{} not resolved by the runs", name);
+    };
+    table << "<p>Random error growth (odometry covariance, Chong &amp; Kleeman): " << k_text("k_l")
+          << ", " << k_text("k_r") << ".</p>\n";
   }
   return table.str();
 }
@@ -427,7 +443,8 @@ std::string factors_table(const ReportInput& in, const nlohmann::json* fit) {
 std::string report_html(const ReportInput& in) {
   ReportParts p = parts_of(in);
   std::ostringstream body;
-  body << paths_figure(in, p) << errors_figure(in) << fit_figure(in, p) << verify_figure(in, p);
+  body << run_checks_section(in.result) << paths_figure(in, p) << errors_figure(in)
+       << fit_figure(in, p) << verify_figure(in, p) << before_after_line(in.result);
   const std::string table = factors_table(in, p.fit);
   std::ostringstream page;
   page << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
@@ -446,10 +463,11 @@ std::string report_html(const ReportInput& in) {
        << (in.complete ? "complete"
                        : "<span class=\"warn\">interrupted: " + escape(in.interruption) + "</span>")
        << (in.saved ? " &middot; saved on the robot" : "") << "</p>\n";
-  if (!in.summary.empty()) {
-    page << "<pre>" << escape(in.summary) << "</pre>\n";
+  page << "<h2>Factors in force</h2>\n" << table << body.str();
+  if (!in.summary.empty()) {  // what the console said, last: the pictures come first
+    page << "<h2>What the session printed</h2>\n<pre>" << escape(in.summary) << "</pre>\n";
   }
-  page << "<h2>Factors in force</h2>\n" << table << body.str() << "</body>\n</html>\n";
+  page << "</body>\n</html>\n";
   return page.str();
 }
 

@@ -169,6 +169,35 @@ def check_page(tag, html, out_dir):
     print("  (picture: %s)" % shown)
 
 
+def check_evidence(tag, html, doc):
+    """The readings' evidence: a row per calibration run with its measured and predicted stop,
+    the headings of turns in place shown, and the unseen path before and after."""
+    result = doc["result"]
+    table = re.search(r'<table class="run-checks">(.*?)</table>', html, re.S)
+    check(tag + ": the table of every run against the others", table is not None, "no table")
+    if table is None:
+        return
+    rows = re.findall(r"<tr(?: class=\"warn\")?><td>(\d+)</td><td>([^<]*)</td>(.*?)</tr>",
+                      table.group(1), re.S)
+    calibration = [r for r in doc["runs"] if r["label"] in
+                   ("line", "turns-ccw", "turns-cw", "arc-left", "arc-right")]
+    check(tag + ": one row per calibration run", len(rows) == len(calibration),
+          "%d rows, %d calibration runs" % (len(rows), len(calibration)))
+    turns = [r for r in rows if r[1].startswith("turns")]
+    shown = [r for r in turns if re.findall(r"<td>(-?[0-9.]+)</td>", r[2])[:1]]
+    headings = [re.findall(r"<td>([^<]*)</td>", r[2]) for r in turns]
+    check(tag + ": the turns in place show their measured and predicted headings",
+          turns and all(len(h) >= 4 and h[1] not in ("", "&ndash;") and h[3] not in ("", "&ndash;")
+                        for h in headings),
+          "%d turns, cells %s" % (len(turns), headings[:2]))
+    line = re.search(r'<p class="before-after">(.*?)</p>', html, re.S)
+    check(tag + ": the unseen path before and after", line is not None, "no line")
+    if line is not None:
+        want = ["%.1f" % result["verify"]["before_rms_mm"], "%.1f" % result["verify"]["rms_mm"]]
+        check(tag + ": the before/after line says the session's figures",
+              all(w in line.group(1) for w in want), "%s not in %s" % (want, line.group(1)))
+
+
 def main():
     bindir, work = sys.argv[1], sys.argv[2]
     os.makedirs(work, exist_ok=True)
@@ -200,7 +229,10 @@ def main():
             check(tag + ": at most 20 tape measurements (the default budget)",
                   doc["measurements"] <= 20,
                   "%d" % doc["measurements"])
-        check_page(tag, open(page, encoding="utf-8").read(), out)
+        html = open(page, encoding="utf-8").read()
+        if args[1] == "auto":
+            check_evidence(tag, html, doc)
+        check_page(tag, html, out)
     print("report_browser_test: %d checks passed, %d failed" % (results.count(True), results.count(False)))
     return 0 if all(results) else 1
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -32,14 +33,29 @@ std::int64_t whole(const Reply& reply, const std::string& key) {
   return *value;
 }
 
-/// Waits until `samples` has grown past `count` (a `# ticks` line arrived).
-void wait_tick(RobotClient& robot, const std::vector<TickSample>& samples, std::size_t count) {
+/// Waits until `samples` has grown past `count` (a `# ticks` line that reads arrived). A robot in
+/// lockstep sends its lines only as the host talks to it: when a second passes without one (the
+/// lines it sent came damaged on the line and were dropped), another is asked for with a
+/// harmless line. `dropped` counts the tick lines that came damaged so far.
+void wait_tick(RobotClient& robot, const std::vector<TickSample>& samples, std::size_t count,
+               const std::function<std::size_t()>& dropped) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  auto asked = std::chrono::steady_clock::now();
   while (samples.size() <= count) {
-    if (std::chrono::steady_clock::now() > deadline) {
-      throw LinkError(
-          "no '# ticks' line within 10 s after 'stream ticks' (does the firmware "
-          "have it?)");
+    const auto now = std::chrono::steady_clock::now();
+    if (now > deadline) {
+      const std::size_t damaged = dropped();
+      throw LinkError(damaged > 0
+                          ? fmt::format("no '# ticks' line came whole within 10 s after 'stream "
+                                        "ticks': {} came damaged on the line (a noisy line: check "
+                                        "the cable and the baud rate)",
+                                        damaged)
+                          : std::string("no '# ticks' line within 10 s after 'stream ticks' (does "
+                                        "the firmware have it?)"));
+    }
+    if (now - asked > std::chrono::seconds(1)) {
+      static_cast<void>(robot.command("odom"));
+      asked = now;
     }
     static_cast<void>(robot.pump(200));
   }
@@ -377,7 +393,7 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
     logging.stream();
     // The start row: the counts before the motion, read twice alike (the robot stands still), so
     // that a sample damaged on the line is never the count every other rests on.
-    wait_tick(robot, r.ticks, 0);
+    wait_tick(robot, r.ticks, 0, [&logging] { return logging.dropped(); });
     int asked = 0;
     while (!at_rest(r.ticks, logging.checked())) {
       if (r.ticks.size() > 50u || ++asked > 200) {

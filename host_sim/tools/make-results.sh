@@ -163,6 +163,7 @@ PY
 python3 "$here/host_sim/tools/auto-results.py" "$bin" >>"$new"
 python3 "$here/host_sim/tools/validate-seeds.py" "$bin" 30 >>"$new"
 python3 "$here/host_sim/tools/nonsys-results.py" "$bin" >>"$new"
+python3 "$here/host_sim/tools/jury-study.py" "$bin" "$tmp/jury" --markdown >>"$new"
 printf '\n' >>"$new"
 cat "$tmp/real.md" >>"$new"
 cp "$new" "$out"

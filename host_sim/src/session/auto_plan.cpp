@@ -415,7 +415,16 @@ Precision precision_of(const FitResult& r, const FitNominal& nominal,
     now = std::move(best_c);
     ++out.more;
   }
+  // Where the budget's runs are expected to leave it (the target not met within them).
+  out.sigma_at_room_mm = inflation * sigma_sys(gu, now);
+  out.reached_in_room =
+      out.more < room || (widen_at(dof, out.more) * out.sigma_at_room_mm <= out.target_mm &&
+                          logs.size() + out.more >= out.min_runs);
   return out;
+}
+
+double widen_at(double dof, std::size_t more) {
+  return stop_factor_for(dof < 1e9 ? dof + static_cast<double>(more) : 0.0);
 }
 
 Expectation expected_before_runs(const Plan& plan, const FitNominal& nominal, double target_mm,

@@ -43,6 +43,10 @@ constexpr std::size_t kDriftTargetMinRuns = 10;
 /// (dof <= 0). About 1.5 at 6 degrees of freedom, 1.2 at 20, 1.1 at 100.
 double stop_factor_for(double dof);
 
+/// stop_factor_for the runs' degrees of freedom `dof` and `more` runs to come (1e9 and more:
+/// not estimated).
+double widen_at(double dof, std::size_t more);
+
 /// The target in force: `target` (the user's --target) when given, else the default above for a
 /// robot whose drift is estimated as `sigma_random_mm` (0: not estimated yet).
 double target_in_force(std::optional<double> target, double sigma_random_mm);
@@ -88,6 +92,10 @@ struct Precision {
   double stop_factor = 1.0;
   /// The arcs look like another wheelbase the runs cannot pin yet: not done before more arcs.
   bool arc_unresolved = false;
+  /// What the factors are expected to leave (1 sigma, mm) once the runs there is room for are
+  /// driven, and whether the target is expected within them.
+  double sigma_at_room_mm = 0.0;
+  bool reached_in_room = true;
   nlohmann::json noise;  ///< `odocal fit`'s `noise` object, null when not estimated
 };
 

@@ -234,8 +234,15 @@ bool AutoSession::report() {
                      ? "Enough"
                      : fmt::format("That is the {} calibration runs there is room for", budget_),
                  auto_verify_runs)
-           : fmt::format("About {} more measurements expected ({} to calibrate, {} to verify).",
-                         p_.more + auto_verify_runs, p_.more, auto_verify_runs));
+      : !p_.reached_in_room
+          ? fmt::format("The target is unlikely within the budget: expect about {:.1f} mm "
+                        "after the {} calibration runs there is room for ({} more, then {} "
+                        "to verify).",
+                        p_.sigma_at_room_mm, budget_, p_.more, auto_verify_runs)
+          : fmt::format("About {} more measurements expected ({} to calibrate, {} to "
+                        "verify): the target within the budget if the runs scatter no more "
+                        "than so far.",
+                        p_.more + auto_verify_runs, p_.more, auto_verify_runs));
   return done;
 }
 

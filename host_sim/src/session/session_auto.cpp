@@ -259,11 +259,13 @@ void AutoSession::plan_the_budget() {
   const std::size_t total = c_.options.max_measurements.value_or(kDefaultMaxMeasurements);
   const std::size_t spent = selftest_runs_ + auto_verify_runs;
   budget_ = std::max(auto_first_round, total > spent ? total - spent : 0);
-  c_.planned = selftest_runs_ + auto_first_round + auto_verify_runs;
   const double target = target_in_force(c_.options.target_mm, 0.0);
   const Expectation likely = expected_before_runs(plan_, nominal_, target, auto_first_round, 200);
   const Expectation at_budget =
       expected_before_runs(plan_, nominal_, target, auto_first_round, budget_);
+  // "Run N/M": M the runs the forecast expects within the budget, from the first run on.
+  c_.planned = selftest_runs_ + std::min(budget_, std::max(auto_first_round, likely.runs)) +
+               auto_verify_runs;
   c_.log << fmt::format(
       "Auto: {} measured runs first (a {:.2f} m line, {:.0f} turns in place each way, arcs of "
       "{:.2f} m radius each way, a second line), more only where they buy precision, then {} "

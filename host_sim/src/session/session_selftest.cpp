@@ -188,6 +188,7 @@ Outcome run_selftest(Context& c) {
   out.result["wiring_fix"] = before;
   if (faults.empty()) {
     text << "Wired right: no fault.\n";
+    c.log << "Wired right: no fault.\n";  // said as it is found (the result text may not be)
   }
   if (bits != 0u) {
     const std::uint32_t proposed = before ^ bits;

@@ -54,7 +54,7 @@ TEST(SessionBridge, OdocalSimAnswersAsROSArduinoBridge) {
   EXPECT_EQ(lines[1], "57600");  // ROSArduinoBridge's BAUDRATE
   EXPECT_EQ(lines[2], "OK");
   EXPECT_EQ(lines[3], "0 0");
-  EXPECT_EQ(lines[4], "Invalid Command");
+  EXPECT_EQ(lines[4], "OK");  // `x`: analogWrite
   EXPECT_EQ(lines[5], "OK");
   EXPECT_EQ(lines[6], "OK");
   // Frames 30-59 (1 s to 2 s after the `m`): the PID holds 30 counts per frame; its integer
@@ -79,6 +79,36 @@ TEST(SessionBridge, OdocalSimAnswersAsROSArduinoBridge) {
   ASSERT_EQ(std::sscanf(lines[159].c_str(), "ok x_mm=%lf y_mm=%lf theta_deg=%lf", &x, &y, &theta),
             3);
   EXPECT_LT(std::hypot(x, y), 10.0);  // the default robot's tape noise is a few mm
+}
+
+TEST(SessionBridge, OdocalSimsBridgeRobotReadsLinesAsTheFirmwareDoes) {
+  // loop() in ROSArduinoBridge.ino: only a CR runs a command; a space steps to the next
+  // argument; every other byte is the letter (before a space) or part of an argument, LF too.
+  // runCommand reads the arguments with atoi and answers the pin and sonar commands of a
+  // USE_BASE build; raw PWM `o` is joshnewans' firmware's.
+  const std::string robot = write("bridge_reader.json", "{}");
+  const std::string bytes =
+      "e\n"        // ended by LF alone: no reply, and its bytes stay in the command...
+      "b\r"        // ... whose letter the `b` then replaces: the baud rate
+      "m 10 10\n"  // no reply; the `e` after it runs on into the second argument
+      "e\r"        // "m 10 10\ne": atoi reads 10 and 10, the firmware answers `m`
+      "m 0 0\r"
+      "a 3\rd 4\rp 7\rc 13 1\rw 13 1\rx 5 9\ro 0 0\rs 1 90\r"
+      "m 1.5 2\re\rm x y\r"  // atoi: 1 and 2; no digits: 0 0, a stop
+      "e\r\ne\r";            // CR LF: the LF is the next command's first letter, replaced by `e`
+  const std::vector<std::string> lines = bridge_lines("bridge_reader_in.txt", robot, bytes);
+  const std::vector<std::string> want = {
+      "57600", "OK", "OK", "0", "0", "0", "OK", "OK", "OK", "OK", "Invalid Command"};
+  ASSERT_GE(lines.size(), want.size() + 5u);
+  for (std::size_t i = 0; i < want.size(); ++i) {
+    EXPECT_EQ(lines[i], want[i]) << "reply " << i;
+  }
+  EXPECT_EQ(lines[11], "OK");            // m 1.5 2
+  static_cast<void>(counts(lines[12]));  // two whole numbers
+  EXPECT_EQ(lines[13], "OK");            // m x y
+  static_cast<void>(counts(lines[14]));
+  static_cast<void>(counts(lines[15]));
+  EXPECT_EQ(lines.size(), want.size() + 5u);
 }
 
 TEST(SessionBridge, OdocalSimRefusesWhatABridgeRobotHasNot) {

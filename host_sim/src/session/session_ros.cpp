@@ -16,10 +16,9 @@
 namespace odocal::host::session {
 namespace {
 
-/// The covariances' conditions, as `odocal ros2` takes them by default (docs/calibration.md):
-/// twist at 0.2 m/s over diff_drive_controller's 50 Hz publish period, pose after 1 m straight.
+/// The covariances' conditions: the twist at 0.2 m/s (as `odocal ros2` by default), the pose
+/// after 1 m straight; the controller's velocity estimate from the session's flags.
 constexpr double kCovarianceSpeedMps = 0.2;
-constexpr double kCovariancePublishHz = 50.0;
 constexpr double kCovariancePoseDistanceM = 1.0;
 
 /// The fit's `noise` object in a procedure's result (`fit`: the result's own; `auto`: its fit's).
@@ -90,12 +89,12 @@ void write_ros_yaml(Context& c, Outcome& outcome) {
               ": not resolved above 0 by these runs; the upper end of its 95 % interval is "
               "used (a conservative covariance)\n";
     }
-    const Ros2Covariance cov = ros2_covariance(
-        k, g.wheelbase, kCovarianceSpeedMps, 1.0 / kCovariancePublishHz, kCovariancePoseDistanceM);
-    text += fmt::format(
-        "# covariances: k_l {:.4g}, k_r {:.4g} mm^2/mm; pose after {} m straight, twist at {} "
-        "m/s over 1/{} s (docs/calibration.md)\n",
-        k.k_l, k.k_r, kCovariancePoseDistanceM, kCovarianceSpeedMps, kCovariancePublishHz);
+    const RosVelocityEstimate& estimate = c.options.ros_velocity;
+    const Ros2Covariance cov =
+        ros2_covariance(k, g.wheelbase, kCovarianceSpeedMps, estimate, kCovariancePoseDistanceM);
+    text += ros2_covariance_note(k, kCovariancePoseDistanceM, kCovarianceSpeedMps, estimate);
+    ros["ros_update_rate_hz"] = estimate.update_rate_hz;
+    ros["ros_velocity_window"] = estimate.window;
     covariance =
         fmt::format("    pose_covariance_diagonal: {}\n    twist_covariance_diagonal: {}\n",
                     yaml_list(cov.pose), yaml_list(cov.twist));

@@ -1,6 +1,8 @@
 // ROS robots (DESIGN "ROS robots"): odocal-sim as a robot running ROSArduinoBridge, and `odocal
 // session --protocol ros-arduino-bridge` calibrating such robots with no reflash.
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <string>
 #include <vector>
@@ -196,9 +198,13 @@ TEST(SessionBridge, CalibratesROSArduinoBridgeRobotsOfSeveralSizes) {
                                         .dump());
     const std::string out = temp(std::string("bridge_out_") + b.name);
     static_cast<void>(shell("rm -rf " + out));  // a session of an earlier test run
+    // The cart's controller manager runs at 50 Hz and averages 4 velocities; the others keep
+    // the controller's defaults (100 Hz, 10).
+    const bool cart = std::string(b.name) == "cart";
     const Result r = session("--sim " + robot +
                              " --protocol ros-arduino-bridge --procedure auto --json --seed " +
-                             std::to_string(b.seed) + " --out " + out);
+                             std::to_string(b.seed) + " --out " + out +
+                             (cart ? " --ros-update-rate-hz 50 --ros-velocity-window 4" : ""));
     const json doc = parse(r);
     ASSERT_TRUE(doc.is_object());
     EXPECT_LE(doc["measurements"].get<int>(), 12);
@@ -223,6 +229,19 @@ TEST(SessionBridge, CalibratesROSArduinoBridgeRobotsOfSeveralSizes) {
     const json pose = json::parse(y.at("pose_covariance_diagonal"));
     EXPECT_GT(pose[0].get<double>(), 0.0);
     EXPECT_GT(pose[5].get<double>(), 0.0);
+    // The twist's as the controller estimates it (docs/ros.md): the mean over W updates of
+    // 1/f s, at 0.2 m/s, against the pose's after 1 m: twist / pose = 0.2 f / W for x and yaw.
+    const json twist = json::parse(y.at("twist_covariance_diagonal"));
+    const double ratio = cart ? 0.2 * 50.0 / 4.0 : 0.2 * 100.0 / 10.0;
+    EXPECT_NEAR(twist[0].get<double>() / pose[0].get<double>(), ratio, 1e-9 * ratio);
+    EXPECT_NEAR(twist[5].get<double>() / pose[5].get<double>(), ratio, 1e-9 * ratio);
+    std::ifstream yaml_file(out + "/diff_drive_controller.yaml");
+    const std::string yaml((std::istreambuf_iterator<char>(yaml_file)),
+                           std::istreambuf_iterator<char>());
+    EXPECT_NE(yaml.find(cart ? "update rate 50 Hz, velocity_rolling_window_size 4"
+                             : "update rate 100 Hz, velocity_rolling_window_size 10"),
+              std::string::npos)
+        << yaml;
     // The same numbers in the session's JSON.
     EXPECT_DOUBLE_EQ(doc["result"]["ros"]["wheel_separation_multiplier"].get<double>(),
                      std::stod(y.at("wheel_separation_multiplier")));

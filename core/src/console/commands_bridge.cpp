@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "odocal/console/console.hpp"
+#include "odocal/drive/robot_model.hpp"
 
 namespace odocal::console {
 namespace {
@@ -44,6 +45,24 @@ std::int32_t next_atoi(const char*& text) {
   return negative ? -value : value;
 }
 
+/// `e`'s number for a wheel: its counts since `r` (32-bit, wrapping as ROSArduinoBridge's `long`)
+/// times `scale`, to the nearest whole number. Monotone: float conversion, a positive factor and
+/// rounding never reverse an order, so it never goes back while the wheel rolls forward.
+std::int32_t scaled_count(std::uint32_t counts, float scale) {
+  float scaled = static_cast<float>(static_cast<std::int32_t>(counts)) * scale + 0.5f;
+  // Held within +-2^31 (a factor above 1 and 2^31 counts: past 280 km of a 60 mm wheel).
+  if (scaled > 2.1e9f) {
+    scaled = 2.1e9f;
+  } else if (scaled < -2.1e9f) {
+    scaled = -2.1e9f;
+  }
+  auto whole = static_cast<std::int32_t>(scaled);  // toward zero: one down below 0
+  if (static_cast<float>(whole) > scaled) {
+    --whole;
+  }
+  return whole;
+}
+
 }  // namespace
 
 void Console::cmd_bridge(const Token* words, std::size_t count) {
@@ -57,11 +76,17 @@ void Console::cmd_bridge(const Token* words, std::size_t count) {
     echo_ = false;
     editor_.forget_terminal();
   }
-  // What one count is to ROS, which knows the nominal robot (wheel_radius =
-  // wheel_diameter_mm / 2).
-  const float nominal_m_per_count = std::numbers::pi_v<float> *
-                                    settings_.get(params::ParamId::wheel_diameter_mm) * 1e-3f /
-                                    settings_.get(params::ParamId::counts_per_rev);
+  // The model in force (robot_model.hpp), told a unit wheel: its diameters are each wheel's
+  // diameter in force over the nominal one; and what one count is to ROS, which knows the
+  // nominal robot (wheel_radius = wheel_diameter_mm / 2).
+  const params::ParamSet& p = settings_.values();
+  using params::ParamId;
+  const drive::model::Geometry<float> model =
+      drive::model::geometry_in_force(drive::model::Parameters<float>{
+          1.0f, p.get(ParamId::wheelbase_mm) * 1e-3f, 0.0f, p.get(ParamId::c_l),
+          p.get(ParamId::c_r), p.get(ParamId::f_lat), p.get(ParamId::f_lon)});
+  const float nominal_m_per_count = std::numbers::pi_v<float> * p.get(ParamId::wheel_diameter_mm) *
+                                    1e-3f / p.get(ParamId::counts_per_rev);
   const drive::WheelCounts counts = loop_.wheel_counts();
   // Counts as ROSArduinoBridge's `long` and diffdrive_arduino's `int` hold them: 32 bits,
   // wrapping (the modular difference; 2^31 counts are a million wheel turns at 1440 counts).
@@ -69,8 +94,8 @@ void Console::cmd_bridge(const Token* words, std::size_t count) {
   const auto right = static_cast<std::uint32_t>(counts.right);
   switch (letter) {
     case 'e':
-      send_line("%i %i", static_cast<std::int32_t>(left - bridge_zero_left_),
-                static_cast<std::int32_t>(right - bridge_zero_right_));
+      send_line("%i %i", scaled_count(left - bridge_zero_left_, model.left_diameter),
+                scaled_count(right - bridge_zero_right_, model.right_diameter));
       return;
     case 'b':
       send_line(kBaudText);
@@ -103,13 +128,12 @@ void Console::cmd_bridge(const Token* words, std::size_t count) {
         loop_.stop();
         break;
       }
-      // The body twist those contact speeds make about the nominal wheelbase; the loop drives
-      // it through the calibrated model (Maddahi eq. 7 with c_L, c_R, F_lat, F_lon, the arc
-      // wheelbase), as any `drive`.
+      // The body twist those contact speeds make about the wheelbase in force (the one
+      // wheel_separation ROS is told, docs/ros.md); the loop drives it through the calibrated
+      // model (Maddahi eq. 7 with c_L, c_R, F_lat, F_lon, the arc wheelbase), as any `drive`.
       drive::Twist twist;
       twist.v_mps = 0.5f * (left_mps + right_mps);
-      twist.w_radps =
-          (right_mps - left_mps) / (settings_.get(params::ParamId::wheelbase_mm) * 1e-3f);
+      twist.w_radps = (right_mps - left_mps) / model.wheelbase;
       // Held (no trial) until the next `m`, at most 2000 ms: ROSArduinoBridge's
       // AUTO_STOP_INTERVAL. Refused in a fault, which stays for `m 0 0` or `stop`.
       (void)loop_.drive(twist, kAutoStopMs, false);

@@ -116,6 +116,60 @@ TEST(ConsoleBridge, EncodersCountAndResetToZero) {
   EXPECT_EQ(rig->loop.wheel_counts().left, 1444);
 }
 
+// The two numbers of an `e` reply.
+std::pair<long, long> e_counts(const std::string& reply) {
+  long left = 0;
+  long right = 0;
+  char rest = 0;
+  EXPECT_EQ(std::sscanf(reply.c_str(), "%ld %ld%c", &left, &right, &rest), 2) << reply;
+  return {left, right};
+}
+
+TEST(ConsoleBridge, ECountsAreTheWheelsInForceOnTheNominalWheel) {
+  // ROS turns counts into distance with the nominal wheel_radius (wheel_diameter_mm / 2): `e`
+  // reports each wheel's counts times its diameter in force over the nominal one (robot_model:
+  // D_L = D c_L / (F_lat F_lon), D_R = D c_R / F_lon), to the nearest whole count.
+  auto rig = make_rig();
+  for (const char* set : {"set c_l 0.98", "set c_r 1.03", "set f_lat 1.01", "set f_lon 0.99"}) {
+    ASSERT_EQ(rig->reply(set).rfind("ok ", 0), 0u) << set;
+  }
+  rig->tick(2);  // the loop counts from its first tick on
+  const double left_scale = 0.98 / (1.01 * 0.99);
+  const double right_scale = 1.03 / 0.99;
+  WheelTurner left(*rig, true);
+  WheelTurner right(*rig, false);
+  std::pair<long, long> last{0, 0};
+  int left_total = 0;
+  int right_total = 0;
+  // Small steps, an `e` after each: whole numbers that never go back, within half a count of
+  // the scaled total (float rounding of a scaled step: far below a count).
+  for (int step = 0; step < 400; ++step) {
+    const int left_step = 1 + step % 7;
+    const int right_step = 1 + step % 5;
+    left.turn(left_step);
+    right.turn(right_step);
+    left_total += left_step;
+    right_total += right_step;
+    rig->tick(1);
+    const auto now = e_counts(rig->reply("e"));
+    EXPECT_GE(now.first, last.first);
+    EXPECT_GE(now.second, last.second);
+    EXPECT_NEAR(static_cast<double>(now.first), left_total * left_scale, 0.5 + 1e-3);
+    EXPECT_NEAR(static_cast<double>(now.second), right_total * right_scale, 0.5 + 1e-3);
+    last = now;
+  }
+  // Backwards the same way: the counts go down, still whole and within half a count.
+  left.turn(-left_total);
+  right.turn(-right_total);
+  rig->tick(1);
+  const auto back = e_counts(rig->reply("e"));
+  EXPECT_NEAR(static_cast<double>(back.first), 0.0, 0.5 + 1e-3);
+  EXPECT_NEAR(static_cast<double>(back.second), 0.0, 0.5 + 1e-3);
+  // `r` starts again from zero, fraction and all.
+  EXPECT_EQ(rig->reply("r"), "OK");
+  EXPECT_EQ(rig->reply("e"), "0 0");
+}
+
 TEST(ConsoleBridge, TheOtherLettersAnswerAsROSArduinoBridgeBuiltWithUseBase) {
   // runCommand (ROSArduinoBridge.ino, commands.h): analog read, digital read and ping print a
   // number; pin mode, digital write, analog write and the PID gains print OK; raw PWM (`o`,
@@ -291,11 +345,16 @@ TEST(ConsoleBridge, TheTwistGoesThroughTheWholeModelInForce) {
   }
   EXPECT_EQ(rig->reply("m 6 14"), "OK");
   run_ms(*rig, 500);
-  // The body twist ROS meant with the nominal geometry (60 mm wheels, 1440 counts, 150 mm):
+  // The body twist ROS meant with the nominal wheel (60 mm, 1440 counts) and the wheelbase in
+  // force (the wheel_separation odocal writes for it: 150 mm scaled as F_lat, F_lon scale it,
+  // robot_model.hpp):
   const double mps_per_count = std::numbers::pi * 0.060 / 1440.0 * 30.0;
+  const double left_factor = 0.99 / (1.01 * 0.98);
+  const double right_factor = 1.0 / 0.98;
+  const double wheelbase_m = 0.150 * (left_factor + right_factor) / (0.99 + 1.0);
   drive::Twist twist;
   twist.v_mps = static_cast<float>(0.5 * (6.0 + 14.0) * mps_per_count);
-  twist.w_radps = static_cast<float>((14.0 - 6.0) * mps_per_count / 0.150);
+  twist.w_radps = static_cast<float>((14.0 - 6.0) * mps_per_count / wheelbase_m);
   // ... driven through the one model in force (core's kinematics: factors and arc wheelbase).
   const drive::DiffDriveKinematics model(params::to_drive_config(rig->console.params()));
   const drive::WheelRates rates = model.inverse(twist);

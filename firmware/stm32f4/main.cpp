@@ -7,7 +7,6 @@
 #include "board.hpp"
 #include "built_once.hpp"
 #include "odocal/console/console.hpp"
-#include "odocal/console/version.hpp"
 #include "odocal/drive/control_loop.hpp"
 #include "odocal/hal/stm32f4/interrupts.hpp"
 #include "odocal/hal/stm32f4/irq.hpp"
@@ -59,18 +58,19 @@ void on_tick(void* raw) {
   }
 }
 
-/// Writes a whole line through the stream (start-up only: waits while the ring is full).
-void write_line(hal::ByteStream& stream, const char* const* parts, std::size_t count) {
+/// The board's pairs the console's start-up line carries (ConsoleOptions::banner_note):
+/// ` board=.. clock=.. reset=..`. Built once at start-up; the console keeps a pointer to it.
+char boot_note[48];
+
+/// Appends the NUL-ended `parts` to `boot_note` (cut at its end). Start-up only.
+void write_boot_note(const char* const* parts, std::size_t count) {
+  std::size_t at = 0u;
   for (std::size_t p = 0u; p < count; ++p) {
-    const auto* bytes = reinterpret_cast<const std::uint8_t*>(parts[p]);
-    std::size_t length = 0u;
-    while (parts[p][length] != '\0') {
-      ++length;
-    }
-    for (std::size_t done = 0u; done < length;) {
-      done += stream.write(bytes + done, length - done);
+    for (const char* c = parts[p]; *c != '\0' && at + 1u < sizeof boot_note; ++c) {
+      boot_note[at++] = *c;
     }
   }
+  boot_note[at] = '\0';
 }
 
 /// Tick rate from the parameter (the console may change `control_hz`).
@@ -108,9 +108,16 @@ BuiltOnce<console::Console> console_storage;
       tick_storage.make(loop, timer, clock, static_cast<float>(info.clock.sysclk_hz) * 1.0e-6f);
   SessionStream& session = session_storage.make(parts.console);
   params::ParamStore& store = store_storage.make(parts.store);
+  // The board's pairs ride on the console's start-up line, which waits for the first odocal
+  // command: nothing is printed at power-up that a ROSArduinoBridge client could read as a reply.
+  const char* const boot[] = {" board=", info.name,
+                              " clock=", f4::clock_source_name(info.clock.source),
+                              watchdog_reset ? " reset=watchdog" : " reset=power"};
+  write_boot_note(boot, sizeof(boot) / sizeof(boot[0]));
   // Echo switches itself on when a person types (picocom/screen send CR for Enter).
   console::Console& console = console_storage.make(
-      session, loop, store, console::ConsoleOptions{console::EchoMode::automatic, true, true});
+      session, loop, store,
+      console::ConsoleOptions{console::EchoMode::automatic, true, true, boot_note});
 
   if (board_has_cycle_counter) {
     f4::CycleCounter::start();
@@ -118,15 +125,6 @@ BuiltOnce<console::Console> console_storage;
   board_start_encoders(loop.left_decoder(), loop.right_decoder());
   f4::enable_interrupts();  // the console UART from here on; the tick starts below
 
-  const char* const boot[] = {"\r\n# odocal-fw ",
-                              console::project_version,
-                              " board=",
-                              info.name,
-                              " clock=",
-                              f4::clock_source_name(info.clock.source),
-                              watchdog_reset ? " reset=watchdog" : " reset=power",
-                              "\r\n"};
-  write_line(session, boot, sizeof(boot) / sizeof(boot[0]));
   // Loads the saved parameters into the loop (the flash is read before the tick runs).
   static_cast<void>(console.start(clock.now_us()));
   std::uint32_t rate_hz = start_tick(tick);

@@ -194,8 +194,8 @@ print(wrap(
     "three-parameter geometry leaves unexplained (DESIGN, Real-robot model)" +
     (f", which is why the ellipses hold more than 95 % ({june_in} of {june_n})"
      if june_in > 0.95 * june_n else "") +
-    ". With the squares' fit, `odocal ros2 --from FIT.json` writes (0.2 m/s, 50 Hz, pose after "
-    "1 m):"))
+    ". With the squares' fit, `odocal ros2 --from FIT.json` writes (0.2 m/s, the controller's "
+    "100 Hz updates and window of 10, pose after 1 m):"))
 print()
 print("```")
 print(ros2.rstrip().replace(tempfile.gettempdir() + "/", ""))

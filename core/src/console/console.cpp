@@ -31,16 +31,28 @@ params::StoreResult Console::start(std::uint32_t now_us) {
   clock_started_ = true;
   const Settings::Start start = settings_.start();
   trial_seen_ = loop_.last_trial().number;
-  if (options_.banner) {
-    if (start.used) {
-      send_line("# odocal %s console params=loaded sequence=%u", project_version,
-                start.info.record.sequence);
-    } else {
-      send_line("# odocal %s console params=defaults store=%s", project_version,
-                start.store == params::StoreResult::ok ? "rejected" : store_word(start.store));
-    }
+  banner_due_ = options_.banner;
+  banner_sequence_ = start.info.record.sequence;
+  if (!start.used) {
+    banner_store_ = start.store == params::StoreResult::ok ? "rejected" : store_word(start.store);
   }
   return start.store;
+}
+
+void Console::send_banner() {
+  // Held until now: a client that reads one line per command (diffdrive_arduino) never sees it,
+  // and a host that watches for it still learns of a restart at its next command.
+  if (!banner_due_) {
+    return;
+  }
+  banner_due_ = false;
+  if (banner_store_ == nullptr) {
+    send_line("# odocal %s console params=loaded sequence=%u%s", project_version, banner_sequence_,
+              options_.banner_note);
+  } else {
+    send_line("# odocal %s console params=defaults store=%s%s", project_version, banner_store_,
+              options_.banner_note);
+  }
 }
 
 ConsoleCounters Console::counters() const {
@@ -202,6 +214,7 @@ void Console::execute(const Token* words, std::size_t count) {
     cmd_bridge(words, count);
     return;
   }
+  send_banner();
   // The command's forms are adjacent rows: [first, last).
   const Form* const table_end = form_table_ + form_count_;
   const Form* first = form_table_;

@@ -133,8 +133,8 @@ def bridge_counts(guest):
 def bridge_checks(guest, checks):
     """ROSArduinoBridge's commands (docs/ros.md): one reply line each, never echoed."""
     for data, want in (("\r", b"Invalid Command\r\n"), ("u 30:20:0:100\r", b"OK\r\n"),
-                       ("r\r", b"OK\r\n"), ("b\r", b"115200\r\n"),
-                       ("x\r", b"Invalid Command\r\n")):
+                       ("r\r", b"OK\r\n"), ("b\r", b"115200\r\n"), ("x 5 9\r", b"OK\r\n"),
+                       ("a 3\r", b"0\r\n"), ("z\r", b"Invalid Command\r\n")):
         got = bridge_exchange(guest, data)
         checks.check(got == want, f"ROSArduinoBridge {data!r} answers {want!r}", repr(got))
     counts = bridge_counts(guest)  # since `r`: the wheels may still settle by a count
@@ -191,15 +191,24 @@ def main():
 
     guest = Guest(args.qemu, args.elf, not args.no_icount, args.timeout)
     checks = Checks()
-    # QEMU's USART drops bytes that arrive before the receiver is on: wait for the prompt.
-    # The prompt is the console's banner line, printed once it listens.
-    banner = guest.expect(rb"# odocal-fw [^\r\n]*\r?\n", 30.0)
-    prompt = guest.expect(rb"# odocal \S+ console[^\r\n]*\r?\n", 10.0)
-    if not checks.check(banner is not None and prompt is not None, "boots to the prompt"):
+    # Nothing is printed at power-up (a ROSArduinoBridge client must read only its replies): the
+    # start-up line comes before the reply to the first odocal command. QEMU's USART drops bytes
+    # that arrive before the receiver is on, so `version` is asked until it is answered.
+    banner = None
+    deadline = time.monotonic() + 30.0
+    while banner is None and time.monotonic() < deadline:
+        guest.send("version\n")
+        reply = guest.expect(rb"(?m)^ok name=odocal[^\r\n]*\r?\n", 1.0)
+        if reply is not None:
+            banner = re.search(rb"# odocal \S+ console [^\r\n]* board=qemu clock=\S+ reset=\S+\r?\n",
+                               guest.output[:reply.start()])
+    if not checks.check(banner is not None and guest.output.count(b"# odocal ") == 1,
+                        "boots silent; the start-up line (with the board's pairs) before the "
+                        "first reply, once"):
         print(guest.output.decode(errors="replace"))
         guest.process.kill()
         return 1
-    print("banner:", banner.group(0).decode().strip(), "|", prompt.group(0).decode().strip())
+    print("banner:", banner.group(0).decode().strip())
 
     reply = guest.command("version")
     checks.check(reply is not None and reply.startswith("ok") and "version=" in reply,

@@ -27,6 +27,7 @@
 #include "odocal/calib/umbmark.hpp"
 #include "odocal/host/calib_json.hpp"
 #include "odocal/host/csv.hpp"
+#include "odocal/host/fit_noise.hpp"
 #include "odocal/toolkit/cli_checks.hpp"
 #include "odocal/toolkit/numbers.hpp"
 
@@ -192,7 +193,7 @@ struct Ros2Options {
   std::optional<double> c_l, c_r, e_b;
   // Covariances from `odocal fit`'s noise (see fit_noise.hpp, ros2_covariance).
   double speed_mps = 0.2;
-  double publish_hz = 50.0;  ///< diff_drive_controller's default publish_rate
+  RosVelocityEstimate velocity;  ///< the controller's velocity estimate (its defaults)
   double pose_distance_m = 1.0;
 };
 

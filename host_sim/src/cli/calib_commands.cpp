@@ -129,9 +129,14 @@ void add_ros2_command(CLI::App& app, int& exit_code) {
                   "typical speed for the twist covariance (FIT.json with noise), m/s")
       ->check(range_check(0.0, 20.0, "m/s", toolkit::LowBound::open))
       ->capture_default_str();
-  cmd->add_option("--publish-hz", o->publish_hz,
-                  "the controller's publish_rate, Hz (the twist is estimated over 1/rate)")
+  cmd->add_option("--update-rate-hz", o->velocity.update_rate_hz,
+                  "the controller manager's update_rate, Hz: diff_drive_controller estimates the "
+                  "velocity at every update (docs/ros.md)")
       ->check(range_check(0.0, 10000.0, "Hz", toolkit::LowBound::open))
+      ->capture_default_str();
+  cmd->add_option("--velocity-window", o->velocity.window,
+                  "diff_drive_controller's velocity_rolling_window_size: updates averaged")
+      ->check(toolkit::whole_check(1u, 100000u))
       ->capture_default_str();
   cmd->add_option("--pose-distance-m", o->pose_distance_m,
                   "straight distance whose drift the pose covariance gives, m")

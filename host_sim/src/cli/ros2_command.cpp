@@ -126,13 +126,8 @@ void run_ros2(const Ros2Options& o) {
                          "missing or not a positive number (the covariance needs the wheelbase)");
       }
       covariance = ros2_covariance(noise, cal["wheelbase_mm"].get<double>(), o.speed_mps,
-                                   1.0 / o.publish_hz, o.pose_distance_m);
-      char note[200];
-      std::snprintf(note, sizeof note,
-                    "# covariances: k_l %.4g, k_r %.4g mm^2/mm; pose after %.4g m straight, twist "
-                    "at %.4g m/s over 1/%.4g s (docs/calibration.md)\n",
-                    noise.k_l, noise.k_r, o.pose_distance_m, o.speed_mps, o.publish_hz);
-      covariance_note = note;
+                                   o.velocity, o.pose_distance_m);
+      covariance_note = ros2_covariance_note(noise, o.pose_distance_m, o.speed_mps, o.velocity);
     } else if (cal.contains("noise") && cal["noise"].is_object()) {
       covariance_note = "# no covariances: " + comment_text(cal["noise"]["error"]) + "\n";
     }

@@ -75,6 +75,7 @@ struct SessionFlags {
   std::optional<double> wheel_diameter_mm;
   std::optional<double> wheelbase_mm;
   std::optional<double> counts_per_rev;
+  RosFlags ros;
 };
 
 bool bridge_protocol(const SessionFlags& f) {
@@ -96,7 +97,7 @@ std::string absolute(const std::string& path) {
 
 /// What session.json records of the options, for --resume.
 nlohmann::json recorded_options(const SessionFlags& f) {
-  return {
+  nlohmann::json recorded = {
       {"procedure", f.procedure},
       {"side_m", f.side_m ? nlohmann::json(*f.side_m) : nlohmann::json(nullptr)},
       {"target_mm", f.target_mm ? nlohmann::json(*f.target_mm) : nlohmann::json(nullptr)},
@@ -118,6 +119,8 @@ nlohmann::json recorded_options(const SessionFlags& f) {
       {"wheelbase_mm", f.wheelbase_mm ? nlohmann::json(*f.wheelbase_mm) : nlohmann::json(nullptr)},
       {"counts_per_rev",
        f.counts_per_rev ? nlohmann::json(*f.counts_per_rev) : nlohmann::json(nullptr)}};
+  record_ros_flags(f.ros, recorded);
+  return recorded;
 }
 
 /// A count of session.json's options (--runs, --seed, --baud, ...): an integer from 0 within 64
@@ -199,6 +202,7 @@ SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
       conflict("--protocol", protocol, f.protocol);
     }
     f.protocol = protocol;
+    resume_ros_flags(o, given.resume, cmd, f.ros);
     const auto whole = [&](const char* flag, const char* key, std::optional<std::uint64_t>& value) {
       // Sessions from before --max-measurements have no such key: none was given.
       const std::optional<std::uint64_t> recorded =
@@ -304,6 +308,7 @@ SessionOptions options_of(const SessionFlags& f) {
   options.out_dir = f.out.empty() ? default_out_dir(options.procedure) : f.out;
   options.log = &std::cerr;
   options.recorded = recorded_options(f);
+  options.ros_velocity = ros_estimate(f.ros);
   options.started_unix_s = static_cast<std::uint64_t>(std::time(nullptr));
   const bool terminal = ::isatty(STDIN_FILENO) == 1;
   options.confirm_in = terminal ? &std::cin : nullptr;
@@ -425,6 +430,7 @@ void register_session_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--counts-per-rev", flags->counts_per_rev,
                   "ros-arduino-bridge: encoder counts per wheel turn (enc_counts_per_rev)")
       ->check(toolkit::range_check(4.0, 1.0e6, "counts"));
+  add_ros_flags(*cmd, flags->ros);
   cmd->add_option("--procedure", flags->procedure,
                   "auto (the one command: self-test, the runs it needs, verify, save), umbmark, "
                   "lateral, fit, verify, extended or selftest")

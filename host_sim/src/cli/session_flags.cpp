@@ -5,8 +5,11 @@
 
 #include <utility>
 
+#include <CLI/CLI.hpp>
+
 #include "odocal/host/csv.hpp"
 #include "odocal/host/robot_file.hpp"
+#include "odocal/toolkit/cli_checks.hpp"
 
 namespace odocal::host {
 
@@ -119,6 +122,67 @@ BridgeNominal bridge_nominal(const BridgeFlags& f) {
   n.wheelbase_mm = f.wheelbase_mm.value_or(spec.nominal.wheelbase_mm);
   n.counts_per_rev = f.counts_per_rev.value_or(spec.nominal.counts_per_rev);
   return n;
+}
+
+namespace {
+constexpr const char* kRosRateFlag = "--ros-update-rate-hz";
+constexpr const char* kRosWindowFlag = "--ros-velocity-window";
+}  // namespace
+
+void add_ros_flags(CLI::App& cmd, RosFlags& flags) {
+  const RosVelocityEstimate defaults;
+  cmd.add_option(kRosRateFlag, flags.update_rate_hz,
+                 "the controller manager's update_rate, Hz (default " +
+                     std::to_string(static_cast<int>(defaults.update_rate_hz)) +
+                     "): diff_drive_controller estimates its velocity at every update, for the "
+                     "twist covariance of diff_drive_controller.yaml (docs/ros.md)")
+      ->check(toolkit::range_check(0.1, 10000.0, "Hz"));
+  cmd.add_option(
+         kRosWindowFlag, flags.window,
+         "diff_drive_controller's velocity_rolling_window_size: updates averaged (default " +
+             std::to_string(defaults.window) + ")")
+      ->check(toolkit::whole_check(1u, 100000u));
+}
+
+RosVelocityEstimate ros_estimate(const RosFlags& flags) {
+  RosVelocityEstimate estimate;
+  estimate.update_rate_hz = flags.update_rate_hz.value_or(estimate.update_rate_hz);
+  estimate.window = static_cast<std::size_t>(flags.window.value_or(estimate.window));
+  return estimate;
+}
+
+void record_ros_flags(const RosFlags& flags, nlohmann::json& recorded) {
+  const RosVelocityEstimate estimate = ros_estimate(flags);
+  recorded["ros_update_rate_hz"] = estimate.update_rate_hz;
+  recorded["ros_velocity_window"] = estimate.window;
+}
+
+void resume_ros_flags(const nlohmann::json& options, const std::string& file, const CLI::App& cmd,
+                      RosFlags& flags) {
+  // Sessions from before these flags ran with the controller's defaults.
+  const RosVelocityEstimate given = ros_estimate(flags);
+  RosVelocityEstimate recorded;
+  if (options.contains("ros_update_rate_hz") && options["ros_update_rate_hz"].is_number()) {
+    recorded.update_rate_hz = options["ros_update_rate_hz"].get<double>();
+  }
+  if (options.contains("ros_velocity_window") &&
+      options["ros_velocity_window"].is_number_unsigned()) {
+    recorded.window = options["ros_velocity_window"].get<std::size_t>();
+  }
+  const auto refuse = [&](const char* flag, const std::string& was, const std::string& now) {
+    throw InputError(flag, 0, "",
+                     "conflicts with the interrupted session in " + file + " (it ran with " + was +
+                         ", given " + now + "); leave it out to resume");
+  };
+  if (cmd.count(kRosRateFlag) != 0u && given.update_rate_hz != recorded.update_rate_hz) {
+    refuse(kRosRateFlag, std::to_string(recorded.update_rate_hz),
+           std::to_string(given.update_rate_hz));
+  }
+  if (cmd.count(kRosWindowFlag) != 0u && given.window != recorded.window) {
+    refuse(kRosWindowFlag, std::to_string(recorded.window), std::to_string(given.window));
+  }
+  flags.update_rate_hz = recorded.update_rate_hz;
+  flags.window = recorded.window;
 }
 
 }  // namespace odocal::host

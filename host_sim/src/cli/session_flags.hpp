@@ -7,8 +7,15 @@
 #include <optional>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "odocal/host/bridge_console.hpp"
+#include "odocal/host/ros2_yaml.hpp"
 #include "odocal/host/session.hpp"
+
+namespace CLI {
+class App;
+}
 
 namespace odocal::host {
 
@@ -46,5 +53,22 @@ void check_bridge_flags(const BridgeFlags& f, Procedure procedure);
 /// The nominal geometry of a ROSArduinoBridge robot: the flags, with --sim the robot file's
 /// nominal keys where a flag is not given. Throws InputError for a robot file it cannot read.
 [[nodiscard]] BridgeNominal bridge_nominal(const BridgeFlags& f);
+
+/// --ros-update-rate-hz and --ros-velocity-window: how the robot's diff_drive_controller
+/// estimates its velocity, for the twist covariance of diff_drive_controller.yaml (docs/ros.md).
+struct RosFlags {
+  std::optional<double> update_rate_hz;
+  std::optional<std::uint64_t> window;
+};
+/// Adds them to `cmd`.
+void add_ros_flags(CLI::App& cmd, RosFlags& flags);
+/// What they say, the controller's defaults where not given.
+[[nodiscard]] RosVelocityEstimate ros_estimate(const RosFlags& flags);
+/// session.json's record of them (under `recorded`, the options object).
+void record_ros_flags(const RosFlags& flags, nlohmann::json& recorded);
+/// --resume: the interrupted session's (from `options`, its options object in `file`); one given
+/// on the command line (`cmd`) that differs is refused (InputError).
+void resume_ros_flags(const nlohmann::json& options, const std::string& file, const CLI::App& cmd,
+                      RosFlags& flags);
 
 }  // namespace odocal::host

@@ -407,23 +407,39 @@ nlohmann::json noise_json(const NoiseEstimate& e) {
 }
 
 Ros2Covariance ros2_covariance(const WheelNoise& noise, double wheelbase_mm, double speed_mps,
-                               double period_s, double distance_m, double unobserved) {
+                               const RosVelocityEstimate& estimate, double distance_m,
+                               double unobserved) {
   // k in mm²/mm is 1e-3 m²/m; the wheelbase in m.
   const double k = (noise.k_l + noise.k_r) * 1e-3;
   const double b = wheelbase_mm * 1e-3;
   const double d = distance_m;
+  // The controller's velocity: the mean of the last W per-update wheel differences, i.e. the
+  // travel over the last W updates (telescoping) divided by W·T.
+  const double averaged_s = static_cast<double>(estimate.window) / estimate.update_rate_hz;
   Ros2Covariance c;
   c.pose[0] = 0.25 * k * d;
   c.pose[1] = k / (b * b) * d * d * d / 3.0;
   c.pose[5] = k / (b * b) * d;
-  c.twist[0] = 0.25 * k * speed_mps / period_s;
+  c.twist[0] = 0.25 * k * speed_mps / averaged_s;
   c.twist[1] = c.twist[0];
-  c.twist[5] = k / (b * b) * speed_mps / period_s;
+  c.twist[5] = k / (b * b) * speed_mps / averaged_s;
   for (const int i : {2, 3, 4}) {
     c.pose[i] = unobserved;
     c.twist[i] = unobserved;
   }
   return c;
+}
+
+std::string ros2_covariance_note(const WheelNoise& noise, double distance_m, double speed_mps,
+                                 const RosVelocityEstimate& estimate) {
+  char note[320];
+  std::snprintf(note, sizeof note,
+                "# covariances: k_l %.4g, k_r %.4g mm^2/mm; pose after %.4g m straight; twist at "
+                "%.4g m/s as diff_drive_controller estimates it: update rate %.4g Hz, "
+                "velocity_rolling_window_size %zu (docs/ros.md)\n",
+                noise.k_l, noise.k_r, distance_m, speed_mps, estimate.update_rate_hz,
+                estimate.window);
+  return note;
 }
 
 std::string noise_text(const NoiseEstimate& e) {

@@ -3,12 +3,17 @@
 // the hal/sim plant; the firmware is ROSArduinoBridge's as its source has it: a PID on encoder
 // counts per 30 Hz frame (diff_controller.h: Kp 20, Kd 12, Ki 0, Ko 50, integer arithmetic, the
 // output accumulated and clamped to +-255 PWM), the 2000 ms auto-stop, and the serial commands
-// e, r, m, u, b (ROSArduinoBridge.ino's runCommand, commands.h). No odometry, no paths, no
-// parameters. Beside them the simulator's own tape measure, `measure`.
+// as runCommand (ROSArduinoBridge.ino, commands.h) reads and answers them in a USE_BASE build:
+// e, r, m, u, b, the pin commands a, c, d, w, x, the sonar's p, and the raw PWM o of joshnewans'
+// firmware (the one diffdrive_arduino's author points to). A command ends at a CR only; its
+// arguments are read with atoi. No odometry, no paths, no parameters. Beside them the
+// simulator's own tape measure, `measure`.
 
 #include <poll.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -51,7 +56,8 @@ class BridgeRobot {
   void frame() {
     ++frame_;
     plant_.advance_to_ns(frame_ns(frame_));
-    if (moving_ && now_ms() - last_motor_ms_ > kAutoStopMs) {
+    // The auto-stop stops raw PWM (`o`) too: it does not look at `moving`.
+    if (now_ms() - last_motor_ms_ > kAutoStopMs) {
       set_motors(0, 0);
       moving_ = false;
     }
@@ -73,27 +79,22 @@ class BridgeRobot {
   [[nodiscard]] std::uint64_t next_frame_ns() const { return frame_ns(frame_ + 1); }
   [[nodiscard]] double simulated_s() const { return static_cast<double>(plant_.now_ns()) * 1e-9; }
 
-  /// One command line (without its terminator): the reply line (without CR LF).
-  std::string answer(const std::string& line) {
-    const char command = line.empty() ? '\0' : line[0];
-    const std::string args = line.size() > 1 ? line.substr(1) : std::string();
-    if (line == "measure") {
-      return measure();  // the simulator's tape, before `m` would take it for a motor command
-    }
-    long a = 0;
-    long b = 0;
+  /// One command as the firmware's loop() collected it before the CR: its letter and its two
+  /// argument words. The reply line (without CR LF).
+  std::string answer(char command, const std::string& argv1, const std::string& argv2) {
+    const long a = atoi_of(argv1);
+    const long b = atoi_of(argv2);
     switch (command) {
       case 'e':
         return std::to_string(count32(0)) + " " + std::to_string(count32(1));
       case 'r':
         offset_[0] = plant_.left().encoder_count();
         offset_[1] = plant_.right().encoder_count();
-        reset_pid();
+        reset_pid();                  // the targets to 0 with the rest: the PID brakes the wheels
         frame_pose_ = plant_.pose();  // the tape's frame: where the robot stands now
         ++resets_;
         return "OK";
       case 'm':
-        two_args(args, a, b);
         last_motor_ms_ = now_ms();
         if (a == 0 && b == 0) {
           set_motors(0, 0);
@@ -105,16 +106,33 @@ class BridgeRobot {
         left_.target = a;
         right_.target = b;
         return "OK";
+      case 'o':  // raw PWM: the PID off, the duties as given (setMotorSpeeds clamps them)
+        last_motor_ms_ = now_ms();
+        reset_pid();
+        moving_ = false;
+        set_motors(std::clamp(a, -kMaxPwm, kMaxPwm), std::clamp(b, -kMaxPwm, kMaxPwm));
+        return "OK";
       case 'u':
-        gains(args);
+        gains(argv1);
         return "OK";
       case 'b':
         return std::to_string(kBaud);
+      case 'a':  // analogRead, digitalRead: no pin is wired in the simulation
+      case 'd':
+      case 'p':  // Ping: no sonar answers, pulseIn times out, 0 cm
+        return "0";
+      case 'c':  // pinMode, digitalWrite, analogWrite
+      case 'w':
+      case 'x':
+        return "OK";
       default:
         break;
     }
     return "Invalid Command";
   }
+
+  /// The simulator's tape (not the firmware's): the true pose in the frame of the last `r`.
+  std::string measure() { return tape(); }
 
  private:
   static std::uint64_t frame_ns(std::uint64_t k) {
@@ -132,25 +150,25 @@ class BridgeRobot {
     return static_cast<std::int32_t>(static_cast<std::uint32_t>(count(side)));
   }
 
-  /// atoi of the first two words, as runCommand parses `m`.
-  static void two_args(const std::string& args, long& a, long& b) {
-    const char* text = args.c_str();
-    char* end = nullptr;
-    a = std::strtol(text, &end, 10);
-    b = std::strtol(end, nullptr, 10);
+  /// C's atoi of an argument word, as runCommand reads it: spaces, a sign, digits up to the
+  /// first other character; none: 0. Held within 32 bits (where atoi would overflow).
+  static long atoi_of(const std::string& word) {
+    const long value = std::strtol(word.c_str(), nullptr, 10);
+    return std::clamp<long>(value, INT32_MIN, INT32_MAX);
   }
 
-  /// `u p:d:i:o`: the gains, in that order (missing ones left as they were).
+  /// `u p:d:i:o`: the gains, in that order, each read with atoi between the colons (strtok: empty
+  /// fields are skipped; missing ones left as they were).
   void gains(const std::string& args) {
     long* targets[4] = {&kp_, &kd_, &ki_, &ko_};
-    std::size_t at = args.find_first_not_of(' ');
-    for (long* target : targets) {
-      if (at == std::string::npos || at >= args.size()) {
-        break;
+    std::size_t field = 0;
+    std::size_t at = 0;
+    while (field < 4u && at < args.size()) {
+      const std::size_t end = std::min(args.find(':', at), args.size());
+      if (end > at) {
+        *targets[field++] = atoi_of(args.substr(at, end - at));
       }
-      *target = std::strtol(args.c_str() + at, nullptr, 10);
-      at = args.find(':', at);
-      at = at == std::string::npos ? at : at + 1;
+      at = end + 1u;
     }
     if (ko_ == 0) {
       ko_ = 1;  // the firmware would divide by zero; the simulation keeps going
@@ -209,7 +227,7 @@ class BridgeRobot {
 
   /// The tape: the true pose plus the robot file's noise, in the frame of the last `r`; asked
   /// again where the robot stands still, the same reading (a note taken once).
-  std::string measure() {
+  std::string tape() {
     const sim::WorldPose truth = plant_.pose();
     if (!last_reading_.empty() && truth.x_m == read_at_.x_m && truth.y_m == read_at_.y_m &&
         truth.theta_rad == read_at_.theta_rad && frames_read_ == resets_) {
@@ -240,7 +258,7 @@ class BridgeRobot {
   long ki_ = 0;
   long ko_ = 50;
   bool moving_ = false;
-  std::int64_t last_motor_ms_ = 0;
+  std::int64_t last_motor_ms_ = -kAutoStopMs;  // lastMotorCommand starts so: no stop pending
   std::uint64_t frame_ = 0;
   std::int64_t offset_[2] = {0, 0};
   sim::WorldPose frame_pose_{};
@@ -250,30 +268,58 @@ class BridgeRobot {
   std::uint32_t frames_read_ = 0;
 };
 
-/// Splits bytes into lines (CR, LF or CR LF end one) and answers each.
-class LineSplitter {
+/// ROSArduinoBridge's loop() reading the serial port: a CR runs the command collected so far;
+/// a space steps to the next argument (a third word runs on into the second argument, as there);
+/// any other byte, LF included, is the command letter while no space came (the last such byte
+/// is the letter), else a character of the argument. So a line ended by LF alone gets no reply,
+/// and its bytes are part of the next command.
+class FirmwareReader {
  public:
-  /// Feeds `byte`; true when it ended a line, which is then in `line`.
-  bool feed(std::uint8_t byte, std::string& line) {
-    const bool after_cr = after_cr_;
-    after_cr_ = byte == '\r';
-    if (byte == '\n' && after_cr) {
-      return false;  // the LF of a CR LF
-    }
-    if (byte == '\r' || byte == '\n') {
-      line.swap(pending_);
-      pending_.clear();
+  /// Feeds `byte`; true when it was a CR (the command is then in letter(), argv1(), argv2()).
+  bool feed(std::uint8_t byte) {
+    if (byte == '\r') {
+      letter_ = command_;
+      argv1_.swap(pending1_);
+      argv2_.swap(pending2_);
+      line_.swap(pending_line_);
+      command_ = '\0';
+      arg_ = 0;
+      pending1_.clear();
+      pending2_.clear();
+      pending_line_.clear();
       return true;
     }
-    if (pending_.size() < 256u) {
-      pending_.push_back(static_cast<char>(byte));
+    if (pending_line_.size() < 256u && byte != '\n') {
+      pending_line_.push_back(static_cast<char>(byte));
+    }
+    if (byte == ' ') {
+      arg_ = arg_ == 0 ? 1 : 2;
+      return false;
+    }
+    // The firmware's argv1 and argv2 hold 31 characters (and overflow beyond): kept to that.
+    if (arg_ == 0) {
+      command_ = static_cast<char>(byte);
+    } else if (std::string& argv = arg_ == 1 ? pending1_ : pending2_; argv.size() < 31u) {
+      argv.push_back(static_cast<char>(byte));
     }
     return false;
   }
+  [[nodiscard]] char letter() const { return letter_; }
+  [[nodiscard]] const std::string& argv1() const { return argv1_; }
+  [[nodiscard]] const std::string& argv2() const { return argv2_; }
+  /// The bytes since the previous CR, LFs left out (the simulator's `measure`).
+  [[nodiscard]] const std::string& line() const { return line_; }
 
  private:
-  std::string pending_;
-  bool after_cr_ = false;
+  char command_ = '\0';
+  int arg_ = 0;
+  std::string pending1_;
+  std::string pending2_;
+  std::string pending_line_;
+  char letter_ = '\0';
+  std::string argv1_;
+  std::string argv2_;
+  std::string line_;
 };
 
 void reply(hal::ByteStream& stream, const std::string& text) {
@@ -323,8 +369,7 @@ int run_bridge(const host::RobotSpec& spec, std::uint64_t seed, bool use_pty, do
   const bool lockstep = speed == 0.0 || !terminal;
   Pacer pacer(lockstep ? 0.0 : speed);
   install_stop_handlers();
-  LineSplitter splitter;
-  std::string line;
+  FirmwareReader reader;
   std::uint8_t chunk[256];
   bool reset_done = false;
   while (!stop_requested()) {
@@ -336,13 +381,17 @@ int run_bridge(const host::RobotSpec& spec, std::uint64_t seed, bool use_pty, do
     }
     const std::size_t n = stream->read(chunk, sizeof chunk);
     for (std::size_t i = 0; i < n; ++i) {
-      if (!splitter.feed(chunk[i], line)) {
+      if (!reader.feed(chunk[i])) {
         continue;
       }
-      if (lockstep && line == "e") {
+      if (reader.line() == "measure") {
+        reply(*stream, robot.measure());  // the simulator's tape, before the firmware's `e`
+        continue;
+      }
+      if (lockstep && reader.letter() == 'e') {
         robot.frame();
       }
-      reply(*stream, robot.answer(line));
+      reply(*stream, robot.answer(reader.letter(), reader.argv1(), reader.argv2()));
     }
     if (stdio && (stdio->end_of_input() || stdio->output_broken())) {
       break;

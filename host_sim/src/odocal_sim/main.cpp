@@ -7,7 +7,6 @@
 #include <CLI/CLI.hpp>
 #include <cstdint>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -54,13 +53,14 @@ int parse_options(int argc, char** argv, Options& o) {
       ->check(toolkit::whole_check(0u, UINT64_MAX));
   app.add_option("--protocol", o.protocol,
                  "the robot's firmware: odocal (default), or ros-arduino-bridge (a robot running "
-                 "ROSArduinoBridge: e, r, m, u, b and the tape's `measure`; docs/simulation.md)")
+                 "ROSArduinoBridge: its commands, a line ended by CR, and the tape's `measure`; "
+                 "docs/simulation.md)")
       ->check(CLI::IsMember({"odocal", "ros-arduino-bridge"}));
   app.add_option("--reset-after", o.reset_after_s,
                  "fault injection: the robot's MCU resets once after this many seconds of robot "
                  "time (a brown-out: odometry, trials and unsaved parameters gone, the saved ones "
-                 "loaded, the start-up line printed again); SIGUSR1 resets it at once "
-                 "(docs/simulation.md)")
+                 "loaded, the start-up line due again before the next odocal reply); SIGUSR1 "
+                 "resets it at once (docs/simulation.md)")
       ->check(toolkit::range_check(0.001, 1.0e7, "s"));
   app.add_option("--corrupt", o.corrupt_rate,
                  "fault injection: this share of the bytes the robot sends is damaged on the line, "
@@ -282,34 +282,20 @@ bool run_paced(host::SimulatedRobot& robot, console::Console& console, ConsoleIo
   return false;
 }
 
-/// The banner (on a pty once the terminal side has sent its first byte: printed at once, it
-/// would be gone before picocom or screen attach), and on a terminal the robot file's nominal
-/// geometry when it is what the firmware starts with.
-void start_console(host::SimulatedRobot& robot, console::Console& console, ConsoleIo& io,
-                   const Options& o, const host::RobotSpec& spec, bool first_boot) {
-  if (io.pty && first_boot) {
-    while (!stop_requested()) {
-      pollfd wait{io.pty->input_fd(), POLLIN, 0};
-      if (::poll(&wait, 1, 100) > 0) {
-        break;
-      }
-    }
-  }
+/// Starts the console (its banner waits for the first odocal command line: nothing reaches a
+/// ROSArduinoBridge client that it did not ask for), and on a terminal notes on the simulator's
+/// own standard error the robot file's nominal geometry when it is what the firmware starts with.
+void start_console(host::SimulatedRobot& robot, console::Console& console, const ConsoleIo& io,
+                   const Options& o, const host::RobotSpec& spec) {
   robot.tick_once();
   const params::StoreResult stored = console.start(robot.plant().clock().now_us());
-  while (!console.idle()) {  // the banner goes out first
-    console.poll(robot.plant().clock().now_us());
-  }
   if (!o.robot_file.empty() && stored != params::StoreResult::ok && io.terminal) {
-    char note[160];
-    std::snprintf(note, sizeof note,
-                  "# robot file: wheel_diameter_mm=%.9g wheelbase_mm=%.9g counts_per_rev=%.9g "
-                  "(firmware defaults)\r\n",
-                  static_cast<double>(spec.nominal.wheel_diameter_mm),
-                  static_cast<double>(spec.nominal.wheelbase_mm),
-                  static_cast<double>(spec.nominal.counts_per_rev));
-    static_cast<void>(
-        io.stream->write(reinterpret_cast<const std::uint8_t*>(note), std::strlen(note)));
+    std::fprintf(stderr,
+                 "odocal-sim: robot file: wheel_diameter_mm=%.9g wheelbase_mm=%.9g "
+                 "counts_per_rev=%.9g (firmware defaults)\n",
+                 static_cast<double>(spec.nominal.wheel_diameter_mm),
+                 static_cast<double>(spec.nominal.wheelbase_mm),
+                 static_cast<double>(spec.nominal.counts_per_rev));
   }
 }
 
@@ -371,7 +357,7 @@ bool run_boot(const Boot& b) {
     stream = &*line_noise;
   }
   console::Console console(*stream, robot.loop(), b.store, console_options);
-  start_console(robot, console, b.io, b.o, b.spec, b.number == 0u);
+  start_console(robot, console, b.io, b.o, b.spec);
   Stepper stepper(robot, sim_command);
   // --reset-after counts from power-up: the first boot only.
   const double reset_after_s = b.number == 0u ? b.o.reset_after_s : 0.0;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "odocal/drive/robot_model.hpp"
+#include "odocal/host/bridge_console.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
@@ -19,6 +20,22 @@ drive::model::Geometry<double> geometry_in_force(const Factors& f, double wheel_
 /// The same geometry as the fit describes one (the arc-wheelbase model when it has an arc
 /// wheelbase of its own).
 FitGeometry fit_geometry_of(const drive::model::Geometry<double>& g);
+
+/// diff_drive_controller's geometry parameters (metres; the multipliers as it multiplies them).
+struct RosGeometry {
+  double wheel_separation_m = 0.0;
+  double wheel_radius_m = 0.0;
+  double separation_multiplier = 1.0;
+  double left_multiplier = 1.0;
+  double right_multiplier = 1.0;
+};
+/// For a robot running ROSArduinoBridge (raw counts both ways): the nominal geometry the owner
+/// gave, the factors in force `f` (on the host) as the multipliers.
+RosGeometry ros_geometry_for_bridge(const Factors& f, const BridgeNominal& nominal);
+/// For an odocal robot with the factors `f` in force: its `e` counts are each wheel's counts
+/// times its diameter in force over the nominal one, and its `m` speeds are read about the
+/// wheelbase in force; so the nominal wheel, the wheelbase in force, multipliers 1 (docs/ros.md).
+RosGeometry ros_geometry_for_odocal(const Factors& f, double wheel_diameter_mm);
 
 /// What a fit result becomes on the robot: the fitted effective geometry with F_lat = F_lon = 1
 /// (a fit sees the whole geometry: it replaces c_l, c_r, the wheelbases and the Maddahi factors).

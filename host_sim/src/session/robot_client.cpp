@@ -91,6 +91,19 @@ void RobotClient::route(const std::string& line) {
   }
 }
 
+void RobotClient::probe_restart() {
+  // A robot that restarted while a command ran (its reply lost with the reset) says so only
+  // before the reply to its next odocal command: its start-up line waits for one. Asked once.
+  if (!watch_restarts_) {
+    return;
+  }
+  channel_.write_line("status");
+  std::string received;
+  while (channel_.read_line(received, 2000) && !received.empty() && received[0] == '#') {
+    route(received);  // the start-up line throws RobotRestarted
+  }
+}
+
 namespace {
 
 /// Whether sending `line` twice does what sending it once does: such a line is sent again when
@@ -117,6 +130,7 @@ Reply RobotClient::command(const std::string& line, int timeout_ms,
   int resent = 0;
   for (;;) {
     if (!channel_.read_line(received, remaining_ms(deadline))) {
+      probe_restart();
       throw LinkError(channel_.name() + ": no reply to '" + line + "' within " +
                       std::to_string(timeout_ms) + " ms (is it an odocal console at this baud?)");
     }
@@ -225,6 +239,7 @@ std::map<std::string, std::string> RobotClient::poll_done(int timeout_ms) {
 std::map<std::string, std::string> RobotClient::wait_done(int timeout_ms) {
   auto pairs = poll_done(timeout_ms);
   if (pairs.empty()) {
+    probe_restart();
     throw LinkError(channel_.name() + ": the run did not end (no '# done') within " +
                     std::to_string(timeout_ms / 1000) + " s");
   }

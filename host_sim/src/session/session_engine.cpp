@@ -293,10 +293,7 @@ SessionReport finish(Context& c, const session::Outcome& outcome, bool saved) {
                              : " (unchanged)")
        << "\nFiles: " << options.out_dir
        << "/ (report.html, session.json, measurements.csv, runs.csv, runs.svg"
-       << (options.bridge != nullptr && outcome.result.contains("ros")
-               ? ", diff_drive_controller.yaml"
-               : "")
-       << ", ...)\n"
+       << (outcome.result.contains("ros") ? ", diff_drive_controller.yaml" : "") << ", ...)\n"
        << "Report: " << options.out_dir << "/report.html (open it in a browser)\n";
   report.text = text.str();
   return report;
@@ -325,11 +322,15 @@ SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
         (options.procedure == Procedure::automatic || options.procedure == Procedure::fit)) {
       // Nothing is saved on such a robot: the geometry goes to the controller's configuration,
       // also when the runs found nothing to change (the multipliers then confirm it).
-      session::write_ros_yaml(context, outcome);
-    } else if (outcome.applied && session::confirmed(context)) {
-      const Reply reply = robot.expect_ok("save");
-      saved = true;
-      log << "Saved on the robot (save: " << reply.line << ").\n";
+      session::write_ros_yaml(context, outcome, false);
+    } else {
+      if (outcome.applied && session::confirmed(context)) {
+        const Reply reply = robot.expect_ok("save");
+        saved = true;
+        log << "Saved on the robot (save: " << reply.line << ").\n";
+      }
+      // What ROS needs to drive this robot and read its odometry with the factors in force.
+      session::write_ros_yaml(context, outcome, saved);
     }
   } catch (const std::exception& e) {
     session::end_early(context, e);

@@ -177,9 +177,11 @@ Outcome run_selftest(Context& context);
 /// Self-test, the runs the factors need (chosen by what each adds), verification, save.
 Outcome run_auto(Context& context);
 
-/// A ROSArduinoBridge robot's result (the factors in force on the host) as diff_drive_controller
-/// parameters in out_dir/diff_drive_controller.yaml, and as `result.ros` (session_ros.cpp).
-void write_ros_yaml(Context& c, Outcome& outcome);
+/// The session's result as diff_drive_controller parameters in out_dir/diff_drive_controller.yaml,
+/// and as `result.ros` (session_ros.cpp): a ROSArduinoBridge robot's factors in force on the host
+/// as multipliers; an odocal robot's factors in force on it (`saved`: the session saved them) as
+/// the wheel separation, multipliers 1.
+void write_ros_yaml(Context& c, Outcome& outcome, bool saved);
 
 /// A logged run as a tick log (`t_s,count_l,count_r,x_mm,y_mm,theta_deg`; the measured stop point
 /// on its last row): what `odocal fit` reads.

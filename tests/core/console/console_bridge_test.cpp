@@ -5,9 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <numbers>
 #include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
 
 #include "console_rig.hpp"
 #include "odocal/drive/diff_drive_kinematics.hpp"
@@ -45,13 +49,30 @@ drive::Mode mode(const Rig& rig) {
   return rig.loop.status().mode;
 }
 
-// Turns the left wheel forward by `counts` encoder counts (x4 quadrature edges on its decoder).
-void turn_left_wheel(Rig& rig, int counts) {
-  const std::uint8_t sequence[4][2] = {{1, 0}, {1, 1}, {0, 1}, {0, 0}};
-  for (int i = 0; i < counts; ++i) {
-    rig.loop.left_decoder().on_edge(sequence[i % 4][0] != 0, sequence[i % 4][1] != 0,
-                                    rig.now_us + static_cast<std::uint32_t>(i));
+// Turns a wheel by `counts` encoder counts (x4 quadrature edges on its decoder), forward when
+// positive, continuing its quadrature cycle from where the last turn left it.
+class WheelTurner {
+ public:
+  WheelTurner(Rig& rig, bool left) : rig_(rig), left_(left) {}
+  void turn(int counts) {
+    static constexpr std::uint8_t kCycle[4][2] = {{1, 0}, {1, 1}, {0, 1}, {0, 0}};
+    drive::QuadratureDecoder& decoder =
+        left_ ? rig_.loop.left_decoder() : rig_.loop.right_decoder();
+    for (int i = 0; i < std::abs(counts); ++i) {
+      phase_ = (phase_ + (counts > 0 ? 1 : 3)) % 4;
+      decoder.on_edge(kCycle[phase_][0] != 0, kCycle[phase_][1] != 0,
+                      rig_.now_us + static_cast<std::uint32_t>(i));
+    }
   }
+
+ private:
+  Rig& rig_;
+  bool left_;
+  int phase_ = 3;  // {0, 0}: both channels low, where the decoder starts
+};
+
+void turn_left_wheel(Rig& rig, int counts) {
+  WheelTurner(rig, true).turn(counts);
 }
 
 TEST(ConsoleBridge, DiffdriveArduinosByteSequencesGetOneUnechoedReplyEach) {
@@ -95,25 +116,80 @@ TEST(ConsoleBridge, EncodersCountAndResetToZero) {
   EXPECT_EQ(rig->loop.wheel_counts().left, 1444);
 }
 
-TEST(ConsoleBridge, AnyOtherSingleLetterIsAnInvalidCommand) {
+// The two numbers of an `e` reply.
+std::pair<long, long> e_counts(const std::string& reply) {
+  long left = 0;
+  long right = 0;
+  char rest = 0;
+  EXPECT_EQ(std::sscanf(reply.c_str(), "%ld %ld%c", &left, &right, &rest), 2) << reply;
+  return {left, right};
+}
+
+TEST(ConsoleBridge, ECountsAreTheWheelsInForceOnTheNominalWheel) {
+  // ROS turns counts into distance with the nominal wheel_radius (wheel_diameter_mm / 2): `e`
+  // reports each wheel's counts times its diameter in force over the nominal one (robot_model:
+  // D_L = D c_L / (F_lat F_lon), D_R = D c_R / F_lon), to the nearest whole count.
   auto rig = make_rig();
-  for (const char* line : {"a 3", "x", "z 1 2", "p", "d 4", "?", "E", "1"}) {
+  for (const char* set : {"set c_l 0.98", "set c_r 1.03", "set f_lat 1.01", "set f_lon 0.99"}) {
+    ASSERT_EQ(rig->reply(set).rfind("ok ", 0), 0u) << set;
+  }
+  rig->tick(2);  // the loop counts from its first tick on
+  const double left_scale = 0.98 / (1.01 * 0.99);
+  const double right_scale = 1.03 / 0.99;
+  WheelTurner left(*rig, true);
+  WheelTurner right(*rig, false);
+  std::pair<long, long> last{0, 0};
+  int left_total = 0;
+  int right_total = 0;
+  // Small steps, an `e` after each: whole numbers that never go back, within half a count of
+  // the scaled total (float rounding of a scaled step: far below a count).
+  for (int step = 0; step < 400; ++step) {
+    const int left_step = 1 + step % 7;
+    const int right_step = 1 + step % 5;
+    left.turn(left_step);
+    right.turn(right_step);
+    left_total += left_step;
+    right_total += right_step;
+    rig->tick(1);
+    const auto now = e_counts(rig->reply("e"));
+    EXPECT_GE(now.first, last.first);
+    EXPECT_GE(now.second, last.second);
+    EXPECT_NEAR(static_cast<double>(now.first), left_total * left_scale, 0.5 + 1e-3);
+    EXPECT_NEAR(static_cast<double>(now.second), right_total * right_scale, 0.5 + 1e-3);
+    last = now;
+  }
+  // Backwards the same way: the counts go down, still whole and within half a count.
+  left.turn(-left_total);
+  right.turn(-right_total);
+  rig->tick(1);
+  const auto back = e_counts(rig->reply("e"));
+  EXPECT_NEAR(static_cast<double>(back.first), 0.0, 0.5 + 1e-3);
+  EXPECT_NEAR(static_cast<double>(back.second), 0.0, 0.5 + 1e-3);
+  // `r` starts again from zero, fraction and all.
+  EXPECT_EQ(rig->reply("r"), "OK");
+  EXPECT_EQ(rig->reply("e"), "0 0");
+}
+
+TEST(ConsoleBridge, TheOtherLettersAnswerAsROSArduinoBridgeBuiltWithUseBase) {
+  // runCommand (ROSArduinoBridge.ino, commands.h): analog read, digital read and ping print a
+  // number; pin mode, digital write, analog write and the PID gains print OK; raw PWM (`o`,
+  // joshnewans' firmware that diffdrive_arduino's author points to) prints OK; a letter it
+  // does not define (the servo commands are left out of a USE_BASE build) `Invalid Command`.
+  auto rig = make_rig();
+  for (const char* line : {"a 3", "d 4", "p 7", "a"}) {
+    EXPECT_EQ(rig->reply(line), "0") << line;
+  }
+  for (const char* line : {"c 13 1", "w 13 1", "x 5 128", "u 5:1:0:50", "o 0 0", "u"}) {
+    EXPECT_EQ(rig->reply(line), "OK") << line;
+  }
+  for (const char* line : {"z 1 2", "s 1 90", "t 1", "?", "E", "1"}) {
     EXPECT_EQ(rig->reply(line), "Invalid Command") << line;
   }
-  // `m` must carry two numbers, else nothing moves: a missing word, one that is no number, or
-  // one beyond a million counts per frame is refused as odocal refuses numbers
-  // (diffdrive_arduino writes two whole numbers).
-  for (const char* line : {"m", "m 10", "m 10 x", "m x 10"}) {
-    EXPECT_EQ(rig->reply(line), "err bad_number not a finite decimal number") << line;
-    EXPECT_EQ(mode(*rig), drive::Mode::idle) << line;
-  }
-  EXPECT_EQ(rig->reply("m 1e9 0"),
-            "err out_of_range allowed min=-1000000.000000 max=1000000.000000");
-  EXPECT_EQ(mode(*rig), drive::Mode::idle);
-  // `u` is accepted whatever it carries (odocal keeps its own kp, ki, kff).
+  // `u` changes nothing of odocal's own wheel loop.
   const float kp = rig->console.params().get(params::ParamId::kp);
   EXPECT_EQ(rig->reply("u 5:1:0:50"), "OK");
   EXPECT_EQ(rig->console.params().get(params::ParamId::kp), kp);
+  EXPECT_EQ(mode(*rig), drive::Mode::idle);
 }
 
 TEST(ConsoleBridge, OdocalsOwnCommandsAndTheirEchoAreUnchanged) {
@@ -202,6 +278,46 @@ TEST(ConsoleBridge, BothZeroStopsAtOnceAndOdocalsStopEndsTheHold) {
   EXPECT_EQ(mode(*rig), drive::Mode::idle);  // the hold did not drive again
 }
 
+TEST(ConsoleBridge, RAndOStopTheWheelsAsTheFirmwaresResetPidDoes) {
+  for (const char* line : {"r", "o 0 0", "o 100 100"}) {
+    auto rig = make_feed_forward_rig();
+    EXPECT_EQ(rig->reply("m 10 10"), "OK");
+    run_ms(*rig, 100);
+    ASSERT_EQ(mode(*rig), drive::Mode::drive);
+    EXPECT_EQ(rig->reply(line), "OK") << line;
+    EXPECT_EQ(mode(*rig), drive::Mode::idle) << line;
+    run_ms(*rig, 100);
+    EXPECT_EQ(mode(*rig), drive::Mode::idle) << line;
+  }
+}
+
+// Both wheels' duties after `line` has driven 500 ms (past the ramp) on a feed-forward rig.
+std::pair<float, float> duties_after(const std::string& line) {
+  auto rig = make_feed_forward_rig();
+  EXPECT_EQ(rig->reply(line), "OK") << line;
+  run_ms(*rig, 500);
+  return {rig->pwm_left.duty, rig->pwm_right.duty};
+}
+
+TEST(ConsoleBridge, ArgumentsAreReadAsCsAtoiReadsThem) {
+  // runCommand reads its arguments with atoi: a sign, digits, the first other character ends
+  // the number, no digits is 0. The same wheel speeds, so the same duties.
+  EXPECT_EQ(duties_after("m 1.5 2"), duties_after("m 1 2"));
+  EXPECT_EQ(duties_after("m +3x -4y"), duties_after("m 3 -4"));
+  EXPECT_EQ(duties_after("m 10"), duties_after("m 10 0"));
+  EXPECT_EQ(duties_after("m 7 8 9"), duties_after("m 7 8"));
+  // Beyond a million counts per frame (atoi itself would overflow): a million, then clipped.
+  EXPECT_EQ(duties_after("m 99999999 0"), duties_after("m 1000000 0"));
+  // No digits: 0 0, which stops.
+  for (const char* line : {"m", "m x y", "m - +", "m .5 -.5"}) {
+    auto rig = make_feed_forward_rig();
+    EXPECT_EQ(rig->reply("m 10 10"), "OK");
+    run_ms(*rig, 50);
+    EXPECT_EQ(rig->reply(line), "OK") << line;
+    EXPECT_EQ(mode(*rig), drive::Mode::idle) << line;
+  }
+}
+
 TEST(ConsoleBridge, WheelSpeedsGoThroughTheLoopWithTheWheelFactors) {
   auto rig = make_feed_forward_rig();  // each wheel's duty is kff times its set-point (rad/s)
   for (const char* set : {"set c_l 0.98", "set c_r 1.02", "set wheelbase_mm 160"}) {
@@ -229,16 +345,78 @@ TEST(ConsoleBridge, TheTwistGoesThroughTheWholeModelInForce) {
   }
   EXPECT_EQ(rig->reply("m 6 14"), "OK");
   run_ms(*rig, 500);
-  // The body twist ROS meant with the nominal geometry (60 mm wheels, 1440 counts, 150 mm):
+  // The body twist ROS meant with the nominal wheel (60 mm, 1440 counts) and the wheelbase in
+  // force (the wheel_separation odocal writes for it: 150 mm scaled as F_lat, F_lon scale it,
+  // robot_model.hpp):
   const double mps_per_count = std::numbers::pi * 0.060 / 1440.0 * 30.0;
+  const double left_factor = 0.99 / (1.01 * 0.98);
+  const double right_factor = 1.0 / 0.98;
+  const double wheelbase_m = 0.150 * (left_factor + right_factor) / (0.99 + 1.0);
   drive::Twist twist;
   twist.v_mps = static_cast<float>(0.5 * (6.0 + 14.0) * mps_per_count);
-  twist.w_radps = static_cast<float>((14.0 - 6.0) * mps_per_count / 0.150);
+  twist.w_radps = static_cast<float>((14.0 - 6.0) * mps_per_count / wheelbase_m);
   // ... driven through the one model in force (core's kinematics: factors and arc wheelbase).
   const drive::DiffDriveKinematics model(params::to_drive_config(rig->console.params()));
   const drive::WheelRates rates = model.inverse(twist);
   EXPECT_NEAR(rig->pwm_left.duty, 0.033 * rates.left_radps, 0.033 * rates.left_radps * 1e-5);
   EXPECT_NEAR(rig->pwm_right.duty, 0.033 * rates.right_radps, 0.033 * rates.right_radps * 1e-5);
+}
+
+/// diffdrive_arduino's main-branch ArduinoComms: writes a command and reads exactly one line
+/// back, up to its LF, never flushing what else came.
+class NoFlushClient {
+ public:
+  explicit NoFlushClient(Rig& rig) : rig_(rig) {}
+  std::string send_msg(const std::string& bytes) {
+    rig_.stream.type(bytes);
+    rig_.settle();
+    const std::size_t end =
+        std::string_view(rig_.stream.output.data(), rig_.stream.output_size).find('\n', read_);
+    if (end == std::string_view::npos) {
+      return "";
+    }
+    std::string line(rig_.stream.output.data() + read_, end + 1u - read_);
+    read_ = end + 1u;
+    return line;
+  }
+  /// Bytes the robot sent that the client never read.
+  [[nodiscard]] std::size_t unread() const { return rig_.stream.output_size - read_; }
+
+ private:
+  Rig& rig_;
+  std::size_t read_ = 0u;
+};
+
+TEST(ConsoleBridge, AClientThatNeverFlushesReadsItsOwnReplyForAThousandCycles) {
+  // The robot as it starts on a UART: banner on, automatic echo, CR LF. The client opens the
+  // port and sends "\r", the PID gains, then per cycle `e` and `m` (hardware/src/
+  // arduino_comms.cpp, main branch); the wheels turn between cycles.
+  ConsoleOptions options = automatic_echo();
+  options.banner = true;
+  auto rig = std::make_unique<Rig>(options);
+  // The ring holds 128 KiB of output: 2002 replies of at most 14 bytes fit.
+  (void)rig->console.start(rig->now_us);
+  rig->tick(2);  // the loop counts from its first tick on
+  NoFlushClient client(*rig);
+  EXPECT_EQ(client.send_msg("\r"), "Invalid Command\r\n");
+  EXPECT_EQ(client.send_msg("u 30:20:0:100\r"), "OK\r\n");
+  WheelTurner left(*rig, true);
+  WheelTurner right(*rig, false);
+  long left_total = 0;
+  long right_total = 0;
+  for (int cycle = 0; cycle < 1000; ++cycle) {
+    const std::string counts = client.send_msg("e\r");
+    ASSERT_EQ(counts, std::to_string(left_total) + " " + std::to_string(right_total) + "\r\n")
+        << "cycle " << cycle;
+    ASSERT_EQ(client.send_msg("m 20 18\r"), "OK\r\n") << "cycle " << cycle;
+    // The wheels turn about as asked: 20 and 18 counts per 1/30 s, a 30 Hz cycle.
+    left.turn(20);
+    right.turn(18);
+    left_total += 20;
+    right_total += 18;
+    rig->tick(33);
+  }
+  EXPECT_EQ(client.unread(), 0u);
 }
 
 }  // namespace

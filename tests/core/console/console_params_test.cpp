@@ -103,11 +103,12 @@ TEST(Console, SaveThenReloadAfterARestart) {
   auto rebooted = std::make_unique<Rig>(with_banner, &flash);
   EXPECT_EQ(rebooted->console.start(rebooted->now_us), params::StoreResult::ok);
   rebooted->settle();
-  const auto banner = rebooted->split_lines(0);
-  ASSERT_EQ(banner.size(), 1u);
+  EXPECT_TRUE(rebooted->split_lines(0).empty());  // the banner waits for the first command
+  const auto banner = rebooted->send("get c_l");
+  ASSERT_EQ(banner.size(), 2u);
   EXPECT_EQ(banner[0].rfind("# odocal ", 0), 0u);
   EXPECT_EQ(value_of(banner[0], "params"), "loaded");
-  EXPECT_EQ(rebooted->reply("get c_l"), "ok c_l=0.990000");
+  EXPECT_EQ(banner[1], "ok c_l=0.990000");
   EXPECT_EQ(rebooted->reply("get wheelbase_mm"), "ok wheelbase_mm=152.500000");
   EXPECT_FLOAT_EQ(rebooted->loop.config().wheelbase_mm, 152.5f);
 }
@@ -118,10 +119,36 @@ TEST(Console, BannerSaysWhyTheDefaultsAreInForce) {
   auto rig = std::make_unique<Rig>(with_banner);
   EXPECT_EQ(rig->console.start(rig->now_us), params::StoreResult::empty);
   rig->settle();
-  const auto lines = rig->split_lines(0);
-  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_TRUE(rig->split_lines(0).empty());
+  const auto lines = rig->send("version");
+  ASSERT_EQ(lines.size(), 2u);
   EXPECT_EQ(lines[0], std::string("# odocal ") + console::project_version +
                           " console params=defaults store=empty");
+  EXPECT_EQ(lines[1].rfind("ok name=odocal ", 0), 0u) << lines[1];
+  // Once: the next command gets its reply alone.
+  EXPECT_EQ(rig->send("version").size(), 1u);
+}
+
+TEST(Console, TheBannerRidesOnTheFirstOdocalReplyAndNeverFollowsABridgeLine) {
+  ConsoleOptions with_banner = Rig::quiet();
+  with_banner.banner = true;
+  with_banner.banner_note = " board=test";
+  {
+    // A person (or an odocal host) first: the start-up line, with the target's note, comes
+    // before the first reply, also when that line is refused.
+    auto rig = std::make_unique<Rig>(with_banner);
+    (void)rig->console.start(rig->now_us);
+    const auto lines = rig->send("frobnicate");
+    ASSERT_EQ(lines.size(), 2u);
+    EXPECT_EQ(lines[0], std::string("# odocal ") + console::project_version +
+                            " console params=defaults store=empty board=test");
+    EXPECT_EQ(error_code(lines[1]), "unknown_command");
+  }
+  // A ROSArduinoBridge client first: never a banner, not even at a later odocal line.
+  auto rig = std::make_unique<Rig>(with_banner);
+  (void)rig->console.start(rig->now_us);
+  EXPECT_EQ(rig->send("e"), std::vector<std::string>{"0 0"});
+  EXPECT_EQ(rig->send("get c_l"), std::vector<std::string>{"ok c_l=1.000000"});
 }
 
 TEST(Console, DefaultsRestoreEveryValueButAreNotSavedUntilSave) {

@@ -203,7 +203,7 @@ if insmod /lib/modules/irq_sim.ko &&
     printf '\re\rm 10 10\ru 30:20:0:100\rb\rx\rm 0 0\rr\re\r' |
       /bin/odocal-linux --config /odocal-linux.conf > /tmp/run3.txt 2> /tmp/err3.txt
     third=$?
-    printf 'Invalid Command\n0 0\nOK\nOK\n115200\nInvalid Command\nOK\nOK\n0 0\n' > /tmp/want3.txt
+    printf 'Invalid Command\n0 0\nOK\nOK\n115200\nOK\nOK\nOK\n0 0\n' > /tmp/want3.txt
     grep -v '^#' /tmp/run3.txt | tr -d '\r' > /tmp/got3.txt
     cat /tmp/err1.txt /tmp/run1.txt /tmp/run2.txt /tmp/run3.txt
     if [ "$third" -eq 0 ] && cmp -s /tmp/want3.txt /tmp/got3.txt; then

@@ -100,7 +100,8 @@ TEST(OdocalFitNoise, FitJsonCarriesNoiseAndRos2WritesItsCovariances) {
   const std::string fit_file = ::testing::TempDir() + "noise_cmd_fit.json";
   std::ofstream(fit_file) << out;
   ASSERT_EQ(run_command(odocal + " ros2 --from " + fit_file +
-                            " --speed-mps 0.3 --publish-hz 20 --pose-distance-m 2",
+                            " --speed-mps 0.3 --update-rate-hz 20 --velocity-window 4 "
+                            "--pose-distance-m 2",
                         out, err),
             0)
       << err;
@@ -110,12 +111,15 @@ TEST(OdocalFitNoise, FitJsonCarriesNoiseAndRos2WritesItsCovariances) {
   ASSERT_EQ(twist.size(), 6u) << out;
   const Ros2Covariance expected =
       ros2_covariance(WheelNoise{noise["k_l"].get<double>(), noise["k_r"].get<double>()},
-                      fit["wheelbase_mm"].get<double>(), 0.3, 1.0 / 20.0, 2.0);
+                      fit["wheelbase_mm"].get<double>(), 0.3, RosVelocityEstimate{20.0, 4u}, 2.0);
   for (int i = 0; i < 6; ++i) {
     EXPECT_NEAR(pose[i], expected.pose[i], 1e-12 * expected.pose[i]) << i;
     EXPECT_NEAR(twist[i], expected.twist[i], 1e-12 * expected.twist[i]) << i;
   }
   EXPECT_NE(out.find("wheel_separation_multiplier"), std::string::npos);
+  // The comment says which estimator the twist follows.
+  EXPECT_NE(out.find("update rate 20 Hz, velocity_rolling_window_size 4"), std::string::npos)
+      << out;
 
   // A noise object with a negative growth is refused, naming the field.
   nlohmann::json bad = fit;
@@ -125,8 +129,10 @@ TEST(OdocalFitNoise, FitJsonCarriesNoiseAndRos2WritesItsCovariances) {
   EXPECT_EQ(run_command(odocal + " ros2 --from " + bad_file, out, err), 2);
   EXPECT_NE(err.find("noise.k_r"), std::string::npos) << err;
   EXPECT_TRUE(out.empty()) << out;
-  EXPECT_EQ(run_command(odocal + " ros2 --from " + fit_file + " --publish-hz 0", out, err), 2);
-  EXPECT_NE(err.find("--publish-hz"), std::string::npos) << err;
+  EXPECT_EQ(run_command(odocal + " ros2 --from " + fit_file + " --update-rate-hz 0", out, err), 2);
+  EXPECT_NE(err.find("--update-rate-hz"), std::string::npos) << err;
+  EXPECT_EQ(run_command(odocal + " ros2 --from " + fit_file + " --velocity-window 0", out, err), 2);
+  EXPECT_NE(err.find("--velocity-window"), std::string::npos) << err;
 }
 
 std::string read_file(const std::string& path) {
@@ -144,10 +150,11 @@ void expect_ros2_of(const std::string& odocal, const std::string& file, const nl
   const std::vector<double> twist = yaml_list(out, "twist_covariance_diagonal");
   ASSERT_EQ(pose.size(), 6u) << out;
   ASSERT_EQ(twist.size(), 6u) << out;
-  // ros2's defaults: 0.2 m/s, 50 Hz, the pose after 1 m (docs/calibration.md).
+  // ros2's defaults: 0.2 m/s, the controller's own (100 Hz, a window of 10), the pose after 1 m
+  // (docs/ros.md).
   const Ros2Covariance expected = ros2_covariance(
       WheelNoise{fit["noise"]["k_l"].get<double>(), fit["noise"]["k_r"].get<double>()},
-      fit["wheelbase_mm"].get<double>(), 0.2, 1.0 / 50.0, 1.0);
+      fit["wheelbase_mm"].get<double>(), 0.2, RosVelocityEstimate{}, 1.0);
   for (int i = 0; i < 6; ++i) {
     EXPECT_NEAR(pose[i], expected.pose[i], 1e-12 * expected.pose[i]) << i;
     EXPECT_NEAR(twist[i], expected.twist[i], 1e-12 * expected.twist[i]) << i;

@@ -16,6 +16,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sim_process.hpp"
@@ -33,7 +34,8 @@ using odocal::test::temp_file;
 /// odocal-sim on a pty in lockstep (speed 0), the test on its other side in raw mode.
 class SimPort {
  public:
-  SimPort() {
+  /// `protocol`: odocal-sim's --protocol (the odocal robot, or a robot running ROSArduinoBridge).
+  explicit SimPort(const char* protocol = "odocal") {
     int out[2];
     EXPECT_EQ(::pipe(out), 0);
     const std::string store = ::testing::TempDir() + "odocal_sim_bridge_store.bin";
@@ -42,8 +44,13 @@ class SimPort {
     if (pid_ == 0) {
       ::dup2(out[1], STDOUT_FILENO);
       ::close(out[0]);
-      ::execl(sim_program().c_str(), "odocal-sim", "--pty", "--speed", "0", "--store",
-              store.c_str(), static_cast<char*>(nullptr));
+      if (std::string(protocol) == "odocal") {
+        ::execl(sim_program().c_str(), "odocal-sim", "--pty", "--speed", "0", "--store",
+                store.c_str(), static_cast<char*>(nullptr));
+      } else {
+        ::execl(sim_program().c_str(), "odocal-sim", "--pty", "--speed", "0", "--protocol",
+                protocol, static_cast<char*>(nullptr));
+      }
       ::_exit(127);
     }
     ::close(out[1]);
@@ -109,11 +116,8 @@ bool counts(const std::string& reply, long& left, long& right) {
 TEST(OdocalSimBridge, DiffdriveArduinosBytesOnAPtyGetTheFirmwaresAnswersUnechoed) {
   REQUIRE_SIM();
   SimPort port;
-  // send_empty_msg: "\r". On a pty odocal-sim prints its banner on the first byte it gets (a
-  // real robot printed it at power-up, before ROS opened the port).
-  std::string reply = port.send_msg("\r");
-  EXPECT_EQ(reply.rfind("# odocal ", 0), 0u) << reply;
-  EXPECT_EQ(port.read_line(), "Invalid Command\r\n");
+  // send_empty_msg: "\r". Its answer comes first: no banner, no note, nothing before it.
+  EXPECT_EQ(port.send_msg("\r"), "Invalid Command\r\n");
   // on_activate: set_pid_values; then read() and write() at the controller's rate.
   EXPECT_EQ(port.send_msg("u 30:20:0:100\r"), "OK\r\n");
   EXPECT_EQ(port.send_msg("e\r"), "0 0\r\n");
@@ -121,7 +125,7 @@ TEST(OdocalSimBridge, DiffdriveArduinosBytesOnAPtyGetTheFirmwaresAnswersUnechoed
   long left = 0;
   long right = 0;
   // Lockstep: each line gets 50 ms of robot time, so the wheels have turned by the next `e`.
-  reply = port.send_msg("e\r");
+  std::string reply = port.send_msg("e\r");
   ASSERT_TRUE(counts(reply, left, right)) << reply;
   EXPECT_GT(left, 0);
   EXPECT_GT(right, 0);
@@ -129,13 +133,86 @@ TEST(OdocalSimBridge, DiffdriveArduinosBytesOnAPtyGetTheFirmwaresAnswersUnechoed
   EXPECT_EQ(port.send_msg("m 0 0\r"), "OK\r\n");
   EXPECT_EQ(port.send_msg("b\r"), "115200\r\n");
   EXPECT_EQ(port.send_msg("r\r"), "OK\r\n");
-  EXPECT_EQ(port.send_msg("x\r"), "Invalid Command\r\n");
+  EXPECT_EQ(port.send_msg("x 3 100\r"), "OK\r\n");
+  EXPECT_EQ(port.send_msg("a 3\r"), "0\r\n");
+  EXPECT_EQ(port.send_msg("z\r"), "Invalid Command\r\n");
   // Nothing else came: no echo of any line, no second reply.
   EXPECT_TRUE(port.quiet_for(300));
   // The robot's own console is still there, unechoed for a program's line (odocal's host ends
-  // its lines with LF).
+  // its lines with LF); after a ROSArduinoBridge line its banner never comes.
   reply = port.send_msg("status\n");
   EXPECT_EQ(reply.rfind("ok mode=idle ", 0), 0u) << reply;
+}
+
+TEST(OdocalSimBridge, OnAPtyAnOdocalLineFirstGetsTheBannerBeforeItsReply) {
+  REQUIRE_SIM();
+  SimPort port;
+  const std::string banner = port.send_msg("version\n");
+  EXPECT_EQ(banner.rfind("# odocal ", 0), 0u) << banner;
+  EXPECT_NE(banner.find(" console "), std::string::npos) << banner;
+  const std::string reply = port.read_line();
+  EXPECT_EQ(reply.rfind("ok name=odocal ", 0), 0u) << reply;
+  EXPECT_TRUE(port.quiet_for(300));
+}
+
+/// diffdrive_arduino's main-branch client for a thousand cycles (hardware/src/arduino_comms.cpp:
+/// no flush, exactly one line read per command): "\r", the PID gains, then `e` and `m` each
+/// cycle. Every `e` must be two whole numbers that move on as the wheels turn, every `m` `OK`.
+/// @return the left and right counts of each `e`.
+std::vector<std::pair<long, long>> no_flush_client(SimPort& port, const char* first_reply) {
+  std::vector<std::pair<long, long>> seen;
+  EXPECT_EQ(port.send_msg("\r"), first_reply);
+  EXPECT_EQ(port.send_msg("u 30:20:0:100\r"), "OK\r\n");
+  for (int cycle = 0; cycle < 1000; ++cycle) {
+    const std::string reply = port.send_msg("e\r");
+    long left = 0;
+    long right = 0;
+    if (!counts(reply, left, right) || reply.size() < 2u ||
+        reply.compare(reply.size() - 2u, 2u, "\r\n") != 0) {
+      ADD_FAILURE() << "cycle " << cycle << ": `e` answered '" << reply << "'";
+      return seen;
+    }
+    seen.emplace_back(left, right);
+    const std::string ok = port.send_msg("m 20 20\r");
+    if (ok != "OK\r\n") {
+      ADD_FAILURE() << "cycle " << cycle << ": `m` answered '" << ok << "'";
+      return seen;
+    }
+  }
+  EXPECT_TRUE(port.quiet_for(300)) << "a line nobody asked for";
+  return seen;
+}
+
+/// The counts never go back, and they move on: over the last 900 cycles each wheel advances by
+/// at least `least_per_cycle` counts a cycle on average.
+void expect_counts_follow_the_wheels(const std::vector<std::pair<long, long>>& seen,
+                                     double least_per_cycle) {
+  ASSERT_EQ(seen.size(), 1000u);
+  for (std::size_t i = 1; i < seen.size(); ++i) {
+    ASSERT_GE(seen[i].first, seen[i - 1].first) << "cycle " << i;
+    ASSERT_GE(seen[i].second, seen[i - 1].second) << "cycle " << i;
+  }
+  EXPECT_GE(static_cast<double>(seen[999].first - seen[99].first), 900.0 * least_per_cycle);
+  EXPECT_GE(static_cast<double>(seen[999].second - seen[99].second), 900.0 * least_per_cycle);
+}
+
+TEST(OdocalSimBridge, AClientThatNeverFlushesGetsItsOwnReplyForAThousandCyclesOnAPty) {
+  REQUIRE_SIM();
+  // The odocal robot in lockstep: each line gets at least 50 ms of robot time (more while the
+  // wheels turn and the host is slow to send the next line), so a cycle at least 100 ms; the
+  // loop holds each wheel at 20 counts per 1/30 s (600 counts/s, the factors at 1): at least
+  // 60 counts a cycle once up to speed. Half of that leaves room for the ramp and the ripple.
+  SimPort port;
+  expect_counts_follow_the_wheels(no_flush_client(port, "Invalid Command\r\n"), 30.0);
+}
+
+TEST(OdocalSimBridge, AClientThatNeverFlushesGetsItsOwnReplyFromTheBridgeRobotOnAPty) {
+  REQUIRE_SIM();
+  // odocal-sim's ROSArduinoBridge robot in lockstep: exactly one 1/30 s PID frame per `e`. Its
+  // integer PID leaves up to Ko/Kp = 2.5 counts per frame uncorrected (session_bridge_test):
+  // at least 17.5 counts a cycle.
+  SimPort port("ros-arduino-bridge");
+  expect_counts_follow_the_wheels(no_flush_client(port, "Invalid Command\r\n"), 17.5);
 }
 
 /// Runs odocal-sim on scripted stdin; every output line.

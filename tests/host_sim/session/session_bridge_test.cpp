@@ -1,6 +1,8 @@
 // ROS robots (DESIGN "ROS robots"): odocal-sim as a robot running ROSArduinoBridge, and `odocal
 // session --protocol ros-arduino-bridge` calibrating such robots with no reflash.
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <string>
 #include <vector>
@@ -54,7 +56,7 @@ TEST(SessionBridge, OdocalSimAnswersAsROSArduinoBridge) {
   EXPECT_EQ(lines[1], "57600");  // ROSArduinoBridge's BAUDRATE
   EXPECT_EQ(lines[2], "OK");
   EXPECT_EQ(lines[3], "0 0");
-  EXPECT_EQ(lines[4], "Invalid Command");
+  EXPECT_EQ(lines[4], "OK");  // `x`: analogWrite
   EXPECT_EQ(lines[5], "OK");
   EXPECT_EQ(lines[6], "OK");
   // Frames 30-59 (1 s to 2 s after the `m`): the PID holds 30 counts per frame; its integer
@@ -79,6 +81,36 @@ TEST(SessionBridge, OdocalSimAnswersAsROSArduinoBridge) {
   ASSERT_EQ(std::sscanf(lines[159].c_str(), "ok x_mm=%lf y_mm=%lf theta_deg=%lf", &x, &y, &theta),
             3);
   EXPECT_LT(std::hypot(x, y), 10.0);  // the default robot's tape noise is a few mm
+}
+
+TEST(SessionBridge, OdocalSimsBridgeRobotReadsLinesAsTheFirmwareDoes) {
+  // loop() in ROSArduinoBridge.ino: only a CR runs a command; a space steps to the next
+  // argument; every other byte is the letter (before a space) or part of an argument, LF too.
+  // runCommand reads the arguments with atoi and answers the pin and sonar commands of a
+  // USE_BASE build; raw PWM `o` is joshnewans' firmware's.
+  const std::string robot = write("bridge_reader.json", "{}");
+  const std::string bytes =
+      "e\n"        // ended by LF alone: no reply, and its bytes stay in the command...
+      "b\r"        // ... whose letter the `b` then replaces: the baud rate
+      "m 10 10\n"  // no reply; the `e` after it runs on into the second argument
+      "e\r"        // "m 10 10\ne": atoi reads 10 and 10, the firmware answers `m`
+      "m 0 0\r"
+      "a 3\rd 4\rp 7\rc 13 1\rw 13 1\rx 5 9\ro 0 0\rs 1 90\r"
+      "m 1.5 2\re\rm x y\r"  // atoi: 1 and 2; no digits: 0 0, a stop
+      "e\r\ne\r";            // CR LF: the LF is the next command's first letter, replaced by `e`
+  const std::vector<std::string> lines = bridge_lines("bridge_reader_in.txt", robot, bytes);
+  const std::vector<std::string> want = {
+      "57600", "OK", "OK", "0", "0", "0", "OK", "OK", "OK", "OK", "Invalid Command"};
+  ASSERT_GE(lines.size(), want.size() + 5u);
+  for (std::size_t i = 0; i < want.size(); ++i) {
+    EXPECT_EQ(lines[i], want[i]) << "reply " << i;
+  }
+  EXPECT_EQ(lines[11], "OK");            // m 1.5 2
+  static_cast<void>(counts(lines[12]));  // two whole numbers
+  EXPECT_EQ(lines[13], "OK");            // m x y
+  static_cast<void>(counts(lines[14]));
+  static_cast<void>(counts(lines[15]));
+  EXPECT_EQ(lines.size(), want.size() + 5u);
 }
 
 TEST(SessionBridge, OdocalSimRefusesWhatABridgeRobotHasNot) {
@@ -166,9 +198,13 @@ TEST(SessionBridge, CalibratesROSArduinoBridgeRobotsOfSeveralSizes) {
                                         .dump());
     const std::string out = temp(std::string("bridge_out_") + b.name);
     static_cast<void>(shell("rm -rf " + out));  // a session of an earlier test run
+    // The cart's controller manager runs at 50 Hz and averages 4 velocities; the others keep
+    // the controller's defaults (100 Hz, 10).
+    const bool cart = std::string(b.name) == "cart";
     const Result r = session("--sim " + robot +
                              " --protocol ros-arduino-bridge --procedure auto --json --seed " +
-                             std::to_string(b.seed) + " --out " + out);
+                             std::to_string(b.seed) + " --out " + out +
+                             (cart ? " --ros-update-rate-hz 50 --ros-velocity-window 4" : ""));
     const json doc = parse(r);
     ASSERT_TRUE(doc.is_object());
     EXPECT_LE(doc["measurements"].get<int>(), 12);
@@ -193,6 +229,19 @@ TEST(SessionBridge, CalibratesROSArduinoBridgeRobotsOfSeveralSizes) {
     const json pose = json::parse(y.at("pose_covariance_diagonal"));
     EXPECT_GT(pose[0].get<double>(), 0.0);
     EXPECT_GT(pose[5].get<double>(), 0.0);
+    // The twist's as the controller estimates it (docs/ros.md): the mean over W updates of
+    // 1/f s, at 0.2 m/s, against the pose's after 1 m: twist / pose = 0.2 f / W for x and yaw.
+    const json twist = json::parse(y.at("twist_covariance_diagonal"));
+    const double ratio = cart ? 0.2 * 50.0 / 4.0 : 0.2 * 100.0 / 10.0;
+    EXPECT_NEAR(twist[0].get<double>() / pose[0].get<double>(), ratio, 1e-9 * ratio);
+    EXPECT_NEAR(twist[5].get<double>() / pose[5].get<double>(), ratio, 1e-9 * ratio);
+    std::ifstream yaml_file(out + "/diff_drive_controller.yaml");
+    const std::string yaml((std::istreambuf_iterator<char>(yaml_file)),
+                           std::istreambuf_iterator<char>());
+    EXPECT_NE(yaml.find(cart ? "update rate 50 Hz, velocity_rolling_window_size 4"
+                             : "update rate 100 Hz, velocity_rolling_window_size 10"),
+              std::string::npos)
+        << yaml;
     // The same numbers in the session's JSON.
     EXPECT_DOUBLE_EQ(doc["result"]["ros"]["wheel_separation_multiplier"].get<double>(),
                      std::stod(y.at("wheel_separation_multiplier")));

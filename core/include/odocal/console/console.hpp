@@ -55,8 +55,13 @@ struct TargetCommand {
 /// (core/src/console/target/, core/CMakeLists.txt), where they must stay unset.
 struct ConsoleOptions {
   EchoMode echo = EchoMode::off;
-  bool crlf = true;    ///< end output lines with CR LF (UART, pty) rather than LF (stdio pipes)
-  bool banner = true;  ///< `start()` prints a `# odocal ...` line
+  bool crlf = true;  ///< end output lines with CR LF (UART, pty) rather than LF (stdio pipes)
+  /// A `# odocal ... console ...` start-up line, sent before the reply to the first odocal
+  /// command line; never once a ROSArduinoBridge line came first (docs/console.md, "Connecting"):
+  /// nothing unsolicited reaches a client that reads one line per command.
+  bool banner = true;
+  /// Appended to that line: the target's own ` key=value` pairs, each with a leading space.
+  const char* banner_note = "";
   /// Optional: the target appends its own ` key=value` pairs (each with a leading space) to the
   /// `status` reply: writes at most `capacity` bytes into `out` and returns how many. Called from
   /// the main loop inside `poll`. Printable ASCII only; anything else is cut off there.
@@ -98,7 +103,8 @@ class Console {
           const ConsoleOptions& options = ConsoleOptions{});
 
   /// Loads the saved parameters (keeping the defaults when there are none, or they cannot be
-  /// used) and configures the loop with them; queues the banner. Main loop, once, before `poll`.
+  /// used) and configures the loop with them; holds the banner for the first odocal command line
+  /// (ConsoleOptions::banner). Main loop, once, before `poll`.
   /// @return what the store said.
   /// Out of line: its parameter set stays off the main loop's frame.
   [[gnu::noinline]] params::StoreResult start(std::uint32_t now_us);
@@ -197,6 +203,8 @@ class Console {
   void detect_terminal();
   [[gnu::noinline]] void handle_event(LineEvent event);
   void execute(const Token* words, std::size_t count);
+  /// Sends the start-up line if it is still due (before an odocal command's reply).
+  void send_banner();
   void dispatch(Handler handler, const Token* words, std::size_t count);
   /// While a self-test runs: refuses every command but `stop` (err busy), which ends the test
   /// (its `err busy` line first, then stop's own reply). @return true when refused.
@@ -420,7 +428,13 @@ class Console {
   std::uint64_t clock_us_ = 0u;           ///< unwrapped time since start, µs
   std::uint32_t last_now_us_ = 0u;
 
-  /// Counts at the last `r` (what `e` subtracts), modulo 2^32 as `e` reports them.
+  /// The start-up line, held until the first odocal command line (send_banner); dropped at the
+  /// first ROSArduinoBridge line.
+  bool banner_due_ = false;
+  const char* banner_store_ = nullptr;  ///< `store=` word when on defaults; nullptr: loaded
+  std::uint32_t banner_sequence_ = 0u;  ///< `sequence=` of the loaded set
+
+  /// The loop's counts at the last `r` (what `e` counts from), modulo 2^32.
   std::uint32_t bridge_zero_left_ = 0u;
   std::uint32_t bridge_zero_right_ = 0u;
 

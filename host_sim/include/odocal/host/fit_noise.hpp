@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "odocal/host/fit.hpp"
+#include "odocal/host/ros2_yaml.hpp"
 
 namespace odocal::host {
 
@@ -91,19 +92,27 @@ struct NoiseEstimate {
 [[nodiscard]] nlohmann::json noise_json(const NoiseEstimate& estimate);
 
 /// diff_drive_controller's `pose_covariance_diagonal` and `twist_covariance_diagonal` (x, y, z,
-/// roll, pitch, yaw; SI units) from the per-wheel model (docs/calibration.md, "ROS 2"): the pose
-/// entries are the covariance after driving `distance_m` straight (along: (k_l+k_r)/4·d, lateral:
-/// (k_l+k_r)/b²·d³/3, yaw: (k_l+k_r)/b²·d); the twist entries that of a velocity estimated over
-/// one publishing period `period_s` at `speed_mps` (each wheel rolls v·dt: var(v) =
-/// (k_l+k_r)/4·v/dt, var(ω) = (k_l+k_r)/b²·v/dt; lateral velocity as the forward one, the model
-/// having none). z, roll and pitch, which odometry does not observe: `unobserved`.
+/// roll, pitch, yaw; SI units) from the per-wheel model (docs/ros.md, "The covariances"): the
+/// pose entries are the covariance after driving `distance_m` straight (along: (k_l+k_r)/4·d,
+/// lateral: (k_l+k_r)/b²·d³/3, yaw: (k_l+k_r)/b²·d); the twist entries that of the controller's
+/// own velocity estimate at `speed_mps` straight: the mean of W per-update differences is the
+/// travel over W updates divided by W·T (T = 1/update rate), so each wheel's speed has variance
+/// k·v/(W·T) (k·v·W·T of travel over (W·T)²): var(v) = (k_l+k_r)/4·v/(W·T), var(ω) =
+/// (k_l+k_r)/b²·v/(W·T); lateral velocity as the forward one, the model having none. z, roll and
+/// pitch, which odometry does not observe: `unobserved`.
 struct Ros2Covariance {
   double pose[6] = {0, 0, 0, 0, 0, 0};
   double twist[6] = {0, 0, 0, 0, 0, 0};
 };
 [[nodiscard]] Ros2Covariance ros2_covariance(const WheelNoise& noise, double wheelbase_mm,
-                                             double speed_mps, double period_s, double distance_m,
-                                             double unobserved = 1.0e6);
+                                             double speed_mps, const RosVelocityEstimate& estimate,
+                                             double distance_m, double unobserved = 1.0e6);
+/// The YAML comment line (ending with a newline) that says what a Ros2Covariance was computed
+/// from: the growths, the pose's distance, the twist's speed, and the controller's update rate
+/// and rolling window.
+[[nodiscard]] std::string ros2_covariance_note(const WheelNoise& noise, double distance_m,
+                                               double speed_mps,
+                                               const RosVelocityEstimate& estimate);
 [[nodiscard]] std::string noise_text(const NoiseEstimate& estimate);
 
 /// The noise estimate every fit reports beside its geometry (`odocal fit` and the sessions that

@@ -79,6 +79,10 @@ class RobotClient {
 
  private:
   void route(const std::string& line);
+  /// After a reply that did not come, while watching for restarts: `status` once, so that a
+  /// robot that restarted meanwhile prints its start-up line (it waits for a command) and
+  /// RobotRestarted is thrown; returns when nothing says so.
+  void probe_restart();
   LineChannel& channel_;
   std::deque<std::string> async_;
   std::function<void(const std::string&)> ticks_;

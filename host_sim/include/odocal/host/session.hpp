@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "odocal/host/robot_client.hpp"
+#include "odocal/host/ros2_yaml.hpp"
 
 namespace odocal::host {
 
@@ -171,6 +172,9 @@ struct SessionOptions {
   /// talks to is this host-side one; nothing is saved on the robot, and a result is written to
   /// out_dir/diff_drive_controller.yaml instead. nullptr: an odocal robot.
   const BridgeConsole* bridge = nullptr;
+  /// How the robot's diff_drive_controller estimates its velocity (the twist covariance of
+  /// diff_drive_controller.yaml; --ros-update-rate-hz, --ros-velocity-window).
+  RosVelocityEstimate ros_velocity;
   /// The `result` the interrupted session being resumed recorded (e.g. its self-test, which is
   /// then not driven again).
   nlohmann::json resumed_result = nlohmann::json::object();

@@ -430,10 +430,8 @@ void AutoSession::verify(Outcome& out) {
         std::pow(r.measured.x_mm - r.odom.x_mm, 2) + std::pow(r.measured.y_mm - r.odom.y_mm, 2);
   }
   const double odometry_rms = std::sqrt(odometry2 / static_cast<double>(auto_verify_runs));
-  // Where the same runs would have ended with the geometry the robot had before the session, at no
-  // measurement's cost: the robot steers by its odometry, so with the old geometry it would have
-  // ended where it did, moved by how far the old odometry of these very counts is from the new
-  // one's (first order in the difference; tick_log_of and the one model's exact-arc step).
+  // Where these runs would have ended with the geometry in force before the session, at no
+  // measurement's cost: moved by how far the old odometry of their counts ends from the new one's.
   const FitGeometry before_g =
       fit_geometry_of(geometry_in_force(c_.initial, nominal_.wheel_diameter_mm));
   const FitGeometry after_g =

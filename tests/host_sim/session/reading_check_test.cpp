@@ -163,14 +163,20 @@ TEST(ReadingCheck, ATurnInPlaceNeedsItsHeadingAndAgreesWithItsRepeat) {
   // Alone, six turns leave a heading anywhere within about ±318 deg of the odometry's: -37.3 and
   // +37.3 can both be.
   EXPECT_TRUE(judge_reading(f, SessionPose{1.0, 2.0, 37.3}, "").plausible);
-  // The same run measured at -37.3 before, the same factors in force: +37.3 is the sign.
+  // The same run measured at -37.3 once before, the same factors in force: one earlier reading
+  // alone cannot tell which of the two is off, so neither is questioned here (the jury shows
+  // both); twice before, alike, and +37.3 is the sign.
   f.earlier.push_back(
       EarlierReading{SessionPose{0.1, 0.0, 0.2}, SessionPose{1.5, 1.0, -37.3}, true});
+  EXPECT_TRUE(judge_reading(f, SessionPose{1.0, 2.0, 37.3}, "").plausible);
+  f.earlier.push_back(
+      EarlierReading{SessionPose{0.1, 0.0, 0.2}, SessionPose{1.2, 0.8, -36.8}, true});
   expect_slip(f, {1.0, 2.0, 37.3}, "1 2 37.3", "the heading's sign", {1.0, 2.0, -37.3});
   EXPECT_TRUE(judge_reading(f, SessionPose{1.0, 2.0, -36.1}, "").plausible);
-  // A calibration applied between the two: the second can be anywhere from the first's error to
-  // none (and the noise), not past it on the other side.
-  f.earlier.back().same_factors = false;
+  // A calibration applied between them: a repeat can be anywhere from the earlier error to none
+  // (and the noise), not past it on the other side.
+  f.earlier[0].same_factors = false;
+  f.earlier[1].same_factors = false;
   EXPECT_TRUE(judge_reading(f, SessionPose{1.0, 2.0, -1.0}, "").plausible);
   EXPECT_FALSE(judge_reading(f, SessionPose{1.0, 2.0, 60.0}, "").plausible);
 }

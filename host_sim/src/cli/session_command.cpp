@@ -138,12 +138,9 @@ std::uint64_t count_in(const nlohmann::json& options, const char* key, const std
                    "not a whole number from 0 within 64 bits");
 }
 
-/// --resume DIR: the options of the interrupted session, with the command line's where they
-/// agree. A conflicting option is refused: the result must be the one session's.
-SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
-                           nlohmann::json& session) {
-  const std::string file = given.resume + "/session.json";
-  session = nlohmann::json::parse(read_text_file(file), nullptr, false);
+/// An interrupted session's session.json (`file`), refused unless it can be resumed.
+nlohmann::json interrupted_session(const std::string& file) {
+  nlohmann::json session = nlohmann::json::parse(read_text_file(file), nullptr, false);
   if (!session.is_object() || !session.contains("options") || !session["options"].is_object()) {
     throw InputError(file, 0, "", "not a session.json written by odocal session");
   }
@@ -153,6 +150,15 @@ SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
   if (session.value("complete", false)) {
     throw InputError(file, 0, "complete", "this session is complete: nothing to resume");
   }
+  return session;
+}
+
+/// --resume DIR: the options of the interrupted session, with the command line's where they
+/// agree. A conflicting option is refused: the result must be the one session's.
+SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
+                           nlohmann::json& session) {
+  const std::string file = given.resume + "/session.json";
+  session = interrupted_session(file);
   const nlohmann::json& o = session["options"];
   SessionFlags f = given;
   const auto conflict = [&](const char* flag, const std::string& recorded,

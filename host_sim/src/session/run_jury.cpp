@@ -284,7 +284,7 @@ RunJury::Shown RunJury::show(const Disagreement& d) {
   for (const auto& [member, slip] : others) {
     latest = runs_[member].run_index > runs_[latest].run_index ? member : latest;
   }
-  if (runs_[latest].run_index + 1 == c_.runs.size()) {
+  if (runs_[latest].run_index + 1 == c_.runs.size() && !c_.runs.back().replayed) {
     c_.log << fmt::format(
         "  The robot is still where run {} stopped: measure it again. If it reads the same, the "
         "other run's reading is the one to check.\n",

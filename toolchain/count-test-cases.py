@@ -28,13 +28,34 @@ def gtest_cases(path):
     return passed, failed
 
 
+def program_of(name, reports):
+    """The program an entry ran: its own name, or for an entry of one GoogleTest case
+    (gtest_discover_tests, named PROGRAM.Suite.Case) the name before the first dot."""
+    if name in reports:
+        return name
+    head = name.split(".", 1)[0]
+    return head if head in reports else name
+
+
 def main():
     log, xml_dir = sys.argv[1], sys.argv[2]
     reports = {}
     for path in glob.glob(os.path.join(xml_dir, "*.xml")):
         name = re.sub(r"(_\d+)?\.xml$", "", os.path.basename(path))
         reports.setdefault(name, []).append(path)
+    # Every report counted once, however many entries ran its program.
+    totals = {}
+    for name, paths in reports.items():
+        p = q = 0
+        for path in paths:
+            try:
+                a, b = gtest_cases(path)
+            except ET.ParseError:
+                continue
+            p, q = p + a, q + b
+        totals[name] = (p, q)
     passed = failed = 0
+    counted = set()
     with open(log, encoding="utf-8", errors="replace") as f:
         for line in f:
             m = ENTRY.match(line)
@@ -44,18 +65,15 @@ def main():
             if "Skipped" in status:
                 continue
             ok = status == "Passed"
-            counted = False
-            for path in reports.get(name, []):
-                try:
-                    p, q = gtest_cases(path)
-                except ET.ParseError:
-                    continue
-                passed, failed = passed + p, failed + q
-                counted = True
-            if counted and not ok and not any(gtest_cases(x)[1] for x in reports[name]):
-                failed += 1  # the program failed after its cases (a crash at exit, a leak check)
-            elif not counted:
+            program = program_of(name, reports)
+            if program not in totals:
                 passed, failed = (passed + 1, failed) if ok else (passed, failed + 1)
+                continue
+            if program not in counted:
+                counted.add(program)
+                passed, failed = passed + totals[program][0], failed + totals[program][1]
+            if not ok and totals[program][1] == 0:
+                failed += 1  # the program failed after its cases (a crash at exit, a leak check)
     print(passed, failed)
 
 

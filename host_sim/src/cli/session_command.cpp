@@ -177,6 +177,7 @@ SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
       value = recorded;
     };
     text("--procedure", "procedure", f.procedure);
+    static_cast<void>(procedure_of(f.procedure, file, "options.procedure"));
     text("--sim", "sim", f.sim_robot);
     text("--store", "store", f.store);
     text("--measurements", "measurements", f.measurements);
@@ -255,8 +256,7 @@ SessionOptions options_of(const SessionFlags& f) {
   }
   if (f.procedure.empty()) {
     throw InputError("--procedure", 0, "",
-                     "--procedure is required (auto, umbmark, lateral, fit, verify, extended or "
-                     "selftest), or --resume DIR");
+                     "--procedure is required (" + procedure_names() + "), or --resume DIR");
   }
   SessionOptions options;
   options.procedure = procedure_of(f.procedure);
@@ -440,8 +440,7 @@ void register_session_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--procedure", flags->procedure,
                   "auto (the one command: self-test, the runs it needs, verify, save), umbmark, "
                   "lateral, fit, verify, extended or selftest")
-      ->check(
-          CLI::IsMember({"auto", "umbmark", "lateral", "fit", "verify", "extended", "selftest"}));
+      ->check(CLI::IsMember(procedure_words()));
   cmd->add_option("--target", flags->target_mm,
                   "auto: measure until the factors leave at most this end error on the unseen "
                   "path, mm (1 sigma; default 2: one tape measurement's error)")

@@ -13,63 +13,30 @@
 
 namespace odocal::host {
 
-Procedure procedure_of(const std::string& name) {
-  if (name == "umbmark") {
-    return Procedure::umbmark;
+Procedure procedure_of(const std::string& name, const std::string& where, const std::string& key) {
+  const std::optional<Procedure> procedure = procedure_named(name);
+  if (!procedure) {
+    throw InputError(where, 0, key, "no procedure '" + name + "' (" + procedure_names() + ")");
   }
-  if (name == "lateral") {
-    return Procedure::lateral;
-  }
-  if (name == "fit") {
-    return Procedure::fit;
-  }
-  if (name == "extended") {
-    return Procedure::extended;
-  }
-  if (name == "selftest") {
-    return Procedure::selftest;
-  }
-  if (name == "auto") {
-    return Procedure::automatic;
-  }
-  return Procedure::verify;
+  return *procedure;
 }
 
-/// --runs bounds per procedure: UMBmark runs per direction (the robot keeps 16 per direction,
-/// the solver needs 2); lateral straight trials (the bootstrap needs 5 rows with the arcs);
-/// fit runs; verify runs per scenario.
-void check_runs(Procedure procedure, std::uint64_t runs) {
-  std::uint64_t lo = 1;
-  std::uint64_t hi = 32;
-  switch (procedure) {
-    case Procedure::umbmark:
-      lo = 2;
-      hi = 16;
-      break;
-    case Procedure::lateral:
-      lo = 2;
-      hi = 28;
-      break;
-    case Procedure::fit:
-      lo = 3;
-      hi = 30;
-      break;
-    case Procedure::verify:
-    case Procedure::selftest:
-    case Procedure::automatic:
-      lo = 1;
-      hi = 16;
-      break;
-    case Procedure::extended:
-      lo = 2;  // the figure's intervals need 2 runs per direction and floor
-      hi = 16;
-      break;
+std::vector<std::string> procedure_words() {
+  std::vector<std::string> names;
+  for (const ProcedureInfo& p : procedures) {
+    names.emplace_back(p.name);
   }
-  if (runs < lo || runs > hi) {
+  return names;
+}
+
+/// --runs within the procedure's bounds (`procedures`, session.hpp).
+void check_runs(Procedure procedure, std::uint64_t runs) {
+  const ProcedureInfo& p = info_of(procedure);
+  if (runs < p.runs_lo || runs > p.runs_hi) {
     throw InputError("--runs", 0, "",
-                     "must be a whole number from " + std::to_string(lo) + " to " +
-                         std::to_string(hi) + " for --procedure " + to_string(procedure) +
-                         ", got " + std::to_string(runs));
+                     "must be a whole number from " + std::to_string(p.runs_lo) + " to " +
+                         std::to_string(p.runs_hi) + " for --procedure " + p.name + ", got " +
+                         std::to_string(runs));
   }
 }
 

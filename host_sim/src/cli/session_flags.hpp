@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -19,12 +20,16 @@ class App;
 
 namespace odocal::host {
 
-/// --procedure NAME (one of the names the flag accepts).
-[[nodiscard]] Procedure procedure_of(const std::string& name);
+/// --procedure NAME (or session.json's "procedure" on --resume); an unknown name throws
+/// InputError naming the procedures there are.
+[[nodiscard]] Procedure procedure_of(const std::string& name,
+                                     const std::string& where = "--procedure",
+                                     const std::string& key = "");
 
-/// --runs bounds per procedure: UMBmark runs per direction (the robot keeps 16 per direction,
-/// the solver needs 2); lateral straight trials (the bootstrap needs 5 rows with the arcs); fit
-/// runs; verify runs per scenario. Throws InputError.
+/// The names --procedure accepts, from `procedures` (session.hpp).
+[[nodiscard]] std::vector<std::string> procedure_words();
+
+/// --runs within the procedure's bounds (`procedures`, session.hpp). Throws InputError.
 void check_runs(Procedure procedure, std::uint64_t runs);
 
 inline constexpr const char* kBridgeProtocol = "ros-arduino-bridge";

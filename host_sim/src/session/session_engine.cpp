@@ -29,23 +29,28 @@
 namespace odocal::host {
 
 const char* to_string(Procedure procedure) {
-  switch (procedure) {
-    case Procedure::umbmark:
-      return "umbmark";
-    case Procedure::lateral:
-      return "lateral";
-    case Procedure::fit:
-      return "fit";
-    case Procedure::verify:
-      return "verify";
-    case Procedure::extended:
-      return "extended";
-    case Procedure::selftest:
-      return "selftest";
-    case Procedure::automatic:
-      return "auto";
+  return info_of(procedure).name;
+}
+
+std::optional<Procedure> procedure_named(std::string_view name) {
+  for (const ProcedureInfo& p : procedures) {
+    if (name == p.name) {
+      return p.procedure;
+    }
   }
-  return "?";
+  return std::nullopt;
+}
+
+std::string procedure_names() {
+  // auto first: the one command most owners want.
+  std::string text = info_of(Procedure::automatic).name;
+  std::size_t left = std::size(procedures) - 1;
+  for (const ProcedureInfo& p : procedures) {
+    if (p.procedure != Procedure::automatic) {
+      text += (--left == 0 ? " or " : ", ") + std::string(p.name);
+    }
+  }
+  return text;
 }
 
 std::string default_out_dir(Procedure procedure) {

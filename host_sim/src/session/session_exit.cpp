@@ -39,13 +39,14 @@ Settings settings_now(Context& c) {
   return s;
 }
 
-bool as_started(const Context& c, const Settings& s) {
-  const Factors& f = s.factors;
-  const Factors& i = c.initial;
+bool same_factors(const Factors& f, const Factors& i) {
   return same_value(f.c_l, i.c_l) && same_value(f.c_r, i.c_r) &&
          same_value(f.wheelbase_mm, i.wheelbase_mm) && same_value(f.f_lat, i.f_lat) &&
-         same_value(f.f_lon, i.f_lon) && same_value(f.wheelbase_arc_mm, i.wheelbase_arc_mm) &&
-         same_value(s.cruise_mps, c.initial_cruise_mps) &&
+         same_value(f.f_lon, i.f_lon) && same_value(f.wheelbase_arc_mm, i.wheelbase_arc_mm);
+}
+
+bool as_started(const Context& c, const Settings& s) {
+  return same_factors(s.factors, c.initial) && same_value(s.cruise_mps, c.initial_cruise_mps) &&
          (!c.initial_wiring_fix || (s.wiring_fix && *s.wiring_fix == *c.initial_wiring_fix));
 }
 
@@ -112,12 +113,17 @@ void put_back(Context& c) {
 /// After a reset: what the robot lost, and that the run under way does not count.
 void say_what_a_reset_lost(Context& c) {
   std::string applied;
-  if (c.last_factors && !as_started(c, Settings{*c.last_factors, c.initial_cruise_mps, {}})) {
+  // The factors last read before the reset (a read after it meets the start-up line first), when
+  // they are not those the session started with: only the factors count here (the wiring fix
+  // and the cruise speed are not factors, and the start values were never "applied").
+  if (c.last_factors && !same_factors(*c.last_factors, c.initial)) {
     const Factors& f = *c.last_factors;
     applied = fmt::format(
         " This session had applied c_l={:.6f} c_r={:.6f} wheelbase_mm={:.3f} f_lat={:.6f} "
-        "f_lon={:.6f}: --resume applies them again (its steps are replayed) before it goes on.",
-        f.c_l, f.c_r, f.wheelbase_mm, f.f_lat, f.f_lon);
+        "f_lon={:.6f}{}: --resume applies them again (its steps are replayed) before it goes on.",
+        f.c_l, f.c_r, f.wheelbase_mm, f.f_lat, f.f_lon,
+        f.wheelbase_arc_mm != 0.0 ? fmt::format(" wheelbase_arc_mm={:.3f}", f.wheelbase_arc_mm)
+                                  : std::string());
   }
   c.log
       << "A reset (a brown-out, a loose battery lead, a watchdog) loses the robot's odometry, its "
@@ -151,18 +157,18 @@ void end_early(Context& c, const std::exception& why) {
     c.log << "The robot's port hung up (a USB adapter unplugged, a cable pulled): nothing could "
              "be sent to stop the robot or to put its factors back. If it still moves, switch it "
              "off; nothing was saved on it. The run under way, if any, is not counted; every "
-             "reading typed is kept. Plug the adapter in again and continue with: odocal session "
-             "--resume "
-          << c.options.out_dir << " --port DEV (DEV: the port it has now)\n";
+             "reading typed is kept. Plug the adapter in again.\n";
   } else {
     put_back(c);
   }
   try {
     c.write_session_json(false, c.partial, false, false, reason);
     write_report(c, c.partial, "", false, false, reason);
+    // One command to go on: after a hang-up the adapter may come back under another name.
+    const bool hung_up = dynamic_cast<const LinkLost*>(&why) != nullptr;
     c.log << "What was measured is in " << c.options.out_dir
           << "/measurements.csv and session.json; continue with: odocal session --resume "
-          << c.options.out_dir << "\n";
+          << c.options.out_dir << (hung_up ? " --port DEV (DEV: the port it has now)" : "") << "\n";
   } catch (const std::exception& write_error) {
     c.log << "WARNING: " << write_error.what() << "\n";
   }

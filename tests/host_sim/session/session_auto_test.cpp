@@ -27,7 +27,7 @@ using odocal_session_test::Result;
 using odocal_session_test::shell;
 
 std::string temp(const std::string& name) {
-  return ::testing::TempDir() + "odocal_auto_" + name;
+  return odocal_session_test::test_dir() + "odocal_auto_" + name;
 }
 
 std::string file_text(const std::string& path) {

@@ -369,22 +369,21 @@ TEST(SessionBridge, EveryWayOutStopsTheRobotKeepsItsReadingsAndResumes) {
 TEST(SessionBridge, AResetMidRunStopsTheSessionAndResumeEndsIt) {
   ::signal(SIGPIPE, SIG_IGN);
   const std::string robot = write("bridge_reset.json", kSmallBridgeRobot);
-  // In real time, so that the reset lands 1.2 s into the second run (a 0.4 m line: about 0.2 m
-  // driven, 1,500 counts, where a frame at the wheel speed limit is under 200).
-  SimOnPty sim(robot, "", "1", "ros-arduino-bridge");
+  // In lockstep, the reset at a set robot time (--reset-after): the robot's clock moves one PID
+  // frame per `e` and stands while the person measures, so 4.5 s of robot time is about 1.6 s
+  // into the second run (a 5 s arc from about 2.9 s: some 2,400 counts driven, where a frame at
+  // the wheel speed limit is under 200), on any machine and under any load.
+  SimOnPty sim(robot, "", "0", "ros-arduino-bridge", {"--reset-after", "4.5"});
   ASSERT_FALSE(sim.path().empty());
   const std::string out = temp("bridge_reset_out");
   static_cast<void>(shell("rm -rf " + out));
-  const auto answer = [&sim](Person& p, bool reset) {
+  const auto answer = [](Person& p) {
     std::size_t enters = 0, readings = 0;
     const auto deadline = PersonClock::now() + std::chrono::seconds(180);
     while (!p.closed() && PersonClock::now() < deadline) {
       if (p.count("press Enter to start") > enters) {
         p.type("");
-        if (++enters == 2 && reset) {
-          ::usleep(1200000);
-          sim.signal(SIGUSR1);
-        }
+        ++enters;
       } else if (p.count("Measured stop point") > readings) {
         p.type(odometry_reading(p));
         ++readings;
@@ -397,9 +396,10 @@ TEST(SessionBridge, AResetMidRunStopsTheSessionAndResumeEndsIt) {
     Person p({"--port", sim.path(), "--json", "--protocol", "ros-arduino-bridge",
               "--wheel-diameter-mm", "60", "--wheelbase-mm", "150", "--counts-per-rev", "1440",
               "--procedure", "fit", "--runs", "4", "--side-m", "0.4", "--out", out});
-    EXPECT_EQ(answer(p, true), 1u);
+    EXPECT_EQ(answer(p), 1u);
     EXPECT_EQ(p.finish(), 2) << p.err;
     EXPECT_NE(p.err.find("it restarted"), std::string::npos) << p.err;
+    EXPECT_EQ(p.err.find("had applied"), std::string::npos) << p.err;  // nothing applied yet
     EXPECT_NE(p.err.find("is not counted"), std::string::npos) << p.err;
     EXPECT_NE(p.err.find("--resume " + out), std::string::npos) << p.err;
     const json doc = read_json(out + "/session.json");
@@ -410,7 +410,7 @@ TEST(SessionBridge, AResetMidRunStopsTheSessionAndResumeEndsIt) {
     EXPECT_TRUE(wheels_still(sim.path()));
   }
   Person p({"--port", sim.path(), "--resume", out, "--json"});
-  EXPECT_EQ(answer(p, false), 3u);
+  EXPECT_EQ(answer(p), 3u);
   ASSERT_EQ(p.finish(), 0) << p.err;
   const json done = json::parse(p.out, nullptr, false);
   ASSERT_TRUE(done.is_object()) << p.err;

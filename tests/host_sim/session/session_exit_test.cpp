@@ -316,6 +316,8 @@ TEST(SessionWayOut, AResumeRefusesADamagedSessionJsonNamingWhatIsWrong) {
        "ticks is not a whole number"},
       {"complete as a number", [](json& d) { d["complete"] = 1; }, "not true or false"},
       {"a negative seed", [](json& d) { d["options"]["seed"] = -3; }, "options.seed"},
+      {"a procedure no session has", [](json& d) { d["options"]["procedure"] = "umbmarks"; },
+       "no procedure 'umbmarks'"},
       {"a baud rate beyond 64 bits", [](json& d) { d["options"]["baud"] = 1e300; }, "options.baud"},
   };
   for (const Damage& damage : damages) {

@@ -38,7 +38,7 @@ const char* const robot_5mm =
     R"({"slip_sigma": 0.0005, "measure_sigma_mm": 2, "bump_height_mm": 5})";
 
 std::string temp(const std::string& name) {
-  return ::testing::TempDir() + "odocal_extended_" + name;
+  return odocal_session_test::test_dir() + "odocal_extended_" + name;
 }
 
 std::string write(const std::string& name, const std::string& content) {

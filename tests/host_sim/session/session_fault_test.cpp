@@ -91,6 +91,10 @@ void fault_and_resume(When when, std::size_t at, int fault, const std::string& t
         << p.err;
     EXPECT_NE(p.err.find("is not counted"), std::string::npos) << p.err;
     EXPECT_NE(p.err.find("--resume " + out), std::string::npos) << p.err;
+    // One command to go on, not two; the self-test applies no factor, so the reset lost none.
+    const auto first = p.err.find("continue with");
+    EXPECT_EQ(p.err.find("continue with", first + 1), std::string::npos) << p.err;
+    EXPECT_EQ(p.err.find("had applied"), std::string::npos) << p.err;
     const json doc = read_json(out + "/session.json");
     ASSERT_TRUE(doc.is_object());
     EXPECT_FALSE(doc["complete"].get<bool>());

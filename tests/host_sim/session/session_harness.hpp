@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -26,8 +27,23 @@ inline std::string bin(const std::string& name) {
   return std::string(ODOCAL_SESSION_BIN_DIR) + "/" + name;
 }
 
+/// The running test's own directory under TempDir() (created when first asked): each test is a
+/// ctest entry of its own and runs beside others, and the tests' file names are fixed.
+inline std::string test_dir() {
+  std::string dir = ::testing::TempDir();
+  const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  if (info == nullptr) {
+    return dir;
+  }
+  std::string name = std::string(info->test_suite_name()) + "." + info->name();
+  std::replace(name.begin(), name.end(), '/', '_');  // parameterised tests' names
+  dir += name + "/";
+  ::mkdir(dir.c_str(), 0755);
+  return dir;
+}
+
 inline std::string temp(const std::string& name) {
-  return ::testing::TempDir() + "odocal_session_" + name;
+  return test_dir() + "odocal_session_" + name;
 }
 
 inline std::string write(const std::string& name, const std::string& content) {

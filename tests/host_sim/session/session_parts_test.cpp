@@ -11,6 +11,7 @@
 #include "odocal/host/csv.hpp"
 #include "odocal/host/robot_client.hpp"
 #include "odocal/host/session.hpp"
+#include "session_harness.hpp"
 #include "session_internal.hpp"
 
 namespace {
@@ -20,7 +21,7 @@ using odocal::host::Reply;
 using odocal::host::SessionPose;
 
 std::string write_temp(const std::string& name, const std::string& content) {
-  const std::string path = ::testing::TempDir() + name;
+  const std::string path = odocal_session_test::test_dir() + name;
   std::ofstream(path, std::ios::binary) << content;
   return path;
 }

@@ -25,7 +25,7 @@ using odocal_session_test::Result;
 using odocal_session_test::shell;
 
 std::string temp(const std::string& name) {
-  return ::testing::TempDir() + "odocal_selftest_" + name;
+  return odocal_session_test::test_dir() + "odocal_selftest_" + name;
 }
 
 /// A session on a fresh simulated robot with `wiring`; its JSON.

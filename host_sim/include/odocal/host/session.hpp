@@ -12,6 +12,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -139,6 +140,47 @@ class MeasurementSource {
                                           std::string& why);
 
 enum class Procedure { umbmark, lateral, fit, verify, extended, selftest, automatic };
+
+/// A procedure as the command line, session.json and the help know it: declared once, in
+/// `procedures` below (in the enum's order; a static_assert holds it).
+struct ProcedureInfo {
+  Procedure procedure;
+  const char* name;       ///< --procedure's word and session.json's "procedure"
+  std::uint64_t runs_lo;  ///< --runs' bounds (what --runs counts: docs/calibration.md)
+  std::uint64_t runs_hi;
+};
+
+/// --runs: UMBmark runs per direction (the robot keeps 16 per direction, the solver needs 2);
+/// lateral straight trials (the bootstrap needs 5 rows with the arcs); fit runs (3 give the
+/// geometry); verify and extended runs per scenario (the figure's intervals need 2); auto and
+/// selftest choose their own.
+inline constexpr ProcedureInfo procedures[] = {
+    {Procedure::umbmark, "umbmark", 2, 16},   {Procedure::lateral, "lateral", 2, 28},
+    {Procedure::fit, "fit", 3, 30},           {Procedure::verify, "verify", 1, 16},
+    {Procedure::extended, "extended", 2, 16}, {Procedure::selftest, "selftest", 1, 16},
+    {Procedure::automatic, "auto", 1, 16},
+};
+
+constexpr bool procedures_in_enum_order() {
+  int k = 0;
+  for (const ProcedureInfo& p : procedures) {
+    if (static_cast<int>(p.procedure) != k++) {
+      return false;
+    }
+  }
+  return k == static_cast<int>(Procedure::automatic) + 1;
+}
+static_assert(procedures_in_enum_order(), "procedures: one row per Procedure, in its order");
+
+[[nodiscard]] constexpr const ProcedureInfo& info_of(Procedure procedure) {
+  return procedures[static_cast<std::size_t>(procedure)];
+}
+
+/// The procedure named `name`; nullopt for a name no procedure has.
+[[nodiscard]] std::optional<Procedure> procedure_named(std::string_view name);
+
+/// The procedures' names: "auto, umbmark, ..., or selftest" (the help and the errors).
+[[nodiscard]] std::string procedure_names();
 
 struct SessionOptions {
   Procedure procedure = Procedure::umbmark;

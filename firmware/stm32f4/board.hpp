@@ -38,6 +38,10 @@ struct BoardInfo {
 /// DWT->CYCCNT counts (not in QEMU). A constant of the board, so the link folds the other branch
 /// of every test of it away.
 extern const bool board_has_cycle_counter;
+/// Ctrl-D (0x04) on the console ends the program (`board_exit(0)`): the QEMU image's session
+/// end. The robot has none: a 0x04 is a control byte like any other there (`err non_ascii`).
+/// A constant of the board, as above.
+extern const bool board_ends_session;
 
 /// The board's HAL objects, for the application to wire into the core.
 struct BoardParts {

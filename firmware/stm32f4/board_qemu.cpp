@@ -92,6 +92,7 @@ void on_plant_timer(void* context) {
 }  // namespace
 
 const bool board_has_cycle_counter = false;
+const bool board_ends_session = true;
 
 const BoardInfo& board_info() {
   return info;

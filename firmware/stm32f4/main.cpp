@@ -106,7 +106,11 @@ BuiltOnce<console::Console> console_storage;
   hal::MonotonicClock& clock = board_clock(timer);
   TickContext& tick =
       tick_storage.make(loop, timer, clock, static_cast<float>(info.clock.sysclk_hz) * 1.0e-6f);
-  SessionStream& session = session_storage.make(parts.console);
+  // The console reads through SessionStream only where Ctrl-D ends the program (QEMU).
+  SessionStream* const session =
+      board_ends_session ? &session_storage.make(parts.console) : nullptr;
+  hal::ByteStream& console_stream =
+      session != nullptr ? static_cast<hal::ByteStream&>(*session) : parts.console;
   params::ParamStore& store = store_storage.make(parts.store);
   // The board's pairs ride on the console's start-up line, which waits for the first odocal
   // command: nothing is printed at power-up that a ROSArduinoBridge client could read as a reply.
@@ -116,7 +120,7 @@ BuiltOnce<console::Console> console_storage;
   write_boot_note(boot, sizeof(boot) / sizeof(boot[0]));
   // Echo switches itself on when a person types (picocom/screen send CR for Enter).
   console::Console& console = console_storage.make(
-      session, loop, store,
+      console_stream, loop, store,
       console::ConsoleOptions{console::EchoMode::automatic, true, true, boot_note});
 
   if (board_has_cycle_counter) {
@@ -142,7 +146,7 @@ BuiltOnce<console::Console> console_storage;
       }
     }
     const bool idle = console.idle();
-    if (session.end_requested() && idle) {
+    if (session != nullptr && session->end_requested() && idle) {
       loop.stop();
       board_exit(0);
     }

@@ -38,7 +38,7 @@ const char* kind_name(FaultKind kind) {
 }  // namespace
 
 void format_hex32(std::uint32_t value, char* out) {
-  constexpr char hex[] = "0123456789abcdef";
+  static constexpr char hex[] = "0123456789abcdef";
   for (int i = 7; i >= 0; --i) {
     out[i] = hex[value & 0xFu];
     value >>= 4;
@@ -57,7 +57,8 @@ void report_fault_and_stop(FaultKind kind, std::uint32_t pc, std::uint32_t lr) {
   };
   write("\r\nFAULT ");
   write(kind_name(kind));
-  const char* const keys[] = {" pc=0x", " lr=0x", " cfsr=0x", " hfsr=0x", " mmfar=0x", " bfar=0x"};
+  static constexpr const char* keys[] = {" pc=0x",   " lr=0x",    " cfsr=0x",
+                                         " hfsr=0x", " mmfar=0x", " bfar=0x"};
   const std::uint32_t values[] = {
       pc, lr, scb::cfsr.read(), scb::hfsr.read(), scb::mmfar.read(), scb::bfar.read()};
   for (std::size_t i = 0u; i < sizeof(values) / sizeof(values[0]); ++i) {

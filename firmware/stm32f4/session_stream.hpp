@@ -10,8 +10,8 @@
 namespace odocal::firmware {
 
 /// Passes bytes through unchanged, except that Ctrl-D (0x04, end of transmission) is removed
-/// and remembered: in the QEMU image it ends the session (semihosting exit), on the robot it is
-/// dropped. Main-loop only.
+/// and remembered: in the QEMU image it ends the session (semihosting exit). The robot image
+/// does not use it (board_ends_session). Main-loop only.
 class SessionStream final : public hal::ByteStream {
  public:
   explicit SessionStream(hal::ByteStream& uart) : uart_(uart) {}

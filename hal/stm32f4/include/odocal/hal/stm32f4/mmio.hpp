@@ -5,6 +5,9 @@
 /// Every peripheral header of this folder describes its registers with these two types, so a
 /// register is a `constexpr` value that can be named, passed and unit-tested, not a macro.
 /// The accessors are the only place that turns an address into a volatile pointer.
+/// The field and read-modify-write helpers are forced inline (`gnu::always_inline`): left to the
+/// link-time optimiser they stayed out of line, each call loading its field from a constant in
+/// flash (10 B at every use instead of an immediate); inlined, the robot image is 244 B smaller.
 
 #include <cstdint>
 
@@ -16,15 +19,16 @@ struct Field {
   std::uint8_t width;
 
   /// The field's bits in place.
-  [[nodiscard]] constexpr std::uint32_t mask() const {
+  [[nodiscard, gnu::always_inline]] constexpr std::uint32_t mask() const {
     return (width >= 32u ? 0xFFFF'FFFFu : ((1u << width) - 1u)) << shift;
   }
   /// `value` moved into place (excess bits dropped).
-  [[nodiscard]] constexpr std::uint32_t operator()(std::uint32_t value) const {
+  [[nodiscard, gnu::always_inline]] constexpr std::uint32_t operator()(std::uint32_t value) const {
     return (value << shift) & mask();
   }
   /// The field's value read out of a whole register value.
-  [[nodiscard]] constexpr std::uint32_t get(std::uint32_t register_value) const {
+  [[nodiscard, gnu::always_inline]] constexpr std::uint32_t get(
+      std::uint32_t register_value) const {
     return (register_value & mask()) >> shift;
   }
 };
@@ -43,15 +47,17 @@ struct Register {
   [[nodiscard]] std::uint32_t read() const { return *pointer(); }
   void write(std::uint32_t value) const { *pointer() = value; }
   /// Replaces `field` with `value`, leaving the other bits as read.
-  void modify(Field field, std::uint32_t value) const {
+  [[gnu::always_inline]] void modify(Field field, std::uint32_t value) const {
     write((read() & ~field.mask()) | field(value));
   }
   /// Sets (ORs in) `mask`.
-  void set(std::uint32_t mask) const { write(read() | mask); }
+  [[gnu::always_inline]] void set(std::uint32_t mask) const { write(read() | mask); }
   /// Clears `mask`.
-  void clear(std::uint32_t mask) const { write(read() & ~mask); }
+  [[gnu::always_inline]] void clear(std::uint32_t mask) const { write(read() & ~mask); }
   /// Reads one field.
-  [[nodiscard]] std::uint32_t get(Field field) const { return field.get(read()); }
+  [[nodiscard, gnu::always_inline]] std::uint32_t get(Field field) const {
+    return field.get(read());
+  }
 
  private:
   [[nodiscard]] volatile std::uint32_t* pointer() const {

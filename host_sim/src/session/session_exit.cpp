@@ -77,13 +77,20 @@ void put_back(Context& c) {
   try {
     stop_robot(c);
     // A value set and set back again leaves the robot unsaved: its saved set is reloaded then too.
-    const bool unsaved = c.robot.status().text("unsaved") != "0";
+    const Reply status = c.robot.status();
+    const bool unsaved = status.text("unsaved") != "0";
     if (as_started(c, settings_now(c)) && (c.initial_unsaved || !unsaved)) {
       c.log << "The robot is stopped; its factors and settings are as they were when the session "
                "started.\n";
       return;
     }
-    const bool reloaded = !c.initial_unsaved && c.robot.command("load", 5000).ok;
+    // A robot that has never saved and had nothing unsaved ran on its defaults: `defaults` brings
+    // them back with their provenance (`set` would leave them "manual"); the firmware says
+    // unsaved=1 after it until a save, as it documents.
+    const auto store = status.pairs.find("store");
+    const bool never_saved = store != status.pairs.end() && store->second == "empty";
+    const bool reloaded =
+        !c.initial_unsaved && c.robot.command(never_saved ? "defaults" : "load", 5000).ok;
     if (!reloaded || !as_started(c, settings_now(c))) {
       set_back(c);
     }
@@ -98,8 +105,10 @@ void put_back(Context& c) {
         "The robot is stopped. The factors this session applied and did not save were put back "
         "to what was in force when it started{}: c_l={:.6f} c_r={:.6f} wheelbase_mm={:.3f} "
         "f_lat={:.6f} f_lon={:.6f}{}{}\n",
-        reloaded ? " (its saved set, reloaded)" : "", f.c_l, f.c_r, f.wheelbase_mm, f.f_lat,
-        f.f_lon,
+        !reloaded     ? ""
+        : never_saved ? " (its defaults: it has never saved; it says unsaved=1 until a save)"
+                      : " (its saved set, reloaded)",
+        f.c_l, f.c_r, f.wheelbase_mm, f.f_lat, f.f_lon,
         f.wheelbase_arc_mm != 0.0 ? fmt::format(" wheelbase_arc_mm={:.3f}", f.wheelbase_arc_mm)
                                   : std::string(),
         now.wiring_fix ? fmt::format(" wiring_fix={:.0f}", *now.wiring_fix) : std::string());

@@ -45,11 +45,6 @@ const char* name_of(WayOut how) {
   return how == WayOut::sigint ? "SIGINT" : how == WayOut::sigterm ? "SIGTERM" : "end of input";
 }
 
-/// A plain robot, no slip: its runs repeat.
-constexpr const char* plain_robot =
-    R"({"wheel_diameter_mm": 60, "wheelbase_mm": 150, "counts_per_rev": 1440,
-        "true_left_diameter_mm": 59.9, "true_right_diameter_mm": 60.1, "true_wheelbase_mm": 152,
-        "slip_sigma": 0, "bump_height_mm": 0, "measure_sigma_mm": 0})";
 /// The same robot with its left encoder wired backwards: the self-test fixes it (wiring_fix 4).
 constexpr const char* miswired_robot =
     R"({"wheel_diameter_mm": 60, "wheelbase_mm": 150, "counts_per_rev": 1440,
@@ -133,29 +128,6 @@ std::size_t answer(Person& p, const Stop* stop, double timeout_s = 240.0) {
 }
 
 /// The robot's settings a session may change, and whether it is idle with nothing unsaved.
-struct RobotState {
-  std::string factors;  ///< c_l c_r wheelbase_mm wheelbase_arc_mm f_lat f_lon v_max_mps wiring_fix
-  std::string status;
-};
-
-RobotState robot_state(const std::string& pty) {
-  RobotState s;
-  for (const char* name : {"c_l", "c_r", "wheelbase_mm", "wheelbase_arc_mm", "f_lat", "f_lon",
-                           "v_max_mps", "wiring_fix"}) {
-    char value[64];
-    std::snprintf(value, sizeof value, "%s=%.6f ", name,
-                  value_of(ask_robot(pty, std::string("get ") + name, name), name));
-    s.factors += value;
-  }
-  s.status = ask_robot(pty, "status", "unsaved");
-  return s;
-}
-
-/// Factors of an earlier calibration saved on the robot: what every way out must leave in force.
-void prepare_store(const std::string& robot, const std::string& store) {
-  shell(bin("odocal-sim") + " --robot " + robot + " --store " + store + " <" +
-        write("exit_prepare.txt", "set c_l 1.001\nset c_r 0.999\nset wheelbase_mm 151\nsave\n"));
-}
 
 struct Procedure {
   const char* name;
@@ -369,43 +341,6 @@ TEST(SessionWayOut, ALostRobotEndsTheSessionKeepingEveryRun) {
   EXPECT_FALSE(doc["complete"].get<bool>());
   EXPECT_EQ(doc["runs"].size(), 2u);
   EXPECT_EQ(rows_of(out + "/measurements.csv"), 2u);
-}
-
-TEST(SessionWayOut, TheEndOfInputAtTheSaveQuestionPutsBackWhatWasApplied) {
-  // The question is asked at a terminal only: odocal's stdin is a pty's slave, the test types on
-  // its master, every reading ahead, then Ctrl-D where the answer should come.
-  const std::string robot = write("exit_save.json", plain_robot);
-  const std::string store = temp("exit_save.store");
-  std::remove(store.c_str());
-  prepare_store(robot, store);
-  SimOnPty sim(robot, store);
-  ASSERT_FALSE(sim.path().empty());
-  const RobotState initial = robot_state(sim.path());
-  const int master = ::posix_openpt(O_RDWR | O_NOCTTY);
-  ASSERT_GE(master, 0);
-  ASSERT_EQ(::grantpt(master), 0);
-  ASSERT_EQ(::unlockpt(master), 0);
-  const std::string slave = ::ptsname(master);
-  const std::string typed = "\n-40 -45\n\n41 44\n\n-5 8\n\n6 -9\n\x04";
-  ASSERT_EQ(::write(master, typed.data(), typed.size()), static_cast<ssize_t>(typed.size()));
-  const std::string out = temp("exit_save_out");
-  std::system(("rm -rf " + out).c_str());
-  const Result r = session("--port " + sim.path() + " --procedure umbmark --side-m 1 --runs 2 " +
-                               "--passes 1 --out " + out,
-                           slave);
-  ::close(master);
-  EXPECT_EQ(r.status, 2) << r.err;
-  EXPECT_NE(r.err.find("Applied on the robot:"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("end of input at the question 'Save these factors"), std::string::npos)
-      << r.err;
-  EXPECT_NE(r.err.find("put back"), std::string::npos) << r.err;
-  const RobotState now = robot_state(sim.path());
-  EXPECT_EQ(now.factors, initial.factors);
-  EXPECT_NE(now.status.find("unsaved=0"), std::string::npos) << now.status;
-  const json doc = read_json(out + "/session.json");
-  ASSERT_TRUE(doc.is_object());
-  EXPECT_FALSE(doc["complete"].get<bool>());
-  EXPECT_EQ(doc["runs"].size(), 4u);
 }
 
 TEST(SessionWayOut, ASessionsJournalReplaysIt) {

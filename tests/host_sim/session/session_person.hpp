@@ -214,4 +214,35 @@ inline std::string odometry_reading(const Person& p) {
   return text;
 }
 
+/// A plain robot, no slip: its runs repeat.
+inline constexpr const char* plain_robot =
+    R"({"wheel_diameter_mm": 60, "wheelbase_mm": 150, "counts_per_rev": 1440,
+        "true_left_diameter_mm": 59.9, "true_right_diameter_mm": 60.1, "true_wheelbase_mm": 152,
+        "slip_sigma": 0, "bump_height_mm": 0, "measure_sigma_mm": 0})";
+
+/// What a session must leave as it found it: the factors and settings it may change, and `status`.
+struct RobotState {
+  std::string factors;  ///< c_l c_r wheelbase_mm wheelbase_arc_mm f_lat f_lon v_max_mps wiring_fix
+  std::string status;
+};
+
+inline RobotState robot_state(const std::string& pty) {
+  RobotState s;
+  for (const char* name : {"c_l", "c_r", "wheelbase_mm", "wheelbase_arc_mm", "f_lat", "f_lon",
+                           "v_max_mps", "wiring_fix"}) {
+    char value[64];
+    std::snprintf(value, sizeof value, "%s=%.6f ", name,
+                  value_of(ask_robot(pty, std::string("get ") + name, name), name));
+    s.factors += value;
+  }
+  s.status = ask_robot(pty, "status", "unsaved");
+  return s;
+}
+
+/// Factors of an earlier calibration saved on the robot: what every way out must leave in force.
+inline void prepare_store(const std::string& robot, const std::string& store) {
+  shell(bin("odocal-sim") + " --robot " + robot + " --store " + store + " <" +
+        write("exit_prepare.txt", "set c_l 1.001\nset c_r 0.999\nset wheelbase_mm 151\nsave\n"));
+}
+
 }  // namespace odocal_session_test

@@ -3,7 +3,7 @@
 wrote its XML report (GTEST_OUTPUT) and each other ctest entry (or a GoogleTest program that
 wrote none, e.g. one that crashed) as one case.
 
-Usage: count-test-cases.py CTEST_LOG XML_DIR   prints "PASSED FAILED"
+Usage: count-test-cases.py CTEST_LOG XML_DIR [XML_DIR...]   prints "PASSED FAILED"
 """
 import glob
 import os
@@ -38,9 +38,9 @@ def program_of(name, reports):
 
 
 def main():
-    log, xml_dir = sys.argv[1], sys.argv[2]
+    log, xml_dirs = sys.argv[1], sys.argv[2:]
     reports = {}
-    for path in glob.glob(os.path.join(xml_dir, "*.xml")):
+    for path in [p for d in xml_dirs for p in glob.glob(os.path.join(d, "*.xml"))]:
         name = re.sub(r"(_\d+)?\.xml$", "", os.path.basename(path))
         reports.setdefault(name, []).append(path)
     # Every report counted once, however many entries ran its program.

@@ -29,13 +29,14 @@ xml=$(mktemp -d)
 trap 'rm -rf "${log}" "${xml}"' EXIT
 for preset in stm32f4 linux-sbc host; do
   echo "== tests ${preset} =="
-  rm -rf "${xml:?}"/*
+  rm -rf "${xml:?}"/* "build/${preset}/test-xml"
   set +e
   # Each GoogleTest program writes its cases to ${xml}/PROGRAM.xml (GTEST_OUTPUT).
   GTEST_OUTPUT="xml:${xml}/" ctest --preset "${preset}" -j "${jobs}" 2>&1 | tee "${log}"
   ctest_status=${PIPESTATUS[0]}
   set -e
-  read -r cp cf <<<"$(python3 toolchain/count-test-cases.py "${log}" "${xml}")"
+  # The per-test entries' reports (gtest_discover_tests' XML_OUTPUT_DIR) are in the build tree.
+  read -r cp cf <<<"$(python3 toolchain/count-test-cases.py "${log}" "${xml}" "build/${preset}/test-xml")"
   cases_passed=$((cases_passed + cp))
   cases_failed=$((cases_failed + cf))
   # ctest ends with "NN% tests passed, F tests failed out of T"; tests that exited with their

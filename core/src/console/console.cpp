@@ -61,6 +61,7 @@ ConsoleCounters Console::counters() const {
   c.errors = errors_;
   c.stream_dropped = stream_dropped_;
   c.rx_dropped = stream_.rx_dropped();
+  c.questions = questions_;
   return c;
 }
 
@@ -264,6 +265,9 @@ void Console::execute(const Token* words, std::size_t count) {
   }
   if ((form->flags & form_moving) != 0u && refuse_busy(Busy::motion)) {
     return;
+  }
+  if ((form->flags & form_question) != 0u) {
+    ++questions_;
   }
   dispatch(form->handler, words, count);
 }

@@ -189,13 +189,19 @@ bool reset_due(const host::SimulatedRobot& robot, double reset_after_s) {
   return take_reset_request() || (reset_after_s > 0.0 && robot.simulated_s() >= reset_after_s);
 }
 
-/// The pty in lockstep: each input line gets a fixed quantum of robot time (enough for a reply,
-/// a `stream` line at 20 Hz or more, and a stop to settle), motions run to their end, and time
-/// waits while the host thinks or has not taken what the robot wrote.
+/// The pty in lockstep: each input line that changes something gets a fixed quantum of robot
+/// time (enough for a reply, a `stream` line at 20 Hz or more, and a stop to settle), a question
+/// (`get`, `status`, `trial`, `measure`: ConsoleCounters::questions) none, so that how often a host
+/// asks never moves the robot's clock; motions run to their end, and time waits while the host
+/// thinks or has not taken what the robot wrote.
 bool run_lockstep(host::SimulatedRobot& robot, console::Console& console, ConsoleIo& io,
-                  Stepper& stepper, double reset_after_s) {
+                  Stepper& stepper, const SimCommand& sim_command, double reset_after_s) {
   constexpr double lockstep_quantum_s = 0.05;
+  const auto questions = [&console, &sim_command] {
+    return console.counters().questions + sim_command.questions();
+  };
   std::uint64_t lines_seen = io.counting->lines();
+  std::uint32_t questions_seen = questions();
   double quantum_end_s = 0.0;
   while (!stop_requested()) {
     if (reset_due(robot, reset_after_s)) {
@@ -203,8 +209,14 @@ bool run_lockstep(host::SimulatedRobot& robot, console::Console& console, Consol
     }
     console.poll(robot.plant().clock().now_us());
     if (io.counting->lines() != lines_seen) {
+      // The console reads one line at a time and answers it in the same poll.
+      const std::uint64_t lines = io.counting->lines() - lines_seen;
+      const std::uint32_t asked = questions() - questions_seen;  // modulo 2^32
       lines_seen = io.counting->lines();
-      quantum_end_s = robot.simulated_s() + lockstep_quantum_s;
+      questions_seen = questions();
+      if (lines > asked) {
+        quantum_end_s = robot.simulated_s() + lockstep_quantum_s;
+      }
       io.counting->accept_input(false);
     }
     if (!console.idle()) {
@@ -362,7 +374,7 @@ bool run_boot(const Boot& b) {
   // --reset-after counts from power-up: the first boot only.
   const double reset_after_s = b.number == 0u ? b.o.reset_after_s : 0.0;
   const bool reset = io.lockstep
-                         ? run_lockstep(robot, console, b.io, stepper, reset_after_s)
+                         ? run_lockstep(robot, console, b.io, stepper, sim_command, reset_after_s)
                          : run_paced(robot, console, b.io, stepper, b.o.speed, reset_after_s);
   // Let the last reply reach the output (a reset cuts it off, as on the robot).
   for (int i = 0; i < 1000 && !reset && !console.idle(); ++i) {

@@ -129,6 +129,9 @@ class SimCommand {
   /// lie ahead of the robot again, as they do on a real floor for a robot put back on its mark.
   void follow_resets();
 
+  /// Bare `measure` lines answered: questions, as the console counts its own (ConsoleCounters).
+  [[nodiscard]] std::uint32_t questions() const { return questions_; }
+
   static constexpr const char* usage =
       "measure [cables off | cables FIRST_MM SPACING_MM COUNT left|right [HEIGHT_MM]] (sim only)";
 
@@ -146,6 +149,7 @@ class SimCommand {
   double spacing_m_ = 0.0;
   std::uint32_t count_ = 0u;
   std::uint32_t resets_seen_ = 0u;
+  std::uint32_t questions_ = 0u;
   bool measured_ = false;  ///< the last reading, kept while the robot stands where it was read
   sim::WorldPose measured_truth_{};
   sim::WorldPose measured_pose_{};

@@ -26,6 +26,7 @@ void SimCommand::handle(void* context, const console::Token* words, std::size_t 
                         console::Reply& reply) {
   auto& self = *static_cast<SimCommand*>(context);
   if (count == 1u) {
+    ++self.questions_;
     self.measure(reply);
   } else if (words[1].is("cables")) {
     self.cables(words, count, reply);

@@ -3,6 +3,8 @@
 #include "odocal/host/robot_client.hpp"
 
 #include <chrono>
+#include <cstdio>
+#include <initializer_list>
 
 #include "link_internal.hpp"
 #include "odocal/toolkit/numbers.hpp"
@@ -77,6 +79,7 @@ void RobotClient::route(const std::string& line) {
   if (watch_restarts_ && line.rfind("# odocal ", 0) == 0 &&
       line.find(" console ") != std::string::npos) {
     watch_restarts_ = false;
+    snapshot_.clear();  // what it held in RAM is gone
     throw RobotRestarted(channel_.name() + ": the robot restarted (it printed its start-up line '" +
                          line + "')");
   }
@@ -91,13 +94,85 @@ void RobotClient::route(const std::string& line) {
   }
 }
 
+void RobotClient::before_sending(const std::string& line) {
+  if (line.rfind("get ", 0) == 0) {
+    return;
+  }
+  if (line.rfind("set ", 0) == 0) {
+    const std::size_t end = line.find(' ', 4);
+    snapshot_.erase("get " + line.substr(4, end == std::string::npos ? end : end - 4));
+    return;
+  }
+  // Lines known to leave every parameter as it is; those that put one group of factors in force
+  // (docs/console.md); any other (`load`, `defaults`, one this client does not know) may change
+  // any.
+  const std::string verb = line.substr(0, line.find(' '));
+  for (const char* keeps :
+       {"help", "version", "status", "params", "provenance", "odom", "trial", "trials", "measure",
+        "drive", "stop", "run", "stream", "echo", "save", "selftest"}) {
+    if (verb == keeps) {
+      return;
+    }
+  }
+  const auto forget = [this](std::initializer_list<const char*> names) {
+    for (const char* name : names) {
+      snapshot_.erase(std::string("get ") + name);
+    }
+  };
+  const bool applies = line.find(" apply") != std::string::npos;
+  if (verb == "umbmark" || verb == "fit") {
+    if (applies) {
+      forget({"c_l", "c_r", "wheelbase_mm", "wheelbase_arc_mm"});
+    }
+    return;  // clear, add, side, solve: nothing changes until `apply`
+  }
+  if (verb == "lateral") {
+    if (applies || line.rfind("lateral set", 0) == 0) {
+      forget({"f_lat", "f_lon"});
+    }
+    return;
+  }
+  snapshot_.clear();
+}
+
+void RobotClient::remember(const std::string& name, double value) {
+  Reply reply;
+  char text[96];
+  std::snprintf(text, sizeof text, "ok %s=%.6f", name.c_str(), value);
+  static_cast<void>(parse_reply(text, reply));
+  snapshot_["get " + name] = reply;
+}
+
+void RobotClient::send(const std::string& line) {
+  before_sending(line);
+  ++lines_sent_;
+  if (line.rfind("get ", 0) == 0) {
+    ++gets_sent_;
+  }
+  channel_.write_line(line);
+}
+
+void RobotClient::say_chatter() {
+  if (chatter_.empty() || in_chatter_) {
+    return;
+  }
+  in_chatter_ = true;
+  try {
+    static_cast<void>(command(chatter_));
+  } catch (...) {
+    in_chatter_ = false;
+    throw;
+  }
+  in_chatter_ = false;
+}
+
 void RobotClient::probe_restart() {
   // A robot that restarted while a command ran (its reply lost with the reset) says so only
   // before the reply to its next odocal command: its start-up line waits for one. Asked once.
   if (!watch_restarts_) {
     return;
   }
-  channel_.write_line("status");
+  send("status");
   std::string received;
   while (channel_.read_line(received, 2000) && !received.empty() && received[0] == '#') {
     route(received);  // the start-up line throws RobotRestarted
@@ -124,7 +199,7 @@ bool repeatable(const std::string& line) {
 
 Reply RobotClient::command(const std::string& line, int timeout_ms,
                            std::vector<std::string>* listing) {
-  channel_.write_line(line);
+  send(line);
   const Clock::time_point deadline = Clock::now() + std::chrono::milliseconds(timeout_ms);
   std::string received;
   int resent = 0;
@@ -143,6 +218,7 @@ Reply RobotClient::command(const std::string& line, int timeout_ms,
     }
     Reply reply;
     if (parse_reply(received, reply)) {
+      say_chatter();
       return reply;
     }
     // Anything else (an echo of typed text, line noise at start-up) is not a reply. In the
@@ -161,7 +237,7 @@ Reply RobotClient::command(const std::string& line, int timeout_ms,
         if (listing != nullptr) {
           listing->clear();
         }
-        channel_.write_line(line);
+        send(line);
       }
     }
   }
@@ -192,6 +268,13 @@ Reply RobotClient::status() {
 }
 
 Reply RobotClient::query(const std::string& line, int timeout_ms) {
+  const bool parameter = line.rfind("get ", 0) == 0;
+  if (parameter) {
+    const auto known = snapshot_.find(line);
+    if (known != snapshot_.end()) {
+      return known->second;
+    }
+  }
   // Two equal answers: a damaged one (a lost or flipped byte) does not repeat itself. On a line
   // that damages a quarter of the replies, twelve asks find two clean ones but once in 10^5.
   std::vector<Reply> answers;
@@ -199,6 +282,9 @@ Reply RobotClient::query(const std::string& line, int timeout_ms) {
     Reply again = command(line, timeout_ms);
     for (const Reply& before : answers) {
       if (before.line == again.line) {
+        if (parameter) {
+          snapshot_[line] = again;
+        }
         return again;
       }
     }

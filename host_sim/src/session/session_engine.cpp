@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
 #include <fstream>
@@ -141,6 +142,7 @@ double Context::set(const std::string& name, double value) {
   for (int attempt = 0; attempt < 3; ++attempt) {
     const double stored = robot.expect_ok(line).number(name);
     if (std::fabs(stored - value) <= 1e-5 * std::max(1.0, std::fabs(value))) {
+      robot.remember(name, stored);
       return stored;
     }
   }
@@ -162,7 +164,7 @@ Factors Context::factors() {
 }
 
 void Context::set_factors(const Factors& f) {
-  const bool has_arc = robot.command("get wheelbase_arc_mm").ok;
+  const bool has_arc = robot.query("get wheelbase_arc_mm").ok;
   if (has_arc) {
     set("wheelbase_arc_mm", 0.0);
   }
@@ -249,8 +251,7 @@ void note_initial(Context& c) {
   c.initial = c.factors();
   c.initial_cruise_mps = c.get("v_max_mps");
   c.initial_unsaved = c.robot.status().text("unsaved") != "0";
-  // wiring_fix: noted by the self-test, the one step that changes it (one console line more
-  // here would move the lockstep robot's clock, and every session's ticks with it).
+  // wiring_fix: noted by the self-test, the one step that changes it.
 }
 
 session::Outcome run_procedure(Context& c) {
@@ -281,9 +282,8 @@ SessionReport finish(Context& c, const session::Outcome& outcome, bool saved) {
   session::write_report(c, outcome.result, outcome.text, true, saved, "");
   c.write_file("runs.svg", session::runs_svg(c.runs, std::string("odocal session ") +
                                                          to_string(options.procedure)));
-  c.write_session_json(true, outcome.result, outcome.applied, saved);
   SessionReport report;
-  report.json = nlohmann::json::parse(read_text_file(options.out_dir + "/session.json"));
+  report.json = c.write_session_json(true, outcome.result, outcome.applied, saved);
   report.result_text = outcome.text;
   std::ostringstream text;
   text << fmt::format(
@@ -296,6 +296,10 @@ SessionReport finish(Context& c, const session::Outcome& outcome, bool saved) {
                ? " (on the host: diff_drive_controller.yaml; nothing written to the robot)"
            : outcome.applied ? (saved ? " (applied, saved)" : " (applied, NOT saved)")
                              : " (unchanged)")
+       << fmt::format("\nConsole: {} lines sent to the robot, {} of them `get` ({:.1f} per run)",
+                      c.robot.lines_sent(), c.robot.gets_sent(),
+                      static_cast<double>(c.robot.gets_sent()) /
+                          static_cast<double>(std::max<std::size_t>(c.runs.size(), 1u)))
        << "\nFiles: " << options.out_dir
        << "/ (report.html, session.json, measurements.csv, runs.csv, runs.svg"
        << (outcome.result.contains("ros") ? ", diff_drive_controller.yaml" : "") << ", ...)\n"
@@ -311,6 +315,11 @@ SessionReport finish(Context& c, const session::Outcome& outcome, bool saved) {
 SessionReport run_session(RobotClient& robot, MeasurementSource& measurements,
                           const SessionOptions& options) {
   std::ostream& log = options.log != nullptr ? *options.log : std::cerr;
+  if (const char* chatter = std::getenv("ODOCAL_TEST_CHATTER"); chatter != nullptr) {
+    // Tests only (session_chatter_test.cpp): a harmless question after every command, to show
+    // that what a simulated session measures does not depend on how much it talks.
+    robot.chatter(chatter);
+  }
   session::Context context(robot, measurements, options, log);
   session::open_console(robot, measurements, options, log);
   session::note_initial(context);

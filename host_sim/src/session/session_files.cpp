@@ -77,8 +77,9 @@ std::vector<RunRecord> Context::kept_runs() const {
   return kept;
 }
 
-void Context::write_session_json(bool complete, const nlohmann::json& result, bool applied,
-                                 bool saved, const std::string& interruption) {
+nlohmann::json Context::write_session_json(bool complete, const nlohmann::json& result,
+                                           bool applied, bool saved,
+                                           const std::string& interruption) {
   const std::vector<RunRecord> kept = kept_runs();
   nlohmann::json doc = {{"procedure", to_string(options.procedure)},
                         {"complete", complete},
@@ -99,6 +100,7 @@ void Context::write_session_json(bool complete, const nlohmann::json& result, bo
   // session.json is written whatever the robot said.
   write_file("session.json",
              doc.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+  return doc;
 }
 
 void Context::write_file(const std::string& name, const std::string& content) {

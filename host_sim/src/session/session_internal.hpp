@@ -115,8 +115,9 @@ class Context {
   void write_file(const std::string& name, const std::string& content);
 
   /// session.json: `complete` false while the session runs and after an interruption.
-  void write_session_json(bool complete, const nlohmann::json& result, bool applied, bool saved,
-                          const std::string& interruption = std::string());
+  /// @return what it wrote.
+  nlohmann::json write_session_json(bool complete, const nlohmann::json& result, bool applied,
+                                    bool saved, const std::string& interruption = std::string());
 
   /// The runs session.json keeps while the session is not complete: this session's, then those
   /// of the interrupted session being resumed that it has not taken over yet (a session that

@@ -16,6 +16,7 @@
 #include "odocal/drive/robot_model.hpp"
 #include "odocal/host/path_geometry.hpp"
 #include "odocal/host/svg_plot.hpp"
+#include "reading_check.hpp"
 #include "session_internal.hpp"
 
 namespace odocal::host::session {
@@ -94,30 +95,10 @@ std::vector<PathPoint> trace_of(const RunRecord& r, double d_l, double d_r, doub
   return out;
 }
 
-/// The path a run was told to drive, from its command (runs without a tick log), in mm.
-std::vector<PathPoint> commanded_path(const RunRecord& r, double side_m) {
-  drive::Path path;
-  std::istringstream words(r.command);
-  std::string verb, what;
-  words >> verb >> what;
-  if (verb == "run" && what == "unseen") {
-    path = drive::make_unseen_path();
-  } else if (verb == "run" && what == "line") {
-    float length = 1.0f;
-    words >> length;
-    path = drive::make_line(length);
-  } else if (verb == "run" && (what == "umbmark-cw" || what == "umbmark-ccw")) {
-    float side = static_cast<float>(side_m);
-    words >> side;
-    path = drive::make_umbmark_square(what == "umbmark-cw", side);
-  } else if (verb == "drive") {
-    double v = 0.0, w = 0.0, ms = 0.0;
-    std::istringstream rest(r.command.substr(6));
-    rest >> v >> w >> ms;
-    const double t = ms / 1000.0;
-    static_cast<void>(
-        path.push(drive::Segment{static_cast<float>(v * t), static_cast<float>(w * t)}));
-  }
+/// The path a run was told to drive, from its command (runs without a tick log), in mm: the one
+/// reading of a drive command (path_of_command); none for the self-test's wheel drives.
+std::vector<PathPoint> commanded_path(const RunRecord& r) {
+  const drive::Path path = path_of_command(r.command).value_or(drive::Path{});
   std::vector<PathPoint> out{PathPoint{0.0, 0.0}};
   drive::model::PoseOf<double> pose;
   for (std::uint8_t i = 0; i < path.count; ++i) {
@@ -226,7 +207,7 @@ std::string paths_figure(const ReportInput& in, ReportParts& p) {
       const std::vector<PathPoint> trace =
           r.ticks.size() >= 2 ? trace_of(r, in.wheel_diameter_mm, in.wheel_diameter_mm,
                                          in.wheelbase_mm, in.counts_per_rev)
-                              : commanded_path(r, in.side_m);
+                              : commanded_path(r);
       panel.add_line(trace, "#999999");
       panel.add_marker(r.odom.x_mm, r.odom.y_mm, colour, '+');
       panel.add_marker(r.measured.x_mm, r.measured.y_mm, colour, 'x');

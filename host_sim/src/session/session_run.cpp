@@ -34,11 +34,13 @@ std::int64_t whole(const Reply& reply, const std::string& key) {
 }
 
 /// Waits until `samples` has grown past `count` (a `# ticks` line that reads arrived). A robot in
-/// lockstep sends its lines only as the host talks to it: when a second passes without one (the
-/// lines it sent came damaged on the line and were dropped), another is asked for with a
-/// harmless line. `dropped` counts the tick lines that came damaged so far.
+/// lockstep sends its lines only as the host gives it time: when a second passes without one (the
+/// lines it sent came damaged on the line and were dropped), `ask_again` asks for the stream
+/// again (a question would not do: it takes no robot time). `dropped` counts the tick lines that
+/// came damaged so far.
 void wait_tick(RobotClient& robot, const std::vector<TickSample>& samples, std::size_t count,
-               const std::function<std::size_t()>& dropped) {
+               const std::function<std::size_t()>& dropped,
+               const std::function<void()>& ask_again) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
   auto asked = std::chrono::steady_clock::now();
   while (samples.size() <= count) {
@@ -54,7 +56,7 @@ void wait_tick(RobotClient& robot, const std::vector<TickSample>& samples, std::
                                         "the firmware have it?)"));
     }
     if (now - asked > std::chrono::seconds(1)) {
-      static_cast<void>(robot.command("odom"));
+      ask_again();
       asked = now;
     }
     static_cast<void>(robot.pump(200));
@@ -97,6 +99,9 @@ class TickLogging {
       robot_.expect_ok("stream ticks 50");
     }
   }
+  /// The same stream asked for again: more lines from a robot in lockstep, whose clock a
+  /// question does not move (its lines start again one period later; nothing else changes).
+  void ask_again() { robot_.expect_ok(checked_ ? "stream ticks 50 crc" : "stream ticks 50"); }
   [[nodiscard]] bool checked() const { return checked_; }
 
  private:
@@ -329,6 +334,7 @@ void Context::check_still_up(std::size_t index) {
       break;
     }
     if (asked == 2) {
+      robot.forget_parameters();  // what it held in RAM is gone
       throw RobotRestarted(
           fmt::format("the robot restarted before run {}: its tick count went back from {} to {}",
                       index + 1, *last_ticks, *ticks));
@@ -393,7 +399,9 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
     logging.stream();
     // The start row: the counts before the motion, read twice alike (the robot stands still), so
     // that a sample damaged on the line is never the count every other rests on.
-    wait_tick(robot, r.ticks, 0, [&logging] { return logging.dropped(); });
+    wait_tick(
+        robot, r.ticks, 0, [&logging] { return logging.dropped(); },
+        [&logging] { logging.ask_again(); });
     int asked = 0;
     while (!at_rest(r.ticks, logging.checked())) {
       if (r.ticks.size() > 50u || ++asked > 200) {
@@ -401,11 +409,11 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
             "the robot's counts did not stand still before the run (50 tick lines, no two "
             "alike): is a wheel turning, or is the line that noisy?");
       }
-      // Another sample: waited for, and asked for with a line when it does not come (a robot in
-      // lockstep moves its clock only when the host talks to it).
+      // Another sample: waited for, and asked for again when it does not come (a robot in
+      // lockstep moves its clock only for lines that change something).
       const std::size_t have = r.ticks.size();
       if (!robot.pump(300) || r.ticks.size() == have) {
-        static_cast<void>(robot.command("odom"));
+        logging.ask_again();
       }
     }
     r.ticks.erase(r.ticks.begin(), r.ticks.end() - 1);

@@ -81,6 +81,10 @@ struct ConsoleCounters {
   std::uint32_t errors = 0u;          ///< of which `err`
   std::uint32_t stream_dropped = 0u;  ///< stream lines dropped because the output queue was full
   std::uint32_t rx_dropped = 0u;      ///< received bytes the stream lost (ByteStream::rx_dropped)
+  /// Of `commands`, the questions: lines of a form that changes nothing the robot holds or does
+  /// (`get`, `status`, `trial`, ...; marked so in the command table). Not in the `status` reply:
+  /// a simulator in lockstep gives such a line no robot time (docs/simulation.md).
+  std::uint32_t questions = 0u;
 };
 
 /// The console.
@@ -175,12 +179,14 @@ class Console {
   };
   static constexpr std::uint8_t form_sub = 1u;     ///< the synopsis' second word selects the form
   static constexpr std::uint8_t form_moving = 2u;  ///< refused while the robot moves
+  /// A question: answers without changing anything the robot holds or does.
+  static constexpr std::uint8_t form_question = 4u;
   /// One row of the command table: one form of a command, as `help` lists it.
   struct Form {
     const char* synopsis;  ///< "umbmark add cw|ccw <x_mm> <y_mm>": help line and usage
     std::uint8_t min_words;
     std::uint8_t max_words;
-    std::uint8_t flags;  ///< form_sub, form_moving
+    std::uint8_t flags;  ///< form_sub, form_moving, form_question
     Handler handler;
   };
   static const Form form_table_[];
@@ -439,6 +445,7 @@ class Console {
   std::uint32_t bridge_zero_right_ = 0u;
 
   std::uint32_t commands_ = 0u;
+  std::uint32_t questions_ = 0u;
   std::uint32_t errors_ = 0u;
   std::uint32_t stream_dropped_ = 0u;
 

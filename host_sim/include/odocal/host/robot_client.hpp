@@ -51,7 +51,17 @@ class RobotClient {
   /// odocal-sim): asked until two answers agree, twelve times at most, so that a reply damaged
   /// on the line (a flipped digit still reads as a number) never becomes a value. Throws
   /// LinkError when no two agree.
+  /// `get NAME` is answered from the client's snapshot of the robot's parameters when it holds
+  /// NAME: only this client talks to the robot, so a value stays what it was read or set to
+  /// until a line that may change it (see `remember`).
   Reply query(const std::string& line, int timeout_ms = 5000);
+  /// Notes `value` as what the robot holds for parameter `name` (a `set` whose reply was checked
+  /// against what was sent). The snapshot forgets a parameter when a `set` of it is sent, and
+  /// everything when any line that may change parameters is (`load`, `defaults`, an `apply`, a
+  /// `selftest`, a command it does not know) or the robot restarted.
+  void remember(const std::string& name, double value);
+  /// Forgets every parameter the snapshot holds (the next `get` of each asks the robot).
+  void forget_parameters() { snapshot_.clear(); }
   /// `status`, asked again (five times at most) until its reply reads whole: ok, with `mode` one of
   /// the console's modes, `unsaved` 0 or 1 and `ticks` a whole number (when it has them). A
   /// flipped digit in `ticks` still reads: the caller asks again before it believes a tick count
@@ -76,6 +86,13 @@ class RobotClient {
     watch_restarts_ = on;
     in_session_ = in_session_ || on;
   }
+  /// After every command's reply, also sends `query` and drops its reply: a question that
+  /// changes nothing, so that a test can show that what the session measures does not depend on
+  /// how much it talks (empty: none, the default).
+  void chatter(std::string query) { chatter_ = std::move(query); }
+  /// Command lines sent (each line again after a damaged reply counts), and of them `get` lines.
+  [[nodiscard]] std::size_t lines_sent() const { return lines_sent_; }
+  [[nodiscard]] std::size_t gets_sent() const { return gets_sent_; }
 
  private:
   void route(const std::string& line);
@@ -83,12 +100,21 @@ class RobotClient {
   /// robot that restarted meanwhile prints its start-up line (it waits for a command) and
   /// RobotRestarted is thrown; returns when nothing says so.
   void probe_restart();
+  void send(const std::string& line);
+  void say_chatter();
+  /// What sending `line` does to the snapshot (forgets what it may change).
+  void before_sending(const std::string& line);
   LineChannel& channel_;
   std::deque<std::string> async_;
   std::function<void(const std::string&)> ticks_;
   bool watch_restarts_ = false;
   bool in_session_ = false;
   std::size_t garbled_ = 0;
+  std::map<std::string, Reply> snapshot_;  ///< `get NAME` line -> its agreed reply
+  std::string chatter_;
+  bool in_chatter_ = false;
+  std::size_t lines_sent_ = 0;
+  std::size_t gets_sent_ = 0;
 };
 
 /// `key=value` pairs of a `#` line such as "# done trial=3 path=line".

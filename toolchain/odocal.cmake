@@ -98,3 +98,17 @@ function(odocal_simulator_speed target)
     message(FATAL_ERROR "ODOCAL_SIM_PGO must be empty, generate or use, not ${ODOCAL_SIM_PGO}")
   endif()
 endfunction()
+
+# Unity builds of the host's libraries and programs (host_sim/) and of the fuzz build's host
+# library: each batch of 8 sources is compiled as one translation unit, so that the json, fmt,
+# CLI11 and Eigen headers every source includes are parsed once per batch, not once per file. A
+# name defined twice at file scope in one batch fails to compile, never silently: keep file-local
+# helpers unique in a folder, or share them through its header. The tests are compiled file by
+# file (their files repeat local names). -DODOCAL_UNITY_BUILD=OFF: file by file everywhere
+# (quicker after a one-file change).
+option(ODOCAL_UNITY_BUILD "compile the host's large targets in unity batches" ON)
+function(odocal_unity target)
+  if(ODOCAL_UNITY_BUILD AND ODOCAL_TARGET STREQUAL "host")
+    set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
+  endif()
+endfunction()

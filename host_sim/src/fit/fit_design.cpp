@@ -8,13 +8,14 @@
 #include "fit_steps.hpp"
 
 namespace odocal::host::fit_detail {
-namespace {
 
-std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
+std::string reason_text(const char* fmt, double a, double b, double c) {
   char text[320];
   std::snprintf(text, sizeof text, fmt, a, b, c);
   return text;
 }
+
+namespace {
 
 /// Rows after the start with ground truth, and whether they all sit at the run's end (the wheels
 /// not moving between them and the last one).
@@ -131,7 +132,7 @@ Design design_of(const std::vector<TickLog>& runs, const FitNominal& nominal) {
 FitError undetermined(const Params& dir, double sd, FitModelKind kind, const Design& design) {
   FitError error;
   const std::string amount = std::isfinite(sd) && sd < 1e6
-                                 ? format("±%.3g %% at the noise floor", 100.0 * sd)
+                                 ? reason_text("±%.3g %% at the noise floor", 100.0 * sd)
                                  : std::string("not at all");
   const double along_scale = std::fabs(dir.head(3).sum()) / std::sqrt(3.0);
   const Turning& turning = design.turning;
@@ -151,7 +152,7 @@ FitError undetermined(const Params& dir, double sd, FitModelKind kind, const Des
           " — the runs are closed loops measured only at the end, and closed loops look the "
           "same at any size; add straight runs of known length or ground truth along the path";
     } else {
-      why = format(
+      why = reason_text(
           " — the runs measured in x and y travel %.2f m in all, too little to show the size "
           "to within the noise floor; drive farther or add ground truth along the path",
           1e-3 * design.travel_mm);
@@ -171,7 +172,7 @@ FitError undetermined(const Params& dir, double sd, FitModelKind kind, const Des
       (turning.in_place_rad < pi || turning.arcs_rad < pi)) {
     // The wheelbase of the kind of turning that was not driven is the one left open.
     name = turning.in_place_rad < pi ? "wheelbase_mm" : "wheelbase_arc_mm";
-    why = format(
+    why = reason_text(
         " — the logs hold only one kind of turning (%.0f° in place, %.0f° on arcs; each needs "
         "180° or more): the arc-wheelbase model needs both to tell the wheelbase for turns in "
         "place from the arc wheelbase; drive turns in place and arcs, or fit one wheelbase",
@@ -180,7 +181,7 @@ FitError undetermined(const Params& dir, double sd, FitModelKind kind, const Des
     why = " — the logs turn at too narrow a range of turn rates; add slow and fast turns";
   } else if (turning.total_rad < 0.5 * pi) {
     name = "wheelbase_mm";
-    why = format(
+    why = reason_text(
         " — the runs hardly turn (%.0f° in all; straight lines alone say nothing about the "
         "wheelbase); add turns, squares or loops",
         turning.total_rad * 180.0 / pi);

@@ -13,12 +13,6 @@
 namespace odocal::host::fit_detail {
 namespace {
 
-std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
-  char text[256];
-  std::snprintf(text, sizeof text, fmt, a, b, c);
-  return text;
-}
-
 /// Squared radial errors of every x/y ground-truth row of the units under p.
 struct PathScore {
   double sum = 0.0;
@@ -76,7 +70,7 @@ std::string not_tried(FitModelKind kind, const Folds& folds, const Turning& turn
     return "fewer than 3 runs: nothing to hold out";
   }
   if (kind == FitModelKind::arc_wheelbase && (turning.in_place_rad < pi || turning.arcs_rad < pi)) {
-    return format(
+    return reason_text(
         "only one kind of turning in the logs (%.0f° in place, %.0f° on arcs; each needs 180° "
         "or more): the arc wheelbase is not determined",
         turning.in_place_rad * 180.0 / pi, turning.arcs_rad * 180.0 / pi);
@@ -106,13 +100,13 @@ std::string unsupported(FitModelKind kind, const std::vector<Unit>& units, const
     const ClusterInterval ci = cluster_interval(unit_rows(units, full.p, spec, o.heading_length_mm),
                                                 full.p, 0, o.seed, o.level);
     if (!ci.ok || ci.se[2] > o.max_wheelbase_sd || ci.se[3] > o.max_wheelbase_sd) {
-      why = format(
+      why = reason_text(
           "the logs do not tell two wheelbases apart: from run to run they vary by ±%.2f %% "
           "and ±%.2f %% (each needs ",
           100.0 * ci.se[2], 100.0 * ci.se[3]);
-      why += format("%.2f %% or better); %.0f° of turning in place, ", 100.0 * o.max_wheelbase_sd,
-                    turning.in_place_rad * 180.0 / pi);
-      why += format("%.0f° on arcs", turning.arcs_rad * 180.0 / pi);
+      why += reason_text("%.2f %% or better); %.0f° of turning in place, ",
+                         100.0 * o.max_wheelbase_sd, turning.in_place_rad * 180.0 / pi);
+      why += reason_text("%.0f° on arcs", turning.arcs_rad * 180.0 / pi);
       if (kind == FitModelKind::arc_wheelbase) {
         why = "only one kind of turning in the logs that counts: " + why;
       }
@@ -121,7 +115,7 @@ std::string unsupported(FitModelKind kind, const std::vector<Unit>& units, const
                apart <= 2.0 * scatter) {
       // The two wheelbases must differ by more than twice their run-to-run standard errors
       // together (a bound on the difference's): else the logs show one wheelbase.
-      why = format(
+      why = reason_text(
           "the two wheelbases differ by %.2f mm, within twice their run-to-run scatter "
           "(%.2f mm): the logs show one wheelbase",
           apart, 2.0 * scatter);
@@ -172,16 +166,16 @@ void choose_among_candidates(FitModelChoice& choice, const FitOptions& o, std::s
   } else if (best == &one) {
     choice.reason = "one wheelbase kept: no richer model predicts the left-out " + choice.unit +
                     "s " +
-                    format("%.0f %% better (held-out path RMS %.2f mm with one wheelbase)",
-                           100.0 * o.min_gain, one.heldout_path_rms_mm);
+                    reason_text("%.0f %% better (held-out path RMS %.2f mm with one wheelbase)",
+                                100.0 * o.min_gain, one.heldout_path_rms_mm);
   } else {
     choice.reason = std::string(model_name(best->kind)) +
-                    format(
+                    reason_text(
                         ": held-out path RMS %.2f mm against %.2f mm with one wheelbase (%.1f "
                         "%% lower; a richer model needs ",
                         best->heldout_path_rms_mm, one.heldout_path_rms_mm,
                         100.0 * (1.0 - best->heldout_path_rms_mm / one.heldout_path_rms_mm)) +
-                    format("%.0f %% or more)", 100.0 * o.min_gain);
+                    reason_text("%.0f %% or more)", 100.0 * o.min_gain);
   }
   if (!choice.unit.empty()) {
     choice.reason += ", leaving out one " + choice.unit + " at a time (" + std::to_string(folds) +

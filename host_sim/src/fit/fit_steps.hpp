@@ -15,6 +15,9 @@
 
 namespace odocal::host::fit_detail {
 
+/// A reason's text: `fmt` (printf) with up to three numbers (fit_design, fit_model_choice).
+[[nodiscard]] std::string reason_text(const char* fmt, double a, double b = 0.0, double c = 0.0);
+
 // ------------------------------------------------------------------------- solving (fit_solve)
 
 /// The JSON name of parameter i of a model.

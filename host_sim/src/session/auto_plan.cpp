@@ -51,33 +51,20 @@ Geometry geometry_of(const FitGeometry& g) {
           g.model == FitModelKind::arc_wheelbase ? g.second_wheelbase_mm : 0.0};
 }
 
-/// The wheelbase in force for a stretch of wheel rotation a_l, a_r (rad, as the firmware's counts
-/// weigh it): the one model's (drive::model::wheelbase_for).
-double wheelbase_for(const Geometry& g, double a_l, double a_r) {
-  return drive::model::wheelbase_for(g.b, g.b_arc, a_l, a_r);
+/// The same geometry in the one model's terms.
+drive::model::Geometry<double> model_of(const Geometry& g) {
+  return {g.d_l, g.d_r, g.b, g.b_arc};
 }
 
 /// End pose (x mm, y mm, heading rad) of `moves` driven by a firmware that believes `told` on a
-/// robot that is `truth`: the wheels turn what `told` computes for each move, and roll what
-/// `truth`'s diameters make of that; each move one exact arc of the one model
-/// (drive::model::advance).
+/// robot that is `truth`: each move one increment of the one model (advance_believing).
 Eigen::Vector3d end_pose(const std::vector<Move>& moves, const Geometry& told,
                          const Geometry& truth) {
   drive::model::PoseOf<double> pose;
+  const drive::model::Geometry<double> believed = model_of(told);
+  const drive::model::Geometry<double> real = model_of(truth);
   for (const Move& m : moves) {
-    // Wheel travel the told geometry commands (its wheelbase for this curvature: solve
-    // s_r - s_l = turn * b(s_l, s_r), which is linear once the weight is known from the shape).
-    const double b0 = told.b;
-    double s_l = m.distance_mm - 0.5 * m.turn_rad * b0;
-    double s_r = m.distance_mm + 0.5 * m.turn_rad * b0;
-    const double bt = wheelbase_for(told, s_l / told.d_l, s_r / told.d_r);
-    s_l = m.distance_mm - 0.5 * m.turn_rad * bt;
-    s_r = m.distance_mm + 0.5 * m.turn_rad * bt;
-    // Wheel angles (rad) the drive turns, and what the true wheels roll.
-    const double a_l = s_l / (0.5 * told.d_l);
-    const double a_r = s_r / (0.5 * told.d_r);
-    drive::model::advance(pose, a_l * 0.5 * truth.d_l, a_r * 0.5 * truth.d_r,
-                          wheelbase_for(truth, a_l, a_r));
+    drive::model::advance_believing(pose, believed, real, m.distance_mm, m.turn_rad);
   }
   return {pose.x, pose.y, pose.theta};
 }
@@ -172,9 +159,10 @@ TickLog unseen_tick_log(const Geometry& g, const FitNominal& nominal) {
   double t = 0.0;
   log.rows.push_back(TickRow{0, 0.0, 0.0, 0.0, true, 0.0, 0.0, true, 0.0});
   for (const Move& m : unseen_moves()) {
-    const double b = m.distance_mm == 0.0 ? g.b : (g.b_arc > 0.0 ? g.b_arc : g.b);
-    const double s_l = m.distance_mm - 0.5 * m.turn_rad * b;
-    const double s_r = m.distance_mm + 0.5 * m.turn_rad * b;
+    const drive::model::WheelTravel<double> w =
+        drive::model::travel_for(model_of(g), m.distance_mm, m.turn_rad);
+    const double s_l = w.left;
+    const double s_r = w.right;
     const int steps = std::max(
         1, static_cast<int>(std::ceil(std::max(std::fabs(m.distance_mm) / 10.0,
                                                std::fabs(m.turn_rad) / (2.0 * kPi / 180.0)))));

@@ -66,36 +66,22 @@ int typed_decimals(const std::string& typed) {
 
 namespace {
 
-constexpr double deg_per_rad = 180.0 / std::numbers::pi;
 /// A typed heading past this is asked about (half a turn, and the odometry's wrap and noise).
 constexpr double max_typed_heading_deg = 200.0;
 
-/// The wheels' travel of one segment as the odometry of `g` drives it (mm): the turn wheelbase
-/// is the one the arc weight of those travels picks (a fixed point, reached in a few steps).
-std::array<double, 2> travels(const drive::Segment& s, const drive::model::Geometry<double>& g) {
-  const double ds = 1e3 * static_cast<double>(s.distance_m);
-  const double dtheta = static_cast<double>(s.angle_rad);
-  double b = g.wheelbase;
-  for (int i = 0; i < 4; ++i) {
-    const double l = ds - 0.5 * dtheta * b;
-    const double r = ds + 0.5 * dtheta * b;
-    b = drive::model::wheelbase_for(g.wheelbase, g.wheelbase_arc, l, r);
-  }
-  return {ds - 0.5 * dtheta * b, ds + 0.5 * dtheta * b};
-}
-
 /// Where the robot ends when its wheels are `k_l`, `k_r` times the size the odometry believes and
-/// its wheelbases `k_b` times, the odometry having driven `path` exactly.
+/// its wheelbases `k_b` times, the odometry having driven `path` exactly (the one model's
+/// advance_believing, segment by segment).
 drive::model::PoseOf<double> end_with(const drive::Path& path,
                                       const drive::model::Geometry<double>& g, double k_l,
                                       double k_r, double k_b) {
+  const drive::model::Geometry<double> truth{k_l * g.left_diameter, k_r * g.right_diameter,
+                                             k_b * g.wheelbase, k_b * g.wheelbase_arc};
   drive::model::PoseOf<double> pose;
   for (std::uint8_t i = 0; i < path.count; ++i) {
-    const std::array<double, 2> lr = travels(path.segments[i], g);
-    const double l = k_l * lr[0];
-    const double r = k_r * lr[1];
-    drive::model::advance(
-        pose, l, r, drive::model::wheelbase_for(k_b * g.wheelbase, k_b * g.wheelbase_arc, l, r));
+    drive::model::advance_believing(pose, g, truth,
+                                    1e3 * static_cast<double>(path.segments[i].distance_m),
+                                    static_cast<double>(path.segments[i].angle_rad));
   }
   return pose;
 }

@@ -15,6 +15,9 @@
 
 namespace odocal::host::session {
 
+/// Degrees per radian.
+inline constexpr double deg_per_rad = 180.0 / 3.14159265358979323846;
+
 /// How far the real robot's geometry can be from the model in force, relative: the mean wheel
 /// diameter (a tyre's size), the right-to-left diameter ratio, the wheelbases. Wider than any
 /// robot that drives straight enough to calibrate, narrower than the plausible ranges of a result

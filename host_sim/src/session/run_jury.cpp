@@ -12,8 +12,6 @@
 namespace odocal::host::session {
 namespace {
 
-constexpr double deg_per_rad = 180.0 / 3.14159265358979323846;
-
 std::string heading_text(double rad) {
   return fmt::format("{:.1f}", plain(std::remainder(rad * deg_per_rad, 360.0)));
 }

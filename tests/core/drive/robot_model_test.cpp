@@ -83,6 +83,52 @@ TEST(RobotModel, WheelStepIsTheCentreArcOfTheWheelTravel) {
   EXPECT_DOUBLE_EQ(by_wheels.theta, by_arc.theta);
 }
 
+TEST(RobotModel, TravelForIsTheStepsInverseAndBelievingTheTruthDrivesTheArc) {
+  // Two wheelbases 15 % apart, wheels 0.4 % apart: every kind of increment.
+  const Geometry<double> g{70.1, 69.8, 160.0, 184.0};
+  struct Arc {
+    double distance;
+    double turn;
+  };
+  for (const Arc a : {Arc{1000.0, 0.0}, Arc{0.0, 2.0 * pi}, Arc{0.0, -pi}, Arc{471.0, 1.2},
+                      Arc{300.0, -2.5}, Arc{-250.0, 0.4}, Arc{50.0, 3.0}}) {
+    SCOPED_TRACE(::testing::Message() << a.distance << " mm, " << a.turn << " rad");
+    const WheelTravel<double> w = travel_for(g, a.distance, a.turn);
+    // The step of those wheels, with the wheelbase their rotations pick, is the arc asked for:
+    // the distance exactly, the turn to the fixed point's 2e-8 of the wheelbase.
+    const double b = wheelbase_for(g.wheelbase, g.wheelbase_arc, w.left / g.left_diameter,
+                                   w.right / g.right_diameter);
+    EXPECT_NEAR(0.5 * (w.left + w.right), a.distance, 1e-12 * (1.0 + std::fabs(a.distance)));
+    EXPECT_NEAR((w.right - w.left) / b, a.turn, 2e-8 * std::fabs(a.turn) + 1e-15);
+    // Told the truth, the drive ends where the arc does.
+    PoseOf<double> believed;
+    advance_believing(believed, g, g, a.distance, a.turn);
+    PoseOf<double> arc;
+    advance_arc(arc, a.distance, a.turn);
+    EXPECT_NEAR(believed.x, arc.x, 1e-6);
+    EXPECT_NEAR(believed.y, arc.y, 1e-6);
+    EXPECT_NEAR(believed.theta, arc.theta, 2e-8 * std::fabs(a.turn) + 1e-15);
+  }
+  // A right wheel 1 % larger than the drive believes (one wheelbase b): on a metre's line the
+  // right wheel rolls 10 mm more, so the robot turns left by 10/b and goes 1005 mm along.
+  const Geometry<double> told{70.0, 70.0, 150.0, 0.0};
+  const Geometry<double> big_right{70.0, 70.7, 150.0, 0.0};
+  PoseOf<double> p;
+  advance_believing(p, told, big_right, 1000.0, 0.0);
+  EXPECT_NEAR(p.theta, 10.0 / 150.0, 1e-12);
+  PoseOf<double> expected;
+  advance_arc(expected, 1005.0, 10.0 / 150.0);
+  EXPECT_NEAR(p.x, expected.x, 1e-9);
+  EXPECT_NEAR(p.y, expected.y, 1e-9);
+  // A wheelbase 2 % wider than believed: a full turn in place comes 2 % short.
+  const Geometry<double> wide{70.0, 70.0, 153.0, 0.0};
+  PoseOf<double> spun;
+  advance_believing(spun, told, wide, 0.0, 2.0 * pi);
+  EXPECT_NEAR(spun.theta, 2.0 * pi * 150.0 / 153.0, 1e-12);
+  EXPECT_NEAR(spun.x, 0.0, 1e-12);
+  EXPECT_NEAR(spun.y, 0.0, 1e-12);
+}
+
 TEST(RobotModel, ArcWeightIsTheForwardShareOfTheWheelTravel) {
   EXPECT_EQ(arc_weight(1.0, -1.0), 0.0);  // turning in place
   EXPECT_EQ(arc_weight(2.0, 2.0), 1.0);   // straight

@@ -119,6 +119,45 @@ struct Geometry {
   T wheelbase_arc{};   ///< b_arc: driving straight (0: one wheelbase)
 };
 
+/// The two wheels' travel over one increment (one length unit).
+template <typename T>
+struct WheelTravel {
+  T left{};
+  T right{};
+};
+
+/// The inverse of the step: the wheel travel that drives the centre `distance` along one arc
+/// while turning `turn` (rad), for the geometry `g`. The turn's wheelbase is the one the arc
+/// weight of those wheels' rotations picks (wheelbase_for of travel / diameter, as the firmware's
+/// counts weigh it): a fixed point, exact at once for a line, a turn in place or one wheelbase.
+/// On an arc each step shrinks the wheelbase's error by a factor of at most |b_arc − b|/(4·b)
+/// (the weight's slope w·(1 − w)/b ≤ 1/(4·b)): 0.05 within the firmware's 20 % bound, so six
+/// steps leave less than 2e-8 of the wheelbase.
+template <typename T>
+WheelTravel<T> travel_for(const Geometry<T>& g, T distance, T turn) {
+  T b = g.wheelbase;
+  for (int i = 0; i < 6 && g.wheelbase_arc != T(0); ++i) {
+    b = wheelbase_for(g.wheelbase, g.wheelbase_arc,
+                      (distance - T(0.5) * turn * b) / g.left_diameter,
+                      (distance + T(0.5) * turn * b) / g.right_diameter);
+  }
+  return {distance - T(0.5) * turn * b, distance + T(0.5) * turn * b};
+}
+
+/// One increment driven by a firmware that believes the geometry `told` on a robot that is
+/// `truth`: the wheels turn what `told` computes for `distance` and `turn` (travel_for), and roll
+/// what `truth`'s diameters make of those rotations, one exact arc with `truth`'s wheelbase for
+/// them. With told = truth it is advance_arc(pose, distance, turn).
+template <typename T>
+void advance_believing(PoseOf<T>& pose, const Geometry<T>& told, const Geometry<T>& truth,
+                       T distance, T turn) {
+  const WheelTravel<T> w = travel_for(told, distance, turn);
+  const T turns_l = w.left / told.left_diameter;  // rotations, per unit of diameter
+  const T turns_r = w.right / told.right_diameter;
+  advance(pose, turns_l * truth.left_diameter, turns_r * truth.right_diameter,
+          wheelbase_for(truth.wheelbase, truth.wheelbase_arc, turns_l, turns_r));
+}
+
 /// The calibration factors and the nominal geometry, as the firmware's parameters hold them.
 template <typename T>
 struct Parameters {

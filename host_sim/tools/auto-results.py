@@ -56,7 +56,8 @@ def simulator_defaults():
 def test_seeds():
     """How many seeds the ctest odocal_auto_study runs (tests/host_sim/session/CMakeLists.txt)."""
     text = open(os.path.join(HERE, "tests", "host_sim", "session", "CMakeLists.txt")).read()
-    m = re.search(r"auto_study\.py[^)]*--seeds (\d+)", text)
+    # The full study's arguments (FULL ...), not its smoke test's (SMOKE ..., later in the call).
+    m = re.search(r"auto_study\.py\s+\d+\s+FULL[^)]*?--seeds (\d+)", text)
     if m is None:
         sys.exit("auto-results.py: odocal_auto_study's --seeds not found in tests/host_sim/session")
     return int(m.group(1))

@@ -24,40 +24,17 @@ failed=0
 skipped=0
 cases_passed=0
 cases_failed=0
-work=$(mktemp -d)
-trap 'rm -rf "${work}"' EXIT
-# One preset's tests into ${work}/PRESET.log (its exit status in PRESET.status); each GoogleTest
-# program writes its cases to ${work}/PRESET-xml/PROGRAM.xml (GTEST_OUTPUT).
-run_preset_tests() {
-  local preset=$1
-  mkdir -p "${work}/${preset}-xml"
-  rm -rf "build/${preset}/test-xml"
-  set +e
-  GTEST_OUTPUT="xml:${work}/${preset}-xml/" ctest --preset "${preset}" -j "${jobs}" \
-    >"${work}/${preset}.log" 2>&1
-  echo $? >"${work}/${preset}.status"
-  set -e
-}
-# The robot images' tests (QEMU, a VM: about a minute and a half, mostly waiting on the emulators)
-# run beside the host's, which print as they go; their output follows.
-run_preset_tests stm32f4 &
-stm32f4_job=$!
-run_preset_tests linux-sbc &
-linux_job=$!
-echo "== tests host (stm32f4 and linux-sbc beside it) =="
-: >"${work}/host.log"
-run_preset_tests host &
-host_job=$!
-tail -n +1 -f --pid="${host_job}" "${work}/host.log" 2>/dev/null || true
-wait "${host_job}" "${stm32f4_job}" "${linux_job}" || true
+log=$(mktemp)
+xml=$(mktemp -d)
+trap 'rm -rf "${log}" "${xml}"' EXIT
 for preset in stm32f4 linux-sbc host; do
-  log="${work}/${preset}.log"
-  xml="${work}/${preset}-xml"
-  if [ "${preset}" != host ]; then
-    echo "== tests ${preset} =="
-    cat "${log}"
-  fi
-  ctest_status=$(cat "${work}/${preset}.status" 2>/dev/null || echo 1)
+  echo "== tests ${preset} =="
+  rm -rf "${xml:?}"/* "build/${preset}/test-xml"
+  set +e
+  # Each GoogleTest program writes its cases to ${xml}/PROGRAM.xml (GTEST_OUTPUT).
+  GTEST_OUTPUT="xml:${xml}/" ctest --preset "${preset}" -j "${jobs}" 2>&1 | tee "${log}"
+  ctest_status=${PIPESTATUS[0]}
+  set -e
   # The per-test entries' reports (gtest_discover_tests' XML_OUTPUT_DIR) are in the build tree.
   read -r cp cf <<<"$(python3 toolchain/count-test-cases.py "${log}" "${xml}" "build/${preset}/test-xml")"
   cases_passed=$((cases_passed + cp))

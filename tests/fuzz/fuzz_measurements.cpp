@@ -44,7 +44,8 @@ ReadingFacts facts_of(const std::string& command, const SessionPose& odom, bool 
   ReadingFacts facts;
   facts.odom = odom;
   facts.heading_needed = heading_needed;
-  const std::optional<odocal::drive::Path> path = path_of_command(command);
+  const std::optional<odocal::host::Motion> motion = odocal::host::Motion::of_command(command);
+  const std::optional<odocal::drive::Path> path = motion ? motion->path() : std::nullopt;
   if (!path)
     __builtin_trap();
   const odocal::drive::model::Geometry<double> g{60.0, 60.0, 150.0, 0.0};

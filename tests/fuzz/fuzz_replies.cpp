@@ -123,7 +123,7 @@ void session_run(odocal::host::RobotClient& robot) {
   robot.expect_ok("stream off");
   robot.on_ticks(nullptr);
   r.label = "line";
-  r.command = "run line 1.000";
+  r.motion = odocal::host::Motion::line(1.0);
   try {
     session::read_trial(robot, done, r, 0);
   } catch (const LinkError&) {

@@ -34,7 +34,7 @@ bool same_pose(const SessionPose& a, const SessionPose& b) {
 
 // What session.json's `runs` keeps of a run (duration_ms in whole milliseconds).
 bool same_run(const RunRecord& a, const RunRecord& b) {
-  if (a.label != b.label || a.command != b.command || a.trial != b.trial || a.path != b.path ||
+  if (a.label != b.label || a.motion != b.motion || a.trial != b.trial || a.path != b.path ||
       a.count_l != b.count_l || a.count_r != b.count_r || !same_pose(a.odom, b.odom) ||
       !same_pose(a.measured, b.measured) || a.ticks.size() != b.ticks.size())
     return false;

@@ -7,26 +7,20 @@ namespace odocal::console {
 
 bool Console::number_arg(const Token& token, float lo, float hi, float& value,
                          const char* not_whole) {
-  constexpr int decimals = 6;  // bounds as `params` and the refusal print them
-  Decimal typed;
-  if (!parse_decimal(token, typed)) {
-    send_error(ErrorCode::bad_number, "not a finite decimal number");
-    return false;
+  switch (read_number_arg(token, lo, hi, not_whole != nullptr, value)) {
+    case NumberArg::ok:
+      return true;
+    case NumberArg::not_number:
+      send_error(ErrorCode::bad_number, "not a finite decimal number");
+      return false;
+    case NumberArg::out_of_range:
+      send_error_line(ErrorCode::out_of_range, "allowed min=%6 max=%6", lo, hi);
+      return false;
+    case NumberArg::not_whole:
+      break;
   }
-  // The typed decimal against the printed bounds, exactly: `set v_max_mps 0.001` is the minimum
-  // although the table's float is 0.0010000000475, and 2.0000001 is above 2 though not as a float.
-  if (compare(typed, lo, decimals) < 0 || compare(typed, hi, decimals) > 0) {
-    send_error_line(ErrorCode::out_of_range, "allowed min=%6 max=%6", lo, hi);
-    return false;
-  }
-  // Whole as typed: 1440.0000001 is not, although its nearest float is 1440.
-  if (not_whole != nullptr && !is_whole(typed)) {
-    send_error(ErrorCode::bad_number, not_whole);
-    return false;
-  }
-  const float parsed = to_float(typed);
-  value = parsed < lo ? lo : (parsed > hi ? hi : parsed);
-  return true;
+  send_error(ErrorCode::bad_number, not_whole);
+  return false;
 }
 
 bool Console::config_accepted(const drive::ConfigCheck& check) {

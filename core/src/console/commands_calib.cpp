@@ -19,6 +19,27 @@ constexpr params::ParamId kFactorIds[] = {
     params::ParamId::f_lat,        params::ParamId::f_lon};
 constexpr std::size_t kLateralFirst = 4u;
 
+// The table holds each group of the parameter list, and only it.
+constexpr std::size_t group_size(drive::FactorGroup group) {
+  std::size_t n = 0u;
+  for (const drive::ConfigField& field : drive::config_fields) {
+    n += field.group == group ? 1u : 0u;
+  }
+  return n;
+}
+constexpr bool ids_in_groups() {
+  for (std::size_t i = 0; i < sizeof kFactorIds / sizeof kFactorIds[0]; ++i) {
+    const auto group = i < kLateralFirst ? drive::FactorGroup::wheel : drive::FactorGroup::lateral;
+    if (drive::config_fields[static_cast<std::size_t>(kFactorIds[i])].group != group) {
+      return false;
+    }
+  }
+  return group_size(drive::FactorGroup::wheel) == kLateralFirst &&
+         group_size(drive::FactorGroup::lateral) ==
+             sizeof kFactorIds / sizeof kFactorIds[0] - kLateralFirst;
+}
+static_assert(ids_in_groups(), "kFactorIds lists each factor group of drive_config.hpp, whole");
+
 }  // namespace
 
 const params::ParamId* Console::factor_ids(FactorGroup group) {

@@ -24,13 +24,14 @@ void Console::cmd_odom(Handler handler) {
 void Console::cmd_drive(const Token* words, std::size_t count) {
   float v = 0.0f;
   float w = 0.0f;
-  if (!number_arg(words[1], -5.0f, 5.0f, v) || !number_arg(words[2], -50.0f, 50.0f, w)) {
+  if (!number_arg(words[1], -drive_v_limit_mps, drive_v_limit_mps, v) ||
+      !number_arg(words[2], -drive_w_limit_radps, drive_w_limit_radps, w)) {
     return;
   }
   std::uint32_t ms = 0u;
   if (count == 4u) {
     float parsed = 0.0f;
-    if (!number_arg(words[3], 0.0f, 600000.0f, parsed, "ms must be whole")) {
+    if (!number_arg(words[3], 0.0f, drive_ms_max, parsed, "ms must be whole")) {
       return;
     }
     ms = static_cast<std::uint32_t>(parsed);
@@ -66,7 +67,7 @@ void Console::cmd_run(Handler handler, const Token* words) {
   const bool unseen = handler == Handler::run_unseen;
   const bool square = !line && !unseen;
   float length_m = 0.0f;
-  if (!unseen && !number_arg(words[2], 0.01f, 20.0f, length_m)) {
+  if (!unseen && !number_arg(words[2], run_length_min_m, run_length_max_m, length_m)) {
     return;
   }
   if (refuse_busy(Busy::path)) {

@@ -209,6 +209,58 @@ bool is_word(const Token& token, const char* text) {
 
 }  // namespace
 
+FormLookup find_form(const Token* words, std::size_t count) {
+  FormLookup lookup;
+  const CommandForm* const table_end = command_forms + command_form_count;
+  const CommandForm* first = command_forms;
+  while (first != table_end && (count == 0u || !is_word(words[0], first->synopsis))) {
+    ++first;
+  }
+  // The command's forms are adjacent rows: [first, last).
+  const CommandForm* last = first;
+  std::size_t min_words = 255u;
+  std::size_t max_words = 0u;
+  for (; last != table_end && is_word(words[0], last->synopsis); ++last) {
+    min_words = last->min_words < min_words ? last->min_words : min_words;
+    max_words = last->max_words > max_words ? last->max_words : max_words;
+  }
+  lookup.first = first;
+  lookup.last = last;
+  if (first == table_end) {
+    return lookup;  // unknown
+  }
+  // Too few or too many words for any form (also a line with more words than any command takes).
+  if (count < min_words || count > max_words) {
+    lookup.result = FormLookup::Result::wrong_arity;
+    return lookup;
+  }
+  // A form selected by its keyword, else the keyword-less form that takes this many words.
+  const CommandForm* form = nullptr;
+  for (const CommandForm* f = first; f != last && form == nullptr; ++f) {
+    if (f->has(form_sub) && count >= 2u &&
+        is_word(words[1], f->synopsis + word_length(f->synopsis) + 1u)) {
+      form = f;
+    }
+  }
+  for (const CommandForm* f = first; f != last && form == nullptr; ++f) {
+    if (!f->has(form_sub) && count >= f->min_words && count <= f->max_words) {
+      form = f;
+    }
+  }
+  if (form == nullptr) {
+    lookup.result = FormLookup::Result::bad_argument;
+  } else if (count < form->min_words || count > form->max_words) {
+    // Selected by its keyword, with too few or too many words: its own usage is quoted.
+    lookup.result = FormLookup::Result::wrong_arity;
+    lookup.first = form;
+    lookup.last = form + 1;
+  } else {
+    lookup.result = FormLookup::Result::found;
+    lookup.form = form;
+  }
+  return lookup;
+}
+
 void Console::execute(const Token* words, std::size_t count) {
   // A one-character first word is ROSArduinoBridge's (no odocal command is that short).
   if (words[0].length == 1u) {
@@ -216,57 +268,26 @@ void Console::execute(const Token* words, std::size_t count) {
     return;
   }
   send_banner();
-  // The command's forms are adjacent rows: [first, last).
-  const Form* const table_end = form_table_ + form_count_;
-  const Form* first = form_table_;
-  while (first != table_end && !is_word(words[0], first->synopsis)) {
-    ++first;
-  }
-  if (first == table_end) {
+  const FormLookup lookup = find_form(words, count);
+  if (lookup.result == FormLookup::Result::unknown) {
     if (count <= kMaxWords && run_target_command(words, count)) {
       return;
     }
     send_error(ErrorCode::unknown_command, "unknown command (try help)");
     return;
   }
-  const Form* last = first;
-  std::size_t min_words = 255u;
-  std::size_t max_words = 0u;
-  for (; last != table_end && is_word(words[0], last->synopsis); ++last) {
-    min_words = last->min_words < min_words ? last->min_words : min_words;
-    max_words = last->max_words > max_words ? last->max_words : max_words;
-  }
-  // Too few or too many words for any form (also a line with more words than any command takes).
-  if (count < min_words || count > max_words) {
-    send_usage(ErrorCode::wrong_arity, first, last);
+  if (lookup.result != FormLookup::Result::found) {
+    send_usage(lookup.result == FormLookup::Result::wrong_arity ? ErrorCode::wrong_arity
+                                                                : ErrorCode::bad_argument,
+               lookup.first, lookup.last);
     return;
   }
-  // A form selected by its keyword, else the keyword-less form that takes this many words.
-  const Form* form = nullptr;
-  for (const Form* f = first; f != last && form == nullptr; ++f) {
-    if ((f->flags & form_sub) != 0u && count >= 2u &&
-        is_word(words[1], f->synopsis + word_length(f->synopsis) + 1u)) {
-      form = f;
-    }
-  }
-  for (const Form* f = first; f != last && form == nullptr; ++f) {
-    if ((f->flags & form_sub) == 0u && count >= f->min_words && count <= f->max_words) {
-      form = f;
-    }
-  }
-  if (form == nullptr) {
-    send_usage(ErrorCode::bad_argument, first, last);
-    return;
-  }
+  const Form* const form = lookup.form;
   form_ = form;
-  if (count < form->min_words || count > form->max_words) {
-    send_usage(ErrorCode::wrong_arity);
+  if (form->has(form_moving) && refuse_busy(Busy::motion)) {
     return;
   }
-  if ((form->flags & form_moving) != 0u && refuse_busy(Busy::motion)) {
-    return;
-  }
-  if ((form->flags & form_question) != 0u) {
+  if (form->has(form_question)) {
     ++questions_;
   }
   dispatch(form->handler, words, count);

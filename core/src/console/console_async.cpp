@@ -18,9 +18,9 @@ void Console::continue_listing() {
     if (listing_ == Listing::help) {
       // One line per form, then the target's own command.
       const char* text = nullptr;
-      if (listing_index_ < form_count_) {
-        text = form_table_[listing_index_].synopsis;
-      } else if (listing_index_ == form_count_) {
+      if (listing_index_ < command_form_count) {
+        text = command_forms[listing_index_].synopsis;
+      } else if (listing_index_ == command_form_count) {
         text = target_usage();
       }
       if (text != nullptr) {

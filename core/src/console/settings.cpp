@@ -4,12 +4,11 @@ namespace odocal::console {
 namespace {
 
 bool is_wheel_factor(params::ParamId id) {
-  return id == params::ParamId::c_l || id == params::ParamId::c_r ||
-         id == params::ParamId::wheelbase_mm || id == params::ParamId::wheelbase_arc_mm;
+  return params::param_info(id).group == drive::FactorGroup::wheel;
 }
 
 bool is_lateral_factor(params::ParamId id) {
-  return id == params::ParamId::f_lat || id == params::ParamId::f_lon;
+  return params::param_info(id).group == drive::FactorGroup::lateral;
 }
 
 }  // namespace

@@ -336,6 +336,26 @@ std::size_t format_fixed(float value, int decimals, char* out, std::size_t capac
   return copy_out(p, end, out, capacity);
 }
 
+NumberArg read_number_arg(const Token& token, float lo, float hi, bool whole, float& value) {
+  constexpr int decimals = 6;  // bounds as `params` and the refusal print them
+  Decimal typed;
+  if (!parse_decimal(token, typed)) {
+    return NumberArg::not_number;
+  }
+  // The typed decimal against the printed bounds, exactly: 2.0000001 is above 2 though not as a
+  // float.
+  if (compare(typed, lo, decimals) < 0 || compare(typed, hi, decimals) > 0) {
+    return NumberArg::out_of_range;
+  }
+  // Whole as typed: 1440.0000001 is not, although its nearest float is 1440.
+  if (whole && !is_whole(typed)) {
+    return NumberArg::not_whole;
+  }
+  const float parsed = to_float(typed);
+  value = parsed < lo ? lo : (parsed > hi ? hi : parsed);
+  return NumberArg::ok;
+}
+
 std::size_t split(const char* line, std::size_t length, Token* tokens, std::size_t capacity) {
   std::size_t count = 0;
   std::size_t i = 0;

@@ -222,31 +222,27 @@ const char* kind_label(Kind k) {
 }
 
 /// The drive command of a run of `k`.
-std::string command_of(Kind k, const Plan& p, double& expected_s, Context& c) {
-  char line[96];
+Motion motion_of(Kind k, const Plan& p, double& expected_s, Context& c) {
   switch (k) {
     case Kind::line:
-      std::snprintf(line, sizeof line, "run line %.3f", p.line_m);
       expected_s = c.path_seconds(p.line_m, 0.0, 1);
-      break;
+      return Motion::line(p.line_m);
     case Kind::spin_ccw:
     case Kind::spin_cw: {
       const double w = (k == Kind::spin_ccw ? 1.0 : -1.0) * p.spin_radps;
       const long ms = std::lround(2.0 * kPi * p.spin_turns / p.spin_radps * 1000.0);
-      std::snprintf(line, sizeof line, "drive 0 %.4f %ld", w, ms);
       expected_s = static_cast<double>(ms) / 1000.0 + 2.0;
-      break;
+      return Motion::timed(0.0, w, static_cast<double>(ms));
     }
     case Kind::arc_left:
     case Kind::arc_right: {
       const double w = (k == Kind::arc_left ? 1.0 : -1.0) * p.arc_mps / p.arc_radius_m;
       const long ms = std::lround(p.arc_rad / std::fabs(w) * 1000.0);
-      std::snprintf(line, sizeof line, "drive %.4f %.4f %ld", p.arc_mps, w, ms);
       expected_s = static_cast<double>(ms) / 1000.0 + 2.0;
-      break;
+      return Motion::timed(p.arc_mps, w, static_cast<double>(ms));
     }
   }
-  return line;
+  return Motion::line(p.line_m);
 }
 
 std::string what_to_do(Kind k, const Plan& p) {
@@ -274,8 +270,8 @@ std::string what_to_do(Kind k, const Plan& p) {
 
 Plan plan_for(Context& c, double wheelbase_mm) {
   Plan p;
-  p.cruise_mps = c.get("v_max_mps");
-  const double w_max = c.get("w_max_radps");
+  p.cruise_mps = c.get(ParamId::v_max_mps);
+  const double w_max = c.get(ParamId::w_max_radps);
   // The longest straight the floor allows (--side-m, default 3 m): long lines are what pin the
   // wheel ratio (the lateral offset grows with the square of the length).
   p.line_m = c.options.side_m.value_or(3.0);

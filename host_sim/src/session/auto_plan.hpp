@@ -70,7 +70,7 @@ struct Plan {
 };
 
 /// The drive command of a run of `k`, and its nominal duration (`expected_s`).
-std::string command_of(Kind k, const Plan& p, double& expected_s, Context& c);
+Motion motion_of(Kind k, const Plan& p, double& expected_s, Context& c);
 
 /// What the user is to do and measure for a run of `k`.
 std::string what_to_do(Kind k, const Plan& p);

@@ -11,6 +11,7 @@
 
 #include "bridge_internal.hpp"
 #include "odocal/host/bridge_console.hpp"
+#include "odocal/host/motion.hpp"
 #include "odocal/toolkit/numbers.hpp"
 
 namespace odocal::host {
@@ -126,27 +127,21 @@ void BridgeConsole::command_fit_apply(const std::string& line) {
 }
 
 void BridgeConsole::command_run(const std::string& line) {
-  const std::vector<std::string> w = words_of(line);
+  // Read as the robot reads it (host::Motion): the same paths, lengths and ranges.
+  const std::optional<host::Motion> motion = host::Motion::of_command(line);
+  if (!motion || !motion->path() || motion->kind == host::Motion::Kind::timed) {
+    const std::vector<std::string> w = words_of(line);
+    const bool has_length =
+        w.size() == 3 && (w[1] == "line" || w[1] == "umbmark-cw" || w[1] == "umbmark-ccw");
+    reply(has_length ? "err bad_value length 0.01 .. 20 m"
+                     : "err usage run umbmark-cw|umbmark-ccw <side_m> | run line <m> | run unseen");
+    return;
+  }
   if (motion_ != Motion::idle) {
     executor_.cancel();
   }
-  drive::Path path;
-  float length_m = 0.0f;
-  if (w.size() == 2 && w[1] == "unseen") {
-    path = drive::make_unseen_path();
-  } else if (w.size() == 3 && (w[1] == "line" || w[1] == "umbmark-cw" || w[1] == "umbmark-ccw")) {
-    const auto value = toolkit::parse_real(w[2]);
-    if (!value || !(*value >= 0.01 && *value <= 20.0)) {
-      reply("err bad_value length 0.01 .. 20 m");
-      return;
-    }
-    length_m = static_cast<float>(*value);
-    path = w[1] == "line" ? drive::make_line(length_m)
-                          : drive::make_umbmark_square(w[1] == "umbmark-cw", length_m);
-  } else {
-    reply("err usage run umbmark-cw|umbmark-ccw <side_m> | run line <m> | run unseen");
-    return;
-  }
+  const drive::Path path = *motion->path();
+  const float length_m = motion->length_m;
   begin_motion(Motion::path, drive::path_name(path.id));
   executor_.start(path, odometry_);
   reply(fmt::format("ok path={} segments={} length_m={:.3f}", drive::path_name(path.id), path.count,
@@ -154,21 +149,8 @@ void BridgeConsole::command_run(const std::string& line) {
 }
 
 void BridgeConsole::command_drive(const std::string& line) {
-  const std::vector<std::string> w = words_of(line);
-  double v = 0.0;
-  double omega = 0.0;
-  std::int64_t ms = 0;
-  bool ok = w.size() == 4;
-  if (ok) {
-    const auto pv = toolkit::parse_real(w[1]);
-    const auto pw = toolkit::parse_real(w[2]);
-    const auto pm = toolkit::parse_integer(w[3]);
-    ok = pv && pw && pm;
-    v = pv.value_or(0.0);
-    omega = pw.value_or(0.0);
-    ms = pm.value_or(0);
-  }
-  if (!ok || std::fabs(v) > 5.0 || std::fabs(omega) > 50.0 || ms <= 0 || ms > 600000) {
+  const std::optional<host::Motion> motion = host::Motion::of_command(line);
+  if (!motion || motion->kind != host::Motion::Kind::timed || motion->ms == 0u) {
     reply(
         "err usage drive <v_mps> <w_radps> <ms> (a timed drive: the host keeps the robot moving "
         "only while it steers)");
@@ -178,9 +160,10 @@ void BridgeConsole::command_drive(const std::string& line) {
     executor_.cancel();
   }
   begin_motion(Motion::timed, "drive");
-  timed_twist_ = drive::Twist{static_cast<float>(v), static_cast<float>(omega)};
-  timed_ms_ = static_cast<double>(ms);
-  reply(fmt::format("ok v_mps={:.3f} w_radps={:.3f} ms={}", v, omega, ms));
+  timed_twist_ = drive::Twist{motion->v_mps, motion->w_radps};
+  timed_ms_ = static_cast<double>(motion->ms);
+  reply(fmt::format("ok v_mps={:.3f} w_radps={:.3f} ms={}", motion->v_mps, motion->w_radps,
+                    motion->ms));
 }
 
 void BridgeConsole::command_selftest(const std::string& which) {

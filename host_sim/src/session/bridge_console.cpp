@@ -40,13 +40,11 @@ const drive::ConfigField* field_named(const std::string& name) {
 }
 
 const char* group_of(const std::string& name) {
-  if (name == "c_l" || name == "c_r" || name == "wheelbase_mm" || name == "wheelbase_arc_mm") {
-    return "wheel";
+  const drive::ConfigField* field = field_named(name);
+  if (field == nullptr || field->group == drive::FactorGroup::none) {
+    return nullptr;
   }
-  if (name == "f_lat" || name == "f_lon") {
-    return "lateral";
-  }
-  return nullptr;
+  return field->group == drive::FactorGroup::wheel ? "wheel" : "lateral";
 }
 
 }  // namespace bridge_detail

@@ -51,8 +51,8 @@ bool apply_fit(Context& c, const Factors& next, std::ostream& text) {
   if (before.f_lat == next.f_lat && before.f_lon == next.f_lon) {
     return false;
   }
-  c.set("f_lat", next.f_lat);
-  c.set("f_lon", next.f_lon);
+  c.set(ParamId::f_lat, next.f_lat);
+  c.set(ParamId::f_lon, next.f_lon);
   text << fmt::format(
       "f_lat, f_lon reset to 1 (were {:.6f}, {:.6f}): the fitted geometry replaces them.\n",
       before.f_lat, before.f_lon);

@@ -86,10 +86,6 @@ drive::model::PoseOf<double> end_with(const drive::Path& path,
   return pose;
 }
 
-std::optional<double> number(const std::string& word) {
-  return toolkit::parse_real(word);
-}
-
 /// The residual of a reading (reading − odometry): position mm, heading deg wrapped to ±180.
 struct Residual {
   double x_mm = 0.0;
@@ -277,50 +273,6 @@ const std::vector<Slip>& slips() {
 }
 
 }  // namespace
-
-std::optional<drive::Path> path_of_command(const std::string& command) {
-  std::vector<std::string> words;
-  std::string word;
-  for (char c : command + " ") {
-    if (c == ' ') {
-      if (!word.empty()) {
-        words.push_back(word);
-      }
-      word.clear();
-    } else {
-      word += c;
-    }
-  }
-  if (words.size() == 2 && words[0] == "run" && words[1] == "unseen") {
-    return drive::make_unseen_path();
-  }
-  if (words.size() == 3 && words[0] == "run") {
-    const std::optional<double> length_m = number(words[2]);
-    if (!length_m || !(*length_m > 0.0)) {
-      return std::nullopt;
-    }
-    const auto length = static_cast<float>(*length_m);
-    if (words[1] == "line") {
-      return drive::make_line(length);
-    }
-    if (words[1] == "umbmark-cw" || words[1] == "umbmark-ccw") {
-      return drive::make_umbmark_square(words[1] == "umbmark-cw", length);
-    }
-    return std::nullopt;
-  }
-  if (words.size() == 4 && words[0] == "drive") {
-    const std::optional<double> v = number(words[1]), w = number(words[2]), ms = number(words[3]);
-    if (!v || !w || !ms) {
-      return std::nullopt;
-    }
-    drive::Path path;
-    const double t_s = *ms / 1000.0;
-    static_cast<void>(
-        path.push(drive::Segment{static_cast<float>(*v * t_s), static_cast<float>(*w * t_s)}));
-    return path;
-  }
-  return std::nullopt;
-}
 
 PathExtent extent_of(const drive::Path& path) {
   PathExtent e;

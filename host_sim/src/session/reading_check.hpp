@@ -47,10 +47,6 @@ struct ReadingAllowance {
   double heading_deg = 0.0;
 };
 
-/// The path a console command drives: `run line L`, `run umbmark-cw|ccw S`, `run unseen`, a timed
-/// `drive v w ms`. nullopt for any other command (the self-test's wheel drives).
-[[nodiscard]] std::optional<drive::Path> path_of_command(const std::string& command);
-
 /// Length (mm) and turning (deg, every turn counted) of a path.
 struct PathExtent {
   double length_mm = 0.0;

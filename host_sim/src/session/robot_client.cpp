@@ -2,11 +2,13 @@
 
 #include "odocal/host/robot_client.hpp"
 
+#include <array>
 #include <chrono>
 #include <cstdio>
-#include <initializer_list>
 
 #include "link_internal.hpp"
+#include "odocal/console/commands.hpp"
+#include "odocal/drive/drive_config.hpp"
 #include "odocal/toolkit/numbers.hpp"
 
 namespace odocal::host {
@@ -95,42 +97,40 @@ void RobotClient::route(const std::string& line) {
 }
 
 void RobotClient::before_sending(const std::string& line) {
-  if (line.rfind("get ", 0) == 0) {
+  // The robot's own reading of the line (console/commands.hpp) says what it may change.
+  std::array<console::Token, 12> words{};
+  const std::size_t count = console::split(line.data(), line.size(), words.data(), words.size());
+  if (count == 1u && words[0].is("measure")) {
+    return;  // odocal-sim's question (where the robot is), not a robot command
+  }
+  const console::FormLookup lookup = console::find_form(words.data(), count);
+  if (lookup.result != console::FormLookup::Result::found) {
+    // Refused by the robot (changes nothing), or a line this client does not know: forgotten all
+    // the same, as the robot's firmware may be newer than this table.
+    snapshot_.clear();
     return;
   }
-  if (line.rfind("set ", 0) == 0) {
-    const std::size_t end = line.find(' ', 4);
-    snapshot_.erase("get " + line.substr(4, end == std::string::npos ? end : end - 4));
-    return;
-  }
-  // Lines known to leave every parameter as it is; those that put one group of factors in force
-  // (docs/console.md); any other (`load`, `defaults`, one this client does not know) may change
-  // any.
-  const std::string verb = line.substr(0, line.find(' '));
-  for (const char* keeps :
-       {"help", "version", "status", "params", "provenance", "odom", "trial", "trials", "measure",
-        "drive", "stop", "run", "stream", "echo", "save", "selftest"}) {
-    if (verb == keeps) {
-      return;
-    }
-  }
-  const auto forget = [this](std::initializer_list<const char*> names) {
-    for (const char* name : names) {
-      snapshot_.erase(std::string("get ") + name);
+  const auto forget_group = [this](drive::FactorGroup group) {
+    for (const drive::ConfigField& field : drive::config_fields) {
+      if (field.group == group) {
+        snapshot_.erase(std::string("get ") + field.name);
+      }
     }
   };
-  const bool applies = line.find(" apply") != std::string::npos;
-  if (verb == "umbmark" || verb == "fit") {
-    if (applies) {
-      forget({"c_l", "c_r", "wheelbase_mm", "wheelbase_arc_mm"});
-    }
-    return;  // clear, add, side, solve: nothing changes until `apply`
-  }
-  if (verb == "lateral") {
-    if (applies || line.rfind("lateral set", 0) == 0) {
-      forget({"f_lat", "f_lon"});
-    }
-    return;
+  switch (lookup.form->changes()) {
+    case console::Changes::nothing:
+      return;
+    case console::Changes::named:
+      snapshot_.erase("get " + std::string(words[1].text, words[1].length));
+      return;
+    case console::Changes::wheel:
+      forget_group(drive::FactorGroup::wheel);
+      return;
+    case console::Changes::lateral:
+      forget_group(drive::FactorGroup::lateral);
+      return;
+    case console::Changes::any:
+      break;
   }
   snapshot_.clear();
 }

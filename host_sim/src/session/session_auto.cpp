@@ -137,21 +137,21 @@ void AutoSession::drive_one(Kind k, const std::string& why) {
   // choose now (a reading edited in measurements.csv changes the plan from there on).
   const std::optional<Kind> recorded = recorded_kind();
   double expected_s = 0.0;
-  std::string command;
+  Motion motion;
   if (recorded) {
     k = *recorded;
-    command = c_.options.replay[c_.runs.size()].command;
+    motion = c_.options.replay[c_.runs.size()].motion;
   } else {
-    command = command_of(k, plan_, expected_s, c_);
+    motion = motion_of(k, plan_, expected_s, c_);
     c_.log << fmt::format("Next: {} ({}).\n", what_to_do(k, plan_), why);
   }
-  const RunRecord r = c_.run(kind_label(k), command, expected_s, true);
+  const RunRecord r = c_.run(kind_label(k), motion, expected_s, true);
   if (!r.measured.theta_deg) {
     c_.log << "  (no heading given: this run counts with its position only)\n";
   }
   c_.write_file(fmt::format("auto_run_{:02d}.csv", jury_->size() + 1), tick_log_csv(r));
   jury_->add(c_.runs.size() - 1);
-  chosen_.push_back({{"kind", kind_label(k)}, {"command", command}, {"why", why}});
+  chosen_.push_back({{"kind", kind_label(k)}, {"command", motion.command()}, {"why", why}});
   if (k == Kind::arc_left || k == Kind::arc_right) {
     ++arc_runs_;
   }
@@ -247,9 +247,9 @@ bool AutoSession::report() {
 }
 
 void AutoSession::plan_the_budget() {
-  nominal_.wheel_diameter_mm = c_.get("wheel_diameter_mm");
-  nominal_.wheelbase_mm = c_.get("wheelbase_mm");
-  nominal_.counts_per_rev = c_.get("counts_per_rev");
+  nominal_.wheel_diameter_mm = c_.get(ParamId::wheel_diameter_mm);
+  nominal_.wheelbase_mm = c_.get(ParamId::wheelbase_mm);
+  nominal_.counts_per_rev = c_.get(ParamId::counts_per_rev);
   plan_ = plan_for(c_, nominal_.wheelbase_mm);
   // The jury judges every run about the geometry in force when the session started.
   jury_ = std::make_unique<RunJury>(

@@ -20,6 +20,8 @@
 #include <map>
 #include <optional>
 #include <sstream>
+#include <string>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -71,24 +73,7 @@ std::string default_out_dir(Procedure procedure) {
 }
 
 std::size_t planned_runs(const SessionOptions& options) {
-  switch (options.procedure) {
-    case Procedure::umbmark:
-      return 2 * options.runs.value_or(5);
-    case Procedure::lateral:
-      return options.runs.value_or(10) + session::lateral_arcs;
-    case Procedure::fit:
-      return options.runs.value_or(6);
-    case Procedure::verify:
-      return 2 * options.runs.value_or(5);
-    case Procedure::extended:
-      return 4 * options.runs.value_or(5);
-    case Procedure::selftest:
-      return 0;  // a measured run only for a fault the encoders cannot tell apart
-    case Procedure::automatic:
-      // The first round and the verification; more only when the precision asks for them.
-      return session::auto_first_round + session::auto_verify_runs;
-  }
-  return 0;
+  return session::procedure_steps[static_cast<std::size_t>(options.procedure)].planned(options);
 }
 
 void prepare_out_dir(const std::string& dir, bool create) {
@@ -126,7 +111,8 @@ void prepare_out_dir(const std::string& dir, bool create) {
 
 namespace session {
 
-double Context::get(const std::string& name) {
+double Context::get(ParamId id) {
+  const std::string name = params::param_info(id).name;
   const Reply reply = robot.query("get " + name);
   if (!reply.ok) {
     throw LinkError("robot refused 'get " + name + "': err " + reply.code + " " + reply.message);
@@ -134,7 +120,8 @@ double Context::get(const std::string& name) {
   return reply.number(name);
 }
 
-double Context::set(const std::string& name, double value) {
+double Context::set(ParamId id, double value) {
+  const std::string name = params::param_info(id).name;
   char line[96];
   std::snprintf(line, sizeof line, "set %s %.6f", name.c_str(), value);
   // The reply is the value as stored: one that is not what was sent came damaged on the line
@@ -146,41 +133,46 @@ double Context::set(const std::string& name, double value) {
       return stored;
     }
   }
-  return get(name);
+  return get(id);
 }
 
 Factors Context::factors() {
   Factors f;
-  f.c_l = get("c_l");
-  f.c_r = get("c_r");
-  f.wheelbase_mm = get("wheelbase_mm");
-  f.f_lat = get("f_lat");
-  f.f_lon = get("f_lon");
-  // Firmware from before the arc wheelbase has no such parameter: 0, one wheelbase.
-  const Reply arc = robot.query("get wheelbase_arc_mm");
-  f.wheelbase_arc_mm = arc.ok ? arc.number("wheelbase_arc_mm") : 0.0;
+  f.each([this](ParamId id, double& value) {
+    // A factor the firmware does not have (one added after it, as the arc wheelbase) is in force
+    // at its default: what the robot does without it.
+    const std::string name = params::param_info(id).name;
+    const Reply reply = robot.query("get " + name);
+    if (!reply.ok && reply.code == "unknown_parameter") {
+      return;
+    }
+    value = reply.ok ? reply.number(name) : get(id);
+  });
   last_factors = f;
   return f;
 }
 
 void Context::set_factors(const Factors& f) {
+  // The arc wheelbase must stay within 20 % of wheelbase_mm at every step: cleared first (0, one
+  // wheelbase), set last.
   const bool has_arc = robot.query("get wheelbase_arc_mm").ok;
   if (has_arc) {
-    set("wheelbase_arc_mm", 0.0);
+    set(ParamId::wheelbase_arc_mm, 0.0);
   }
-  set("c_l", f.c_l);
-  set("c_r", f.c_r);
-  set("wheelbase_mm", f.wheelbase_mm);
-  set("f_lat", f.f_lat);
-  set("f_lon", f.f_lon);
+  f.each([&](ParamId id, double value) {
+    if (id != ParamId::wheelbase_arc_mm) {
+      set(id, value);
+    }
+  });
   if (has_arc && f.wheelbase_arc_mm != 0.0) {
-    set("wheelbase_arc_mm", f.wheelbase_arc_mm);
+    set(ParamId::wheelbase_arc_mm, f.wheelbase_arc_mm);
   }
 }
 
 nlohmann::json factors_json(const Factors& f) {
-  return {{"c_l", f.c_l},     {"c_r", f.c_r},     {"wheelbase_mm", f.wheelbase_mm},
-          {"f_lat", f.f_lat}, {"f_lon", f.f_lon}, {"wheelbase_arc_mm", f.wheelbase_arc_mm}};
+  nlohmann::json j = nlohmann::json::object();
+  f.each([&j](ParamId id, double value) { j[params::param_info(id).name] = value; });
+  return j;
 }
 
 double plain(double value, int decimals) {
@@ -192,9 +184,9 @@ std::string count_of(std::size_t n, const char* singular, const char* plural) {
 }
 
 double Context::path_seconds(double length_m, double turn_rad, int segments) {
-  const double v = get("v_max_mps");
-  const double w = get("w_max_radps");
-  const double settle_s = get("settle_ms") / 1000.0;
+  const double v = get(ParamId::v_max_mps);
+  const double w = get(ParamId::w_max_radps);
+  const double settle_s = get(ParamId::settle_ms) / 1000.0;
   return length_m / v + turn_rad / w + segments * (settle_s + 1.0);
 }
 
@@ -249,29 +241,13 @@ void open_console(RobotClient& robot, MeasurementSource& measurements,
 /// What is in force when the session starts: what an interruption puts back.
 void note_initial(Context& c) {
   c.initial = c.factors();
-  c.initial_cruise_mps = c.get("v_max_mps");
+  c.initial_cruise_mps = c.get(ParamId::v_max_mps);
   c.initial_unsaved = c.robot.status().text("unsaved") != "0";
   // wiring_fix: noted by the self-test, the one step that changes it.
 }
 
 session::Outcome run_procedure(Context& c) {
-  switch (c.options.procedure) {
-    case Procedure::umbmark:
-      return session::run_umbmark(c);
-    case Procedure::lateral:
-      return session::run_lateral(c);
-    case Procedure::verify:
-      return session::run_verify(c);
-    case Procedure::fit:
-      return session::run_fit(c);
-    case Procedure::extended:
-      return session::run_extended(c);
-    case Procedure::selftest:
-      return session::run_selftest(c);
-    case Procedure::automatic:
-      return session::run_auto(c);
-  }
-  return {};
+  return session::procedure_steps[static_cast<std::size_t>(c.options.procedure)].run(c);
 }
 
 /// The files of a complete session, and what it says at the end.

@@ -32,17 +32,20 @@ struct Settings {
 Settings settings_now(Context& c) {
   Settings s;
   s.factors = c.factors();
-  s.cruise_mps = c.get("v_max_mps");
+  s.cruise_mps = c.get(ParamId::v_max_mps);
   if (c.initial_wiring_fix) {
-    s.wiring_fix = c.get("wiring_fix");
+    s.wiring_fix = c.get(ParamId::wiring_fix);
   }
   return s;
 }
 
 bool same_factors(const Factors& f, const Factors& i) {
-  return same_value(f.c_l, i.c_l) && same_value(f.c_r, i.c_r) &&
-         same_value(f.wheelbase_mm, i.wheelbase_mm) && same_value(f.f_lat, i.f_lat) &&
-         same_value(f.f_lon, i.f_lon) && same_value(f.wheelbase_arc_mm, i.wheelbase_arc_mm);
+  std::vector<double> values;
+  i.each([&values](ParamId, double value) { values.push_back(value); });
+  std::size_t k = 0;
+  bool same = true;
+  f.each([&](ParamId, double value) { same = same && same_value(value, values[k++]); });
+  return same;
 }
 
 bool as_started(const Context& c, const Settings& s) {
@@ -64,9 +67,9 @@ void stop_robot(Context& c) {
 /// Each setting `set` back to what was in force at the start.
 void set_back(Context& c) {
   c.set_factors(c.initial);
-  c.set("v_max_mps", c.initial_cruise_mps);
+  c.set(ParamId::v_max_mps, c.initial_cruise_mps);
   if (c.initial_wiring_fix) {
-    c.set("wiring_fix", *c.initial_wiring_fix);
+    c.set(ParamId::wiring_fix, *c.initial_wiring_fix);
   }
 }
 

@@ -300,7 +300,7 @@ Outcome run_extended(Context& c) {
       const std::string name = direction == 0 ? "cw" : "ccw";
       for (std::size_t i = 0; i < n; ++i) {
         static_cast<void>(c.run(floor == 0 ? name : "bumps-" + name,
-                                "run umbmark-" + name + " " + side_text, expected_s));
+                                Motion::square(direction == 0, side_m), expected_s));
         complete_heading(c, c.runs.size());
         need_heading(c.runs.back(), c.runs.size());
         runs[floor][direction].push_back(error_of(c.runs.back(), direction == 0));

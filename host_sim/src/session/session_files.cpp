@@ -157,7 +157,7 @@ nlohmann::json runs_json(const std::vector<RunRecord>& runs) {
     }
     out.push_back(
         {{"label", r.label},
-         {"command", r.command},
+         {"command", r.motion.command()},
          {"ticks", ticks},
          {"trial", r.trial},
          {"path", r.path},
@@ -189,11 +189,11 @@ void write_report(Context& c, const nlohmann::json& result, const std::string& s
   try {
     // From the robot when it still answers (after an interruption it may not).
     in.factors = c.last_factors.value_or(c.initial);
-    in.wheel_diameter_mm = c.get("wheel_diameter_mm");
+    in.wheel_diameter_mm = c.get(ParamId::wheel_diameter_mm);
     // The wheelbase in force when the session started: the geometry the runs were driven and
     // their odometry computed with (the fit's "before").
     in.wheelbase_mm = c.initial.wheelbase_mm;
-    in.counts_per_rev = c.get("counts_per_rev");
+    in.counts_per_rev = c.get(ParamId::counts_per_rev);
     const Reply provenance = c.robot.command("provenance", 2000);
     if (provenance.ok) {
       in.provenance = provenance.pairs;
@@ -245,7 +245,15 @@ std::vector<RunRecord> recorded_runs(const nlohmann::json& session, const std::s
     try {
       RunRecord r;
       r.label = run.at("label").get<std::string>();
-      r.command = run.at("command").get<std::string>();
+      const std::string command = run.at("command").get<std::string>();
+      const std::optional<Motion> motion = Motion::of_command(command);
+      if (!motion) {
+        throw InputError(file, 0, "runs",
+                         "run " + std::to_string(index) + ": command '" + command +
+                             "' is not a motion the robot knows (run, drive <v> <w> <ms>, "
+                             "selftest)");
+      }
+      r.motion = *motion;
       r.trial = whole_of(run.at("trial"), "trial");
       r.path = run.at("path").get<std::string>();
       r.duration_ms = run.at("duration_ms").get<double>();

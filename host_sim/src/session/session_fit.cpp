@@ -82,23 +82,20 @@ namespace {
 /// is followed by another of its kind). The logs the fit may use (the measured stop point on each
 /// log's last row).
 std::vector<TickLog> drive_fit_runs(Context& c, std::size_t n, double length_m, RunJury& jury) {
-  const double cruise = c.get("v_max_mps");
+  const double cruise = c.get(ParamId::v_max_mps);
   c.log << "Fit: " << n << " runs logged with 'stream ticks' (a " << fmt::format("{:.2f}", length_m)
         << " m line, a left arc, a right arc, repeated); measure the stop point of each, with "
            "its heading if you can.\n";
   const auto drive = [&](const std::string& label) {
-    char command[96];
     RunRecord r;
     if (label == "line") {
-      std::snprintf(command, sizeof command, "run line %.3f", length_m);
-      r = c.run("line", command, c.path_seconds(length_m, 0.0, 1), true);
+      r = c.run("line", Motion::line(length_m), c.path_seconds(length_m, 0.0, 1), true);
     } else {
       // ~140° arcs of 0.3 m radius at 0.75 of the cruise speed.
       const double v = 0.75 * cruise;
       const double w = (label == "arc-left" ? 1.0 : -1.0) * v / 0.3;
       const int ms = static_cast<int>(std::lround(2.5 / std::fabs(w) * 1000.0));
-      std::snprintf(command, sizeof command, "drive %.3f %.3f %d", v, w, ms);
-      r = c.run(label, command, ms / 1000.0 + 2.0, true);
+      r = c.run(label, Motion::timed(v, w, ms), ms / 1000.0 + 2.0, true);
     }
     c.write_file(fmt::format("fit_run_{:02d}.csv", jury.size() + 1), tick_log_csv(r));
     jury.add(c.runs.size() - 1);
@@ -198,9 +195,9 @@ Outcome run_fit(Context& c) {
   c.need_measurements(n, "the fit (" + std::to_string(n) + " runs)");
   c.planned = n;
   FitNominal nominal;
-  nominal.wheel_diameter_mm = c.get("wheel_diameter_mm");
-  nominal.wheelbase_mm = c.get("wheelbase_mm");
-  nominal.counts_per_rev = c.get("counts_per_rev");
+  nominal.wheel_diameter_mm = c.get(ParamId::wheel_diameter_mm);
+  nominal.wheelbase_mm = c.get(ParamId::wheelbase_mm);
+  nominal.counts_per_rev = c.get(ParamId::counts_per_rev);
   const std::size_t first_run = c.runs.size() + 1;
   RunJury jury(c, nominal,
                fit_geometry_of(geometry_in_force(c.initial, nominal.wheel_diameter_mm)));

@@ -12,20 +12,63 @@
 
 #include <nlohmann/json.hpp>
 
+#include "odocal/drive/drive_config.hpp"
 #include "odocal/host/fit.hpp"
 #include "odocal/host/session.hpp"
+#include "odocal/params/param_table.hpp"
 
 namespace odocal::host::session {
 
-/// The factors in force on the robot.
+/// A robot parameter, by its stored id (drive/drive_config.hpp lists them): the session asks for
+/// parameters by id, so that a misspelt one does not compile.
+using params::ParamId;
+
+// The members of Factors: the parameters of a factor group in the robot's parameter list.
+#define ODOCAL_FACTOR_none(name, initial)
+#define ODOCAL_FACTOR_wheel(name, initial) double name = initial;
+#define ODOCAL_FACTOR_lateral(name, initial) double name = initial;
+#define ODOCAL_FACTOR_MEMBER(type, name, initial, unit, min, max, group) \
+  ODOCAL_FACTOR_##group(name, initial)
+#define ODOCAL_FACTOR_EACH_none(name)
+#define ODOCAL_FACTOR_EACH_wheel(name) fn(ParamId::name, self.name);
+#define ODOCAL_FACTOR_EACH_lateral(name) fn(ParamId::name, self.name);
+#define ODOCAL_FACTOR_EACH(type, name, initial, unit, min, max, group) \
+  ODOCAL_FACTOR_EACH_##group(name)
+
+/// The factors in force on the robot: one member per parameter of a factor group (wheel, lateral)
+/// in the robot's parameter list (drive/drive_config.hpp), its default the robot's. A new factor
+/// there is a new member here, read, set, compared and written to session.json with the others.
+/// wheelbase_arc_mm 0: the same as wheelbase_mm (also what firmware without it has).
 struct Factors {
-  double c_l = 1.0;
-  double c_r = 1.0;
-  double wheelbase_mm = 0.0;
-  double f_lat = 1.0;
-  double f_lon = 1.0;
-  /// The arc wheelbase (0: the same as wheelbase_mm, or firmware without the parameter).
-  double wheelbase_arc_mm = 0.0;
+  ODOCAL_DRIVE_PARAMETERS(ODOCAL_FACTOR_MEMBER)
+
+  /// Calls fn(id, value) for each factor, in the list's order.
+  /// Equal factor by factor (exactly).
+  friend bool operator==(const Factors& a, const Factors& b) {
+    bool same = true;
+    const Factors* other = &b;
+    a.each([&](ParamId id, double value) {
+      double theirs = 0.0;
+      other->each([&](ParamId i, double v) { theirs = i == id ? v : theirs; });
+      same = same && value == theirs;
+    });
+    return same;
+  }
+
+  template <class Fn>
+  void each(Fn&& fn) {
+    each_of(*this, fn);
+  }
+  template <class Fn>
+  void each(Fn&& fn) const {
+    each_of(*this, fn);
+  }
+
+ private:
+  template <class Self, class Fn>
+  static void each_of(Self& self, Fn& fn) {
+    ODOCAL_DRIVE_PARAMETERS(ODOCAL_FACTOR_EACH)
+  }
 };
 
 /// What a procedure hands back to the engine.
@@ -73,9 +116,9 @@ class Context {
   [[nodiscard]] std::uint64_t date() const;
 
   /// `get NAME` as a number.
-  double get(const std::string& name);
+  double get(ParamId id);
   /// `set NAME VALUE`; returns the value as stored.
-  double set(const std::string& name, double value);
+  double set(ParamId id, double value);
   [[nodiscard]] Factors factors();
   /// Puts `f` in force: the arc wheelbase cleared first and set last, so that no step breaks
   /// the firmware's rule that it stays within 20 % of wheelbase_mm.
@@ -84,7 +127,7 @@ class Context {
   /// One measured run: `odom reset`, `command` (a `run ...` or timed `drive`), `# done` within a
   /// timeout from `expected_s` (the run's nominal duration), `trial`, then the measurement.
   /// With `log_ticks` the run is logged through `stream ticks`.
-  RunRecord run(const std::string& label, const std::string& command, double expected_s,
+  RunRecord run(const std::string& label, const Motion& motion, double expected_s,
                 bool log_ticks = false);
 
   /// Nominal duration of a path of `length_m` metres and `turn_rad` radians of turning on the
@@ -93,7 +136,7 @@ class Context {
 
   /// Sends a run's motion command; a reply damaged on the line is judged by what the robot then
   /// does (moving, or a newer trial): sent again only when it did not take it.
-  void start_motion(const std::string& command);
+  void start_motion(const Motion& motion);
   /// The robot's tick count at the last check (unset: none yet).
   std::optional<std::int64_t> last_ticks;
   /// The trial number of the last run driven (0: none yet).
@@ -177,6 +220,43 @@ Outcome run_extended(Context& context);
 Outcome run_selftest(Context& context);
 /// Self-test, the runs the factors need (chosen by what each adds), verification, save.
 Outcome run_auto(Context& context);
+
+/// What the engine does for each procedure beside its row in `procedures` (session.hpp: name,
+/// --runs' bounds): how many measured runs it plans (for "Run 3/10" and the measurement file's
+/// check) and the function that runs it. One row per Procedure, in its order (checked below): a
+/// new procedure is its row here and in `procedures`, and its file (docs/architecture.md).
+struct ProcedureSteps {
+  Procedure procedure;
+  std::size_t (*planned)(const SessionOptions& options);
+  Outcome (*run)(Context& context);
+};
+
+inline constexpr ProcedureSteps procedure_steps[] = {
+    {Procedure::umbmark, [](const SessionOptions& o) { return 2 * o.runs.value_or(5); },
+     run_umbmark},
+    {Procedure::lateral, [](const SessionOptions& o) { return o.runs.value_or(10) + lateral_arcs; },
+     run_lateral},
+    {Procedure::fit, [](const SessionOptions& o) { return o.runs.value_or(6); }, run_fit},
+    {Procedure::verify, [](const SessionOptions& o) { return 2 * o.runs.value_or(5); }, run_verify},
+    {Procedure::extended, [](const SessionOptions& o) { return 4 * o.runs.value_or(5); },
+     run_extended},
+    // A measured run only for a fault the encoders cannot tell apart.
+    {Procedure::selftest, [](const SessionOptions&) { return std::size_t{0}; }, run_selftest},
+    // The first round and the verification; more only when the precision asks for them.
+    {Procedure::automatic,
+     [](const SessionOptions&) { return auto_first_round + auto_verify_runs; }, run_auto},
+};
+
+constexpr bool steps_in_procedure_order() {
+  std::size_t k = 0;
+  for (const ProcedureSteps& s : procedure_steps) {
+    if (static_cast<std::size_t>(s.procedure) != k++ || s.planned == nullptr || s.run == nullptr) {
+      return false;
+    }
+  }
+  return k == std::size(procedures);
+}
+static_assert(steps_in_procedure_order(), "procedure_steps: one row per Procedure, in its order");
 
 /// The session's result as diff_drive_controller parameters in out_dir/diff_drive_controller.yaml,
 /// and as `result.ros` (session_ros.cpp): a ROSArduinoBridge robot's factors in force on the host

@@ -123,22 +123,21 @@ class LateralProcedure {
                                               std::to_string(lateral_arcs) + " arcs)");
     c.planned = n + lateral_arcs;
     in_force = c.factors();
-    diameter = c.get("wheel_diameter_mm");
-    counts_per_rev = c.get("counts_per_rev");
-    cruise = c.get("v_max_mps");
+    diameter = c.get(ParamId::wheel_diameter_mm);
+    counts_per_rev = c.get(ParamId::counts_per_rev);
+    cruise = c.get(ParamId::v_max_mps);
     c.log << "Lateral: " << n << " straight trials of " << fmt::format("{:.3f}", length_m)
           << " m at cruise speeds from " << fmt::format("{:.3f}", 0.5 * cruise) << " to "
           << fmt::format("{:.3f}", 1.5 * cruise) << " m/s, then " << lateral_arcs
           << " gentle arcs (timed drives).\nPlace the robot on the start mark, aligned with the "
              "line, before each run; measure where its reference point stopped.\n";
 
-    char line[96];
     try {
       for (std::size_t i = 0; i < n; ++i) {
         const double share = n > 1 ? static_cast<double>(i) / static_cast<double>(n - 1) : 0.5;
-        const double v = c.set("v_max_mps", cruise * (0.5 + share));
-        std::snprintf(line, sizeof line, "run line %.3f", length_m);
-        const RunRecord r = c.run("line", line, c.path_seconds(length_m, 0.0, 1) * cruise / v);
+        const double v = c.set(ParamId::v_max_mps, cruise * (0.5 + share));
+        const RunRecord r =
+            c.run("line", Motion::line(length_m), c.path_seconds(length_m, 0.0, 1) * cruise / v);
         stops.push_back({r.measured.x_mm, r.measured.y_mm});
         training.push_back(training_row(r, counts_per_rev));
         xdot_sum += training.back().xdot_mps;
@@ -149,11 +148,10 @@ class LateralProcedure {
       static_cast<void>(c.robot.command("set v_max_mps " + fmt::format("{:.6f}", cruise)));
       throw;
     }
-    c.set("v_max_mps", cruise);
+    c.set(ParamId::v_max_mps, cruise);
     for (const Arc& arc : arcs) {
-      std::snprintf(line, sizeof line, "drive %.3f %.3f %d", arc.speed_share * cruise, arc.w_radps,
-                    arc.ms);
-      const RunRecord r = c.run("arc", line, arc.ms / 1000.0 + 2.0);
+      const RunRecord r = c.run("arc", Motion::timed(arc.speed_share * cruise, arc.w_radps, arc.ms),
+                                arc.ms / 1000.0 + 2.0);
       training.push_back(training_row(r, counts_per_rev));
     }
   }
@@ -365,8 +363,8 @@ class LateralProcedure {
                       chosen->f_lon, static_cast<unsigned long long>(c.date()), c.runs.size());
         static_cast<void>(c.robot.expect_ok(line));
       } else {
-        c.set("f_lat", chosen->f_lat);  // eq. 4-5 computed on the host: provenance `manual`
-        c.set("f_lon", chosen->f_lon);
+        c.set(ParamId::f_lat, chosen->f_lat);  // eq. 4-5 computed on the host: provenance `manual`
+        c.set(ParamId::f_lon, chosen->f_lon);
       }
       outcome.applied = true;
       outcome.result["applied_from"] = from;

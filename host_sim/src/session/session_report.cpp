@@ -96,9 +96,9 @@ std::vector<PathPoint> trace_of(const RunRecord& r, double d_l, double d_r, doub
 }
 
 /// The path a run was told to drive, from its command (runs without a tick log), in mm: the one
-/// reading of a drive command (path_of_command); none for the self-test's wheel drives.
+/// path of its motion (Motion::path); none for the self-test's wheel drives.
 std::vector<PathPoint> commanded_path(const RunRecord& r) {
-  const drive::Path path = path_of_command(r.command).value_or(drive::Path{});
+  const drive::Path path = r.motion.path().value_or(drive::Path{});
   std::vector<PathPoint> out{PathPoint{0.0, 0.0}};
   drive::model::PoseOf<double> pose;
   for (std::uint8_t i = 0; i < path.count; ++i) {
@@ -296,7 +296,7 @@ std::string verify_figure(const ReportInput& in, ReportParts& p) {
   std::vector<std::pair<std::string, std::string>> verify_legend;
   for (const std::string& label : p.labels) {
     for (const RunRecord& r : in.runs) {
-      if (r.label != label || r.command != "run unseen") {
+      if (r.label != label || r.motion != Motion::unseen()) {
         continue;
       }
       if (target == nullptr) {

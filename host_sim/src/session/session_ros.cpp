@@ -101,7 +101,7 @@ void write_ros_yaml(Context& c, Outcome& outcome, bool saved) {
   const Factors f = c.factors();
   const BridgeConsole* bridge = c.options.bridge;
   const double wheel_diameter_mm =
-      bridge != nullptr ? bridge->nominal().wheel_diameter_mm : c.get("wheel_diameter_mm");
+      bridge != nullptr ? bridge->nominal().wheel_diameter_mm : c.get(ParamId::wheel_diameter_mm);
   const drive::model::Geometry<double> g = geometry_in_force(f, wheel_diameter_mm);
   const RosGeometry ros_geometry = bridge != nullptr
                                        ? ros_geometry_for_bridge(f, bridge->nominal())

@@ -242,9 +242,10 @@ void read_trial(RobotClient& robot, const std::map<std::string, std::string>& do
 SessionPose Context::measure(const RunRecord& r, std::size_t index, const Factors& in_force) {
   ReadingFacts facts;
   facts.odom = r.odom;
-  const std::optional<drive::Path> path = path_of_command(r.command);
+  const std::optional<drive::Path> path = r.motion.path();
   if (path) {
-    const drive::model::Geometry<double> g = geometry_in_force(in_force, get("wheel_diameter_mm"));
+    const drive::model::Geometry<double> g =
+        geometry_in_force(in_force, get(ParamId::wheel_diameter_mm));
     facts.allowance = allowance_of(*path, g);
     facts.extent = extent_of(*path);
     facts.extent.wheelbase_mm = g.wheelbase;
@@ -255,12 +256,9 @@ SessionPose Context::measure(const RunRecord& r, std::size_t index, const Factor
   for (std::size_t i = 0; i < runs.size() && jury == nullptr; ++i) {
     // The same run: the same command for the same purpose (the extended UMBmark's runs over
     // cables repeat its bump-free squares' command, not their conditions).
-    if (runs[i].command == r.command && runs[i].label == r.label && path) {
+    if (runs[i].motion == r.motion && runs[i].label == r.label && path) {
       const std::optional<Factors>& then = i < run_factors.size() ? run_factors[i] : std::nullopt;
-      const bool same = then && then->c_l == in_force.c_l && then->c_r == in_force.c_r &&
-                        then->wheelbase_mm == in_force.wheelbase_mm &&
-                        then->wheelbase_arc_mm == in_force.wheelbase_arc_mm &&
-                        then->f_lat == in_force.f_lat && then->f_lon == in_force.f_lon;
+      const bool same = then && *then == in_force;
       facts.earlier.push_back(EarlierReading{runs[i].odom, runs[i].measured, same});
     }
   }
@@ -296,7 +294,8 @@ SessionPose Context::measure(const RunRecord& r, std::size_t index, const Factor
   return pose;
 }
 
-void Context::start_motion(const std::string& command) {
+void Context::start_motion(const Motion& motion) {
+  const std::string command = motion.command();
   for (int attempt = 0; attempt < 3; ++attempt) {
     const Reply reply = robot.command(command);
     if (reply.ok) {
@@ -361,18 +360,19 @@ void Context::wait_for_enter(const std::string& prompt, const std::string& befor
   }
 }
 
-RunRecord Context::run(const std::string& label, const std::string& command, double expected_s,
+RunRecord Context::run(const std::string& label, const Motion& motion, double expected_s,
                        bool log_ticks) {
   const std::size_t index = runs.size();
   planned = std::max(planned, index + 1);
   if (index < options.replay.size()) {
     // --resume: this run was driven and measured before the interruption.
     RunRecord r = options.replay[index];
-    if (r.command != command || r.label != label) {
-      throw InputError(options.out_dir + "/session.json", 0, "runs",
-                       fmt::format("run {} was '{}' ({}), this session would drive '{}' ({}): "
-                                   "the interrupted session ran with other settings",
-                                   index + 1, r.command, r.label, command, label));
+    if (r.motion != motion || r.label != label) {
+      throw InputError(
+          options.out_dir + "/session.json", 0, "runs",
+          fmt::format("run {} was '{}' ({}), this session would drive '{}' ({}): "
+                      "the interrupted session ran with other settings",
+                      index + 1, r.motion.command(), r.label, motion.command(), label));
     }
     if (log_ticks) {
       check_replayed_ticks(r, index + 1, options.out_dir + "/session.json");
@@ -391,7 +391,7 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
   check_still_up(index);
   RunRecord r;
   r.label = label;
-  r.command = command;
+  r.motion = motion;
   robot.expect_ok("odom reset");
   TickLogging logging(robot);
   if (log_ticks) {
@@ -418,8 +418,8 @@ RunRecord Context::run(const std::string& label, const std::string& command, dou
     }
     r.ticks.erase(r.ticks.begin(), r.ticks.end() - 1);
   }
-  log << fmt::format("Run {}/{}: {} ({})\n", index + 1, planned, label, command);
-  start_motion(command);
+  log << fmt::format("Run {}/{}: {} ({})\n", index + 1, planned, label, motion.command());
+  start_motion(motion);
   const std::map<std::string, std::string> done = wait_done(*this, expected_s);
   if (log_ticks) {
     robot.expect_ok("stream off");

@@ -50,6 +50,11 @@ struct Diagnosis {
   std::string fix;
 };
 
+/// The self-test of one wheel ("left" or "right").
+Motion wheel_motion(const std::string& side) {
+  return Motion::selftest(side == "right" ? Motion::Wheels::right : Motion::Wheels::left);
+}
+
 /// Tells the two faults behind a console fault apart by the heading the robot turned to while
 /// `selftest <side>` drove one wheel: a left wheel turning forward (or a right wheel turning
 /// backwards) turns the robot clockwise.
@@ -57,7 +62,7 @@ Diagnosis diagnose(Context& c, const std::string& seen) {
   const bool right = seen == "right_reversed";
   const std::string side = right ? "right" : "left";
   c.robot.drain(300);  // the `# done` of the self-test's own drives
-  const RunRecord r = c.run("selftest " + side, "selftest " + side, 1.2);
+  const RunRecord r = c.run("selftest " + side, wheel_motion(side), 1.2);
   if (!r.measured.theta_deg) {
     throw InputError("measurement", 0, "theta_deg",
                      "the self-test needs the robot's heading after the run (x y theta): it "
@@ -92,7 +97,7 @@ Diagnosis diagnose(Context& c, const std::string& seen) {
 void check_fix(Context& c, const std::vector<std::string>& sides) {
   for (const std::string& side : sides) {
     c.robot.drain(300);
-    const RunRecord r = c.run("selftest check " + side, "selftest " + side, 1.2);
+    const RunRecord r = c.run("selftest check " + side, wheel_motion(side), 1.2);
     const bool counter_clockwise = r.measured.theta_deg.value_or(0.0) > 0.0;
     const bool as_predicted = side == "right" ? counter_clockwise : !counter_clockwise;
     if (!as_predicted) {
@@ -126,19 +131,19 @@ std::optional<Outcome> replayed(Context& c) {
   if (c.runs.size() + measured > c.options.replay.size()) {
     return std::nullopt;  // its runs are not all there: test again
   }
-  c.initial_wiring_fix = c.get("wiring_fix");  // what an interruption puts back
+  c.initial_wiring_fix = c.get(ParamId::wiring_fix);  // what an interruption puts back
   Outcome out;
   out.result = before["selftest"];
   out.text = before.value("selftest_text", std::string());
   const std::size_t runs_before = c.runs.size();
   for (std::size_t i = 0; i < measured; ++i) {
     const RunRecord& r = c.options.replay[c.runs.size()];
-    static_cast<void>(c.run(r.label, r.command, 1.2));
+    static_cast<void>(c.run(r.label, r.motion, 1.2));
   }
   std::string again;
   if (out.result.contains("fixed") && out.result["fixed"].contains("wiring_fix")) {
     const double value = out.result["fixed"]["wiring_fix"].get<double>();
-    static_cast<void>(c.set("wiring_fix", value));
+    static_cast<void>(c.set(ParamId::wiring_fix, value));
     out.applied = true;
     again = fmt::format("; its fix applied again (wiring_fix {:.0f})", value);
   }
@@ -157,7 +162,7 @@ Outcome run_selftest(Context& c) {
   }
   const std::size_t runs_before = c.runs.size();
   Outcome out;
-  const double wiring_fix = c.get("wiring_fix");
+  const double wiring_fix = c.get(ParamId::wiring_fix);
   if (!c.initial_wiring_fix) {
     c.initial_wiring_fix = wiring_fix;  // what an interruption puts back
   }
@@ -198,7 +203,7 @@ Outcome run_selftest(Context& c) {
     }
     c.log << text.str();
     if (ask_yes_no(c, fmt::format("Apply the fix ({}): set wiring_fix {}?", names, proposed))) {
-      const auto value = static_cast<std::uint32_t>(c.set("wiring_fix", proposed));
+      const auto value = static_cast<std::uint32_t>(c.set(ParamId::wiring_fix, proposed));
       out.result["fixed"]["wiring_fix"] = value;
       out.result["wiring_fix"] = value;
       out.applied = true;

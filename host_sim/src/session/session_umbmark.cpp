@@ -217,13 +217,13 @@ std::string implausible(const calib::UmbmarkResult& r, const Solved& solved,
 
 /// Drives one pass: `n` clockwise squares, then `n` counter-clockwise; their return errors
 /// (measured minus odometry) into errors[0] (cw) and errors[1] (ccw).
-void drive_pass(Context& c, std::size_t pass, std::size_t n, const char* side_text,
-                double expected_s, std::vector<calib::ReturnError> (&errors)[2]) {
+void drive_pass(Context& c, std::size_t pass, std::size_t n, double side_m, double expected_s,
+                std::vector<calib::ReturnError> (&errors)[2]) {
   for (int direction = 0; direction < 2; ++direction) {
     const std::string name = direction == 0 ? "cw" : "ccw";
     for (std::size_t i = 0; i < n; ++i) {
       const RunRecord r = c.run(pass == 1 ? name : "pass" + std::to_string(pass) + "-" + name,
-                                "run umbmark-" + name + " " + side_text, expected_s);
+                                Motion::square(direction == 0, side_m), expected_s);
       errors[direction].push_back({r.measured.x_mm - r.odom.x_mm, r.measured.y_mm - r.odom.y_mm});
     }
   }
@@ -288,12 +288,12 @@ Outcome run_umbmark(Context& c) {
   char side_text[32];
   std::snprintf(side_text, sizeof side_text, "%.3f", side_m);
   for (std::size_t pass = 1; pass <= max_passes; ++pass) {
-    const double b = c.get("wheelbase_mm");
+    const double b = c.get(ParamId::wheelbase_mm);
     c.log << "UMBmark pass " << pass << ": " << count_of(n, "run", "runs") << " clockwise, then "
           << n << " counter-clockwise, around a " << side_text << " m square.\n"
           << "Place the robot on the start mark, aligned with the first leg, before each run.\n";
     std::vector<calib::ReturnError> errors[2];
-    drive_pass(c, pass, n, side_text, expected_s, errors);
+    drive_pass(c, pass, n, side_m, expected_s, errors);
     const std::string prefix = pass == 1 ? "umbmark" : "umbmark_pass" + std::to_string(pass);
     c.write_file(prefix + "_cw.csv", csv_of(errors[0]));
     c.write_file(prefix + "_ccw.csv", csv_of(errors[1]));
@@ -310,7 +310,7 @@ Outcome run_umbmark(Context& c) {
     // Plausible or refused: nothing is applied from a pass outside the formulas' validity or
     // outside what a real robot can be (docs/calibration.md, "Plausible results").
     const calib::WheelFactors next =
-        calib::compose(calib::WheelFactors{c.get("c_l"), c.get("c_r"), b}, result);
+        calib::compose(calib::WheelFactors{c.get(ParamId::c_l), c.get(ParamId::c_r), b}, result);
     const std::string refusal = implausible(result, solved, next, wheelbase_at_start, side_mm);
     object["plausible"] = refusal.empty();
     passes.push_back(object);

@@ -20,7 +20,8 @@ namespace odocal::host::session {
 namespace {
 
 /// The `default=` of `name` in the `params` listing (the target's own default).
-double parameter_default(Context& c, const std::string& name) {
+double parameter_default(Context& c, ParamId id) {
+  const std::string name = params::param_info(id).name;
   std::vector<std::string> lines;
   const Reply reply = c.robot.command("params", 10000, &lines);
   if (!reply.ok) {
@@ -60,7 +61,7 @@ std::vector<UnseenStop> drive_unseen(Context& c, const UnseenPath& unseen, const
                                      std::size_t n, bool log_ticks) {
   std::vector<UnseenStop> stops;
   for (std::size_t i = 0; i < n; ++i) {
-    const RunRecord r = c.run(label, "run unseen", unseen.expected_s, log_ticks);
+    const RunRecord r = c.run(label, Motion::unseen(), unseen.expected_s, log_ticks);
     stops.push_back(UnseenStop{r.measured.x_mm, r.measured.y_mm,
                                calib::EndError{r.measured.x_mm - unseen.goal.x_m * 1e3,
                                                r.measured.y_mm - unseen.goal.y_m * 1e3}});
@@ -78,7 +79,7 @@ Outcome run_verify(Context& c) {
 
   const Factors in_force = c.factors();
   Factors nominal;
-  nominal.wheelbase_mm = parameter_default(c, "wheelbase_mm");
+  nominal.wheelbase_mm = parameter_default(c, ParamId::wheelbase_mm);
   const bool saved_state = c.robot.status().text("unsaved") == "0";
 
   c.log << "Verify: the unseen path (100 cm square, 100 cm triangle, 80 cm semicircle; it should "

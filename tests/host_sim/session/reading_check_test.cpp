@@ -19,7 +19,12 @@ drive::model::Geometry<double> robot() {
   return drive::model::Geometry<double>{60.0, 60.0, 150.0, 0.0};
 }
 
-TEST(ReadingCheck, CommandsNameTheirPaths) {
+std::optional<drive::Path> path_of_command(const std::string& command) {
+  const std::optional<Motion> motion = Motion::of_command(command);
+  return motion ? motion->path() : std::nullopt;
+}
+
+TEST(Motion, CommandsNameTheirPaths) {
   ASSERT_TRUE(path_of_command("run line 3.000"));
   EXPECT_EQ(path_of_command("run line 3.000")->count, 1);
   EXPECT_EQ(path_of_command("run umbmark-cw 2")->count, drive::make_umbmark_square(true, 2).count);
@@ -29,8 +34,54 @@ TEST(ReadingCheck, CommandsNameTheirPaths) {
   EXPECT_NEAR(spin->segments[0].angle_rad, 1.5708 * 24.0, 1e-3);
   EXPECT_EQ(spin->segments[0].distance_m, 0.0f);
   EXPECT_FALSE(path_of_command("selftest left"));
+  EXPECT_TRUE(Motion::of_command("selftest left"));
   EXPECT_FALSE(path_of_command("run line x"));
-  EXPECT_FALSE(path_of_command("drive 0.1 0"));
+  EXPECT_FALSE(path_of_command("drive 0.1 0"));  // runs until stopped: not a run's motion
+}
+
+TEST(Motion, ALineIsReadAsTheRobotReadsItAndRefusedWhereItRefuses) {
+  // The robot's ranges (console/commands.hpp): a run from 0.01 to 20 m, |v| <= 5 m/s,
+  // |w| <= 50 rad/s, 0 .. 600000 whole milliseconds.
+  EXPECT_TRUE(Motion::of_command("run line 0.01"));
+  EXPECT_FALSE(Motion::of_command("run line 0.009"));
+  EXPECT_TRUE(Motion::of_command("run line 20"));
+  EXPECT_FALSE(Motion::of_command("run line 20.0001"));
+  EXPECT_FALSE(Motion::of_command("drive 5.1 0 1000"));
+  EXPECT_FALSE(Motion::of_command("drive 0.1 -50.5 1000"));
+  EXPECT_FALSE(Motion::of_command("drive 0.1 0 1000.5"));
+  EXPECT_FALSE(Motion::of_command("drive 0.1 0 600001"));
+  EXPECT_FALSE(Motion::of_command("selftest both"));
+  EXPECT_FALSE(Motion::of_command("run"));
+  EXPECT_FALSE(Motion::of_command("get c_l"));
+  // Extra spaces are the robot's separators too; the words are the same motion.
+  EXPECT_EQ(Motion::of_command("  run   line  1.5 "), Motion::line(1.5));
+}
+
+TEST(Motion, AMotionIsTheValueItsLineCarriesAndComparesAsOne) {
+  // Built from any double, a motion holds what its line carries: the same motion read back.
+  for (const Motion& m :
+       {Motion::line(1.23456), Motion::square(true, 2.0004), Motion::square(false, 0.7),
+        Motion::timed(0.123456, -0.98765, 2499.6), Motion::timed(0.0, 1.5708, 24000.0),
+        Motion::unseen(), Motion::selftest(Motion::Wheels::left),
+        Motion::selftest(Motion::Wheels::both)}) {
+    const std::optional<Motion> read = Motion::of_command(m.command());
+    ASSERT_TRUE(read) << m.command();
+    EXPECT_EQ(*read, m) << m.command();
+    EXPECT_EQ(read->command(), m.command());
+  }
+  EXPECT_EQ(Motion::line(1.23456).command(), "run line 1.235");
+  EXPECT_EQ(Motion::timed(0.123456, -0.98765, 2499.6).command(), "drive 0.1235 -0.9877 2500");
+  EXPECT_EQ(Motion::square(false, 0.7).command(), "run umbmark-ccw 0.700");
+  // Compared as values, not as text: "1.5" and "1.500" are the same line.
+  EXPECT_EQ(*Motion::of_command("run line 1.5"), *Motion::of_command("run line 1.500"));
+  EXPECT_NE(Motion::line(1.5), Motion::square(true, 1.5));
+  EXPECT_NE(Motion::timed(0.1, 0.2, 1000), Motion::timed(0.1, 0.2, 1001));
+  // A motion the robot would refuse stays what was asked for: sent, the robot refuses it (and the
+  // session says so); never another motion.
+  const Motion too_long = Motion::line(25.0);
+  EXPECT_EQ(too_long.kind, Motion::Kind::line);
+  EXPECT_EQ(too_long.command(), "run line 25.000");
+  EXPECT_FALSE(Motion::of_command(too_long.command()));
 }
 
 TEST(ReadingCheck, ALinesReachIsTheWheelRatioOverTheShortestWheelbase) {

@@ -271,7 +271,9 @@ TEST(SessionWayOut, AResumeRefusesADamagedSessionJsonNamingWhatIsWrong) {
     const char* said;
   };
   const std::vector<Damage> damages = {
-      {"run 2 driven otherwise", [](json& d) { d["runs"][1]["command"] = "run line 9"; },
+      // (As session.json writes a motion: a refused resume writes back the runs it read, each
+      // motion as its one console line.)
+      {"run 2 driven otherwise", [](json& d) { d["runs"][1]["command"] = "run line 9.000"; },
        "other settings"},
       {"a logged run without ticks", [](json& d) { d["runs"][0]["ticks"] = nullptr; },
        "without a tick log"},

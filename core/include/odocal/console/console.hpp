@@ -12,6 +12,7 @@
 
 #include "odocal/calib/lateral_session.hpp"
 #include "odocal/calib/umbmark_session.hpp"
+#include "odocal/console/commands.hpp"
 #include "odocal/console/kept_trials.hpp"
 #include "odocal/console/line_editor.hpp"
 #include "odocal/console/output_queue.hpp"
@@ -137,60 +138,11 @@ class Console {
   [[nodiscard]] bool echo_enabled() const { return echo_; }
 
  private:
-  /// What handles a command form (Console::dispatch).
-  enum class Handler : std::uint8_t {
-    help,
-    version,
-    status,
-    params,
-    get,
-    set,
-    save,
-    load,
-    defaults,
-    provenance,
-    odom,
-    odom_reset,
-    drive,
-    stop,
-    run_umbmark_cw,
-    run_umbmark_ccw,
-    run_line,
-    run_unseen,
-    trial,
-    trials,
-    trials_clear,
-    umbmark_clear,
-    umbmark_add,
-    umbmark_side,
-    umbmark_solve,
-    umbmark_apply,
-    lateral_clear,
-    lateral_add,
-    lateral_solve,
-    lateral_apply,
-    lateral_set,
-    fit_apply,
-    stream_odom,
-    stream_ticks,
-    stream_off,
-    echo,
-    selftest,
-  };
-  static constexpr std::uint8_t form_sub = 1u;     ///< the synopsis' second word selects the form
-  static constexpr std::uint8_t form_moving = 2u;  ///< refused while the robot moves
-  /// A question: answers without changing anything the robot holds or does.
-  static constexpr std::uint8_t form_question = 4u;
-  /// One row of the command table: one form of a command, as `help` lists it.
-  struct Form {
-    const char* synopsis;  ///< "umbmark add cw|ccw <x_mm> <y_mm>": help line and usage
-    std::uint8_t min_words;
-    std::uint8_t max_words;
-    std::uint8_t flags;  ///< form_sub, form_moving, form_question
-    Handler handler;
-  };
-  static const Form form_table_[];
-  static const std::size_t form_count_;
+  /// One row of the command table (commands.hpp).
+  using Form = CommandForm;
+  /// The list's dispatch calls the handlers below.
+  template <class C>
+  friend void dispatch_form(C& c, Handler handler, const Token* words, std::size_t count);
 
   enum class Listing : std::uint8_t { none, help, params, trials };
 
@@ -389,11 +341,9 @@ class Console {
   void cmd_lateral_clear();
   void cmd_lateral_add(const Token* words);
   void cmd_lateral_solve();
-  /// The two groups of factors, each with its own provenance (params::ParamSet).
-  enum class FactorGroup : std::uint8_t {
-    wheel,    ///< c_l, c_r, wheelbase_mm, wheelbase_arc_mm: UMBmark, `fit apply`
-    lateral,  ///< f_lat, f_lon: Maddahi, `lateral set`
-  };
+  /// The two groups of factors, each with its own provenance (params::ParamSet): the group
+  /// column of the parameter list (drive_config.hpp).
+  using FactorGroup = drive::FactorGroup;
   /// The group's factors in the order its commands take them (commands_calib.cpp).
   static const params::ParamId* factor_ids(FactorGroup group);
   /// `umbmark apply` (wheel) / `lateral apply` (lateral): puts the solved factors in force.
@@ -418,7 +368,7 @@ class Console {
   bool held_ = false;         ///< a byte was read ahead (peek_byte): held_byte_
   std::uint8_t held_byte_{};  ///< read from the stream, not yet taken
   Listing listing_ = Listing::none;
-  const Form* form_ = form_table_;  ///< the form being handled
+  const Form* form_ = command_forms;  ///< the form being handled
   std::size_t listing_index_ = 0u;
   std::uint32_t trial_seen_ = 0u;    ///< number of the last trial announced
   std::uint32_t lateral_used_ = 0u;  ///< number of the last trial `lateral add` took

@@ -49,6 +49,16 @@ struct Decimal {
 /// 1e308 (e.g. `1e999`).
 [[nodiscard]] bool parse_number(const Token& token, float& value);
 
+/// What `read_number_arg` made of a command's numeric argument.
+enum class NumberArg : std::uint8_t { ok, not_number, out_of_range, not_whole };
+/// A command's numeric argument as the robot takes it: a decimal (parse_decimal's grammar) inside
+/// [lo, hi] as the bounds print with 6 decimals (exact: `0.001` is a minimum of 0.001 although its
+/// float is not), whole as typed when `whole`; `value` (only on ok) its float, clamped to the
+/// bounds. The robot's refusals name the result (Console::number_arg); a host reading a command
+/// line takes it the same way.
+[[nodiscard]] NumberArg read_number_arg(const Token& token, float lo, float hi, bool whole,
+                                        float& value);
+
 /// Parses a whole token as an unsigned decimal integer in [0, 2^32 - 1] (digits only).
 [[nodiscard]] bool parse_unsigned(const Token& token, std::uint32_t& value);
 

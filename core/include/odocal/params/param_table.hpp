@@ -14,7 +14,7 @@ namespace odocal::params {
 /// Stable parameter identifiers. The numeric value is the id written in stored records: never
 /// renumber, only append (before `count`).
 enum class ParamId : std::uint8_t {
-#define ODOCAL_PARAM_ID(type, name, initial, unit, min, max) name,
+#define ODOCAL_PARAM_ID(type, name, initial, unit, min, max, group) name,
   ODOCAL_DRIVE_PARAMETERS(ODOCAL_PARAM_ID)
 #undef ODOCAL_PARAM_ID
       count,

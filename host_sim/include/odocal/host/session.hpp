@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "odocal/host/motion.hpp"
 #include "odocal/host/robot_client.hpp"
 #include "odocal/host/ros2_yaml.hpp"
 
@@ -49,7 +50,7 @@ struct RunRecord {
   SessionPose odom;
   SessionPose measured;
   std::vector<TickSample> ticks;  ///< only when the run was logged (fit)
-  std::string command;            ///< the console line that drove it
+  Motion motion;                  ///< what it told the robot to do
   bool replayed = false;          ///< taken from the session being resumed, not driven again
 };
 

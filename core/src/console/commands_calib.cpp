@@ -176,9 +176,11 @@ void Console::cmd_calib_apply(FactorGroup group, const Token* words, std::size_t
     return;
   }
   if (lateral) {
-    const calib::LateralSession::Result& result = lateral_.result();
-    const float values[] = {settings_.get(params::ParamId::f_lat) * result.f_lat,
-                            settings_.get(params::ParamId::f_lon) * result.f_lon};
+    const calib::LateralSession::Result total =
+        calib::compose(calib::LateralSession::Result{settings_.get(params::ParamId::f_lat),
+                                                     settings_.get(params::ParamId::f_lon), 0.0f},
+                       lateral_.result());
+    const float values[] = {total.f_lat, total.f_lon};
     if (apply_factors(FactorGroup::lateral, values, 2u, params::FactorMethod::maddahi, runs, date,
                       0.0f)) {
       lateral_.applied();

@@ -190,8 +190,7 @@ class LateralProcedure {
     input.right_diameter_mm = d_r;
     input.theta_l_rad = theta_l_sum / static_cast<double>(n);
     eq45_status = calib::solve_lateral(input, eq45);
-    eq45_total = calib::LateralResult{in_force.f_lat * eq45.f_lat, in_force.f_lon * eq45.f_lon,
-                                      eq45.theta_l_rad};
+    eq45_total = calib::compose(calib::LateralResult{in_force.f_lat, in_force.f_lon, 0.0}, eq45);
     if (eq45_status == calib::LateralStatus::ok) {
       outcome.result["eq45"] = lateral_to_json(eq45);
       outcome.result["eq45"]["f_lat_in_force"] = eq45_total.f_lat;

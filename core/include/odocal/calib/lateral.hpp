@@ -45,6 +45,17 @@ struct LateralResultOf {
 };
 using LateralResult = LateralResultOf<double>;
 
+/// Composes a correction measured on a robot that already used `in_force`: each factor scales
+/// what the wheels already do (eq. 7), so the factors multiply, and a second calibration refines
+/// the first rather than resetting it. θ_L is the correction's. The one composition of the
+/// lateral factors: the robot's `lateral apply` and the host's session call it.
+template <typename Real>
+[[nodiscard]] constexpr LateralResultOf<Real> compose(const LateralResultOf<Real>& in_force,
+                                                      const LateralResultOf<Real>& correction) {
+  return {in_force.f_lat * correction.f_lat, in_force.f_lon * correction.f_lon,
+          correction.theta_l_rad};
+}
+
 /// Why a lateral solve was refused. Nothing is written to the result unless `ok`.
 enum class LateralStatus : std::uint8_t {
   ok,

@@ -256,9 +256,9 @@ TEST(SessionExtended, RefusesMeasurementsWithoutHeadingBeforeAnythingMoves) {
 }
 
 /// odocal-sim on a pty, as a robot on a serial port would be.
-class SimOnPty {
+class CablesSimOnPty {
  public:
-  explicit SimOnPty(const std::string& robot) {
+  explicit CablesSimOnPty(const std::string& robot) {
     int out[2];
     EXPECT_EQ(::pipe(out), 0);
     pid_ = ::fork();
@@ -279,13 +279,13 @@ class SimOnPty {
     const auto at = line.find("/dev/");
     path_ = at == std::string::npos ? "" : line.substr(at);
   }
-  ~SimOnPty() {
+  ~CablesSimOnPty() {
     ::kill(pid_, SIGTERM);
     int status = 0;
     ::waitpid(pid_, &status, 0);
   }
-  SimOnPty(const SimOnPty&) = delete;
-  SimOnPty& operator=(const SimOnPty&) = delete;
+  CablesSimOnPty(const CablesSimOnPty&) = delete;
+  CablesSimOnPty& operator=(const CablesSimOnPty&) = delete;
   [[nodiscard]] const std::string& path() const { return path_; }
 
  private:
@@ -367,7 +367,7 @@ TEST(SessionExtended, SimulatorLaysCablesOnlyWhenAskedRight) {
 
 TEST(SessionExtended, OnAPortTheUserLaysTheCablesAndIsAskedForAMissingHeading) {
   const std::string robot = write("port_robot.json", robot_10mm);
-  SimOnPty sim(robot);
+  CablesSimOnPty sim(robot);
   ASSERT_FALSE(sim.path().empty());
   // Before each run an Enter, then the measurement; run 2 comes without its heading, which is
   // asked for alone (a word first: asked again).

@@ -33,7 +33,11 @@ class ScriptStream final : public hal::ByteStream {
   std::uint32_t dropped = 0;          ///< what rx_dropped() says (bytes a UART would have lost)
 
   void type(const std::string& text) {
-    std::memcpy(input.data() + input_size, text.data(), text.size());
+    if (text.size() > input.size() - input_size) {
+      ADD_FAILURE() << "ScriptStream: more typed than its " << input.size() << " bytes";
+      return;
+    }
+    std::copy(text.begin(), text.end(), input.begin() + static_cast<std::ptrdiff_t>(input_size));
     input_size += text.size();
   }
   [[nodiscard]] bool drained() const { return input_pos == input_size; }

@@ -18,7 +18,7 @@ namespace {
 
 constexpr double two_pi = 2.0 * std::numbers::pi;
 
-RobotModel quiet_robot() {
+RobotModel no_slip_robot() {
   RobotModel m;
   m.slip_sigma = 0.0;
   m.measure_sigma_m = 0.0;
@@ -26,7 +26,7 @@ RobotModel quiet_robot() {
   return m;
 }
 
-void set_wheel(Wheel& wheel, double duty) {
+void drive_wheel(Wheel& wheel, double duty) {
   wheel.forward().set(duty >= 0.0);
   wheel.pwm().set_duty(static_cast<float>(std::fabs(duty)));
 }
@@ -93,7 +93,7 @@ void check_random_profile(RobotModel model, std::uint64_t seed) {
       // A quarter of the segments at zero duty (the wheel coasts to rest and stays), some below
       // the breakaway duty (~0.018), the rest anywhere in [-1, 1]: reversals through zero.
       const double duty = pick < 0.25 ? 0.0 : pick < 0.35 ? 0.01 : 2.0 * dice.uniform() - 1.0;
-      set_wheel(*w, duty);
+      drive_wheel(*w, duty);
     }
     const std::uint64_t segment_end = t_ns + 50'000'000u + dice.next_u64() % 400'000'000u;
     while (t_ns < segment_end) {
@@ -141,7 +141,7 @@ void check_random_profile(RobotModel model, std::uint64_t seed) {
 
 TEST(EdgeDelivery, CountIsTheCountTheShaftIsInAfterEveryAdvanceOfRandomProfiles) {
   for (std::uint64_t seed = 1u; seed <= 3u; ++seed) {
-    check_random_profile(quiet_robot(), seed);
+    check_random_profile(no_slip_robot(), seed);
   }
 }
 
@@ -154,15 +154,15 @@ TEST(EdgeDelivery, HoldsWithSlipCablesAndACoarseOddPhysicsStep) {
 }
 
 TEST(EdgeDelivery, WheelAtRestDeliversNoEdge) {
-  Plant plant(quiet_robot(), 4u);
+  Plant plant(no_slip_robot(), 4u);
   EdgeRecorder recorder;
   recorder.plant = &plant;
   EncoderWiring left(plant.left().channel_a(), plant.left().channel_b(), plant.clock(),
                      EdgeRecorder::sink(recorder.channels[0]));
   left.attach();
-  set_wheel(plant.left(), 0.6);
+  drive_wheel(plant.left(), 0.6);
   plant.advance_to_ns(500'000'000u);
-  set_wheel(plant.left(), 0.0);
+  drive_wheel(plant.left(), 0.0);
   plant.advance_to_ns(2'000'000'000u);  // 15 time constants: friction has stopped it
   ASSERT_EQ(plant.left().speed_radps(), 0.0);
   const std::size_t edges = recorder.edges.size();
@@ -180,12 +180,12 @@ struct FaultRun {
   std::int64_t counts_moved = 0;
 };
 FaultRun run_with_fault(ChannelFault fault) {
-  Plant plant(quiet_robot(), 6u);
+  Plant plant(no_slip_robot(), 6u);
   drive::QuadratureDecoder decoder;
   EncoderWiring wiring(plant.left().channel_a(), plant.left().channel_b(), plant.clock(),
                        drive::edge_sink(decoder));
   wiring.attach();
-  set_wheel(plant.left(), 0.5);
+  drive_wheel(plant.left(), 0.5);
   plant.advance_to_ns(200'000'000u);
   FaultRun run;
   run.before = decoder.snapshot();

@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 #include "odocal/console/commands.hpp"
 #include "odocal/console/text.hpp"
@@ -68,23 +69,36 @@ Motion Motion::selftest(Wheels wheels) {
   return m;
 }
 
+// `value` with at least `decimals` decimals, and as many more as the robot needs to read back the
+// very same float (a motion read from a line with more digits than the usual keeps them: the
+// line that started it and the one written for it start the same motion).
+std::string number_text(float value, int decimals) {
+  char text[48];
+  for (int d = decimals; d <= 9; ++d) {
+    std::snprintf(text, sizeof text, "%.*f", d, static_cast<double>(value));
+    const console::Token token{text, std::strlen(text)};
+    float read = 0.0f;
+    if (console::read_number_arg(token, -1.0e6f, 1.0e6f, false, read) == console::NumberArg::ok &&
+        read == value) {
+      break;
+    }
+  }
+  return text;
+}
+
 std::string Motion::command() const {
-  char text[96];
   switch (kind) {
     case Kind::square_cw:
     case Kind::square_ccw:
-      std::snprintf(text, sizeof text, "run umbmark-%s %.3f",
-                    kind == Kind::square_cw ? "cw" : "ccw", static_cast<double>(length_m));
-      return text;
+      return std::string("run umbmark-") + (kind == Kind::square_cw ? "cw " : "ccw ") +
+             number_text(length_m, 3);
     case Kind::line:
-      std::snprintf(text, sizeof text, "run line %.3f", static_cast<double>(length_m));
-      return text;
+      return "run line " + number_text(length_m, 3);
     case Kind::unseen:
       return "run unseen";
     case Kind::timed:
-      std::snprintf(text, sizeof text, "drive %.4f %.4f %u", static_cast<double>(v_mps),
-                    static_cast<double>(w_radps), ms);
-      return text;
+      return "drive " + number_text(v_mps, 4) + " " + number_text(w_radps, 4) + " " +
+             std::to_string(ms);
     case Kind::selftest:
       break;
   }

@@ -76,6 +76,13 @@ TEST(Motion, AMotionIsTheValueItsLineCarriesAndComparesAsOne) {
   EXPECT_EQ(*Motion::of_command("run line 1.5"), *Motion::of_command("run line 1.500"));
   EXPECT_NE(Motion::line(1.5), Motion::square(true, 1.5));
   EXPECT_NE(Motion::timed(0.1, 0.2, 1000), Motion::timed(0.1, 0.2, 1001));
+  // A line with more digits than the usual is the motion the robot reads, and the line written for
+  // it starts that same motion (session.json rewritten on --resume keeps it).
+  const Motion precise = *Motion::of_command("run line 0.50660");
+  EXPECT_EQ(*Motion::of_command(precise.command()), precise) << precise.command();
+  EXPECT_NE(precise, Motion::line(0.507));
+  const Motion fine_arc = *Motion::of_command("drive 0.123456 -0.5 2000");
+  EXPECT_EQ(*Motion::of_command(fine_arc.command()), fine_arc) << fine_arc.command();
   // A motion the robot would refuse stays what was asked for: sent, the robot refuses it (and the
   // session says so); never another motion.
   const Motion too_long = Motion::line(25.0);

@@ -23,7 +23,7 @@ namespace odocal::host {
 namespace {
 
 /// Largest stop-point coordinate taken, mm (the robot's `umbmark add` limit): 1 km is no run.
-constexpr double max_position_mm = 1e6;
+constexpr double max_reading_mm = 1e6;
 /// Largest heading taken, degrees (ten turns: an unwrapped heading is fine, more is a typo).
 constexpr double max_theta_deg = 3600.0;
 
@@ -67,8 +67,8 @@ class FileMeasure final : public MeasurementSource {
                        "' (a journal's rows are numbered 1, 2, ... in the order of the runs)");
       }
       SessionPose pose;
-      pose.x_mm = bounded(table, r, first, max_position_mm);
-      pose.y_mm = bounded(table, r, first + 1, max_position_mm);
+      pose.x_mm = bounded(table, r, first, max_reading_mm);
+      pose.y_mm = bounded(table, r, first + 1, max_reading_mm);
       if (with_theta && !table.text(r, first + 2).empty()) {
         pose.theta_deg = bounded(table, r, first + 2, max_theta_deg);
       }
@@ -291,7 +291,7 @@ bool parse_measurement_line(const std::string& text, SessionPose& pose, std::str
       return false;
     }
     values[i] = *value;
-    const double limit = i < 2 ? max_position_mm : max_theta_deg;
+    const double limit = i < 2 ? max_reading_mm : max_theta_deg;
     if (std::fabs(values[i]) > limit) {
       why = std::string(names[i]) + " " + words[i] + " is absurd (at most " +
             fmt::format("{:.1f}", limit) + ")";

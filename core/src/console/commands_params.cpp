@@ -76,7 +76,7 @@ void Console::cmd_defaults() {
     return;
   }
   // The spec of `params`'s last line (one string in the image).
-  send_line("ok params=%u unsaved=%u", params::param_count, 1u);
+  send_line("ok params=%u unsaved=%u", params::param_count, settings_.unsaved() ? 1u : 0u);
 }
 
 void Console::cmd_provenance() {

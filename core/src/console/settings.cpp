@@ -77,6 +77,14 @@ drive::ConfigCheck Settings::set(params::ParamId id, float value) {
   return apply(candidate);
 }
 
+drive::ConfigCheck Settings::restore_defaults() {
+  const drive::ConfigCheck check = apply(defaults());
+  if (store_state_ == params::StoreResult::empty) {
+    unsaved_ = false;
+  }
+  return check;
+}
+
 params::StoreResult Settings::save(params::StoreInfo& info) {
   const params::StoreResult result = store_.save(values_, info);
   store_state_ = result;

@@ -167,6 +167,23 @@ TEST(Console, DefaultsRestoreEveryValueButAreNotSavedUntilSave) {
   EXPECT_EQ(rebooted->reply("get kp"), "ok kp=0.200000");
 }
 
+// A robot whose store has never held a set starts on its defaults: after `defaults` a restart
+// brings the same values, so nothing is unsaved (and `status` says so); once it has saved, the
+// defaults differ from what a restart brings until they are saved.
+TEST(Console, DefaultsOnARobotThatNeverSavedLeaveNothingUnsaved) {
+  RigFlash flash;
+  auto rig = make_rig(Rig::quiet(), &flash);
+  EXPECT_EQ(rig->reply("set c_r 1.1"), "ok c_r=1.100000");
+  EXPECT_EQ(value_of(rig->reply("status"), "unsaved"), "1");
+  EXPECT_EQ(rig->reply("defaults"), "ok params=23 unsaved=0");
+  EXPECT_EQ(value_of(rig->reply("status"), "unsaved"), "0");
+  EXPECT_EQ(value_of(rig->reply("status"), "store"), "empty");
+  EXPECT_TRUE(params::same(rig->console.params(), params::default_params()));
+  EXPECT_EQ(rig->reply("save").rfind("ok ", 0), 0u);
+  EXPECT_EQ(rig->reply("defaults"), "ok params=23 unsaved=1");
+  EXPECT_EQ(value_of(rig->reply("status"), "unsaved"), "1");
+}
+
 TEST(Console, StoreErrorsAreReported) {
   auto rig = make_rig();
   rig->flash.cut_after(0);

@@ -50,8 +50,9 @@ class Settings {
   /// One parameter, typed by hand: a calibration factor's provenance becomes `manual`.
   /// `value` must be in range (params::in_range).
   drive::ConfigCheck set(params::ParamId id, float value);
-  /// Restores `defaults()` (unsaved).
-  drive::ConfigCheck restore_defaults() { return apply(defaults()); }
+  /// Restores `defaults()`: unsaved, except on a robot whose store has never held a set (a
+  /// restart brings these very values, so there is nothing to save).
+  drive::ConfigCheck restore_defaults();
 
   /// Saves the values in force. @return the store's answer; on `ok` nothing is unsaved.
   params::StoreResult save(params::StoreInfo& info);

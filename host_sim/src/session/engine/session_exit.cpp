@@ -88,8 +88,8 @@ void put_back(Context& c) {
       return;
     }
     // A robot that has never saved and had nothing unsaved ran on its defaults: `defaults` brings
-    // them back with their provenance (`set` would leave them "manual"); the firmware says
-    // unsaved=1 after it until a save, as it documents.
+    // them back with their provenance (`set` would leave them "manual") and nothing unsaved (the
+    // firmware's reply to `defaults` on a robot whose store is empty).
     const auto store = status.pairs.find("store");
     const bool never_saved = store != status.pairs.end() && store->second == "empty";
     const bool reloaded =
@@ -109,7 +109,7 @@ void put_back(Context& c) {
         "to what was in force when it started{}: c_l={:.6f} c_r={:.6f} wheelbase_mm={:.3f} "
         "f_lat={:.6f} f_lon={:.6f}{}{}\n",
         !reloaded     ? ""
-        : never_saved ? " (its defaults: it has never saved; it says unsaved=1 until a save)"
+        : never_saved ? " (its defaults: it has never saved)"
                       : " (its saved set, reloaded)",
         f.c_l, f.c_r, f.wheelbase_mm, f.f_lat, f.f_lon,
         f.wheelbase_arc_mm != 0.0 ? fmt::format(" wheelbase_arc_mm={:.3f}", f.wheelbase_arc_mm)

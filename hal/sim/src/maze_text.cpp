@@ -253,7 +253,7 @@ std::size_t describe(const MazeTextStatus& status, char* buffer, std::size_t siz
 
 std::string_view practice_maze_text() {
   // The west column is a corridor of six cells walled on its east side but at the top, where it
-  // opens into the north corridor; below that an open area of 5x4 cells with an L of walls.
+  // opens into the north corridor; beside it an open area of 5x5 cells with an L of walls.
   return "+---+---+---+---+---+---+\n"
          "|                       |\n"
          "+   +---+---+---+---+   +\n"

@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "odocal/sim/maze.hpp"
+#include "odocal/sim/random.hpp"
 
 namespace odocal::sim {
 namespace {
@@ -165,6 +166,48 @@ TEST(MazeText, DescribesAnErrorWithItsLineAndColumn) {
   char small[8];
   EXPECT_EQ(describe(status, small, sizeof small), 7u);
   EXPECT_EQ(std::string(small), "line 12");
+}
+
+// The text of `maze`, written by the test from the format's definition.
+std::string text_of(const Maze& maze) {
+  std::string text;
+  for (std::uint32_t from_top = 0u; from_top <= maze.height(); ++from_top) {
+    const std::uint32_t line = maze.height() - from_top;  // grid line, from the south
+    text += '+';
+    for (std::uint32_t c = 0u; c < maze.width(); ++c) {
+      const bool wall = line < maze.height() ? maze.has_wall(c, line, Side::south)
+                                             : maze.has_wall(c, line - 1u, Side::north);
+      text += wall ? "---+" : "   +";
+    }
+    text += '\n';
+    if (line == 0u) {
+      break;
+    }
+    const std::uint32_t row = line - 1u;
+    for (std::uint32_t c = 0u; c < maze.width(); ++c) {
+      text += maze.has_wall(c, row, Side::west) ? "|   " : "    ";
+    }
+    text += maze.has_wall(maze.width() - 1u, row, Side::east) ? "|\n" : " \n";
+  }
+  return text;
+}
+
+TEST(MazeText, ReadsBackRandomMazesOfAnyRectangularSize) {
+  Random random(16u);
+  const std::uint32_t sizes[][2] = {{16u, 16u}, {5u, 9u}, {1u, 7u}, {32u, 2u}};
+  for (const auto& size : sizes) {
+    Maze maze(size[0], size[1]);
+    for (std::uint32_t row = 0u; row < size[1]; ++row) {
+      for (std::uint32_t c = 0u; c < size[0]; ++c) {
+        maze.set_wall(c, row, Side::north, random.uniform() < 0.4);
+        maze.set_wall(c, row, Side::east, random.uniform() < 0.4);
+      }
+    }
+    Maze read;
+    const MazeTextStatus status = parse_maze_text(text_of(maze), read);
+    ASSERT_TRUE(status.ok()) << size[0] << "x" << size[1] << " " << to_string(status.error);
+    EXPECT_EQ(read, maze) << size[0] << "x" << size[1];
+  }
 }
 
 TEST(MazeText, PracticeMazeIsSixBySixWithAWestCorridor) {

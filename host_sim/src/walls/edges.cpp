@@ -13,15 +13,29 @@ std::vector<WallEdge> find_wall_edges(const std::vector<RunSample>& samples, std
   if (sensor >= sensor_count) {
     throw std::invalid_argument("find_wall_edges: no sensor " + std::to_string(sensor));
   }
+  // Hysteresis: a wall is taken to begin once the reading passes the threshold by a fifth and to
+  // end once it falls a fifth below, so that a dim reading near the threshold (the axis grazing a
+  // post's end face) flickering with the noise gives one edge, not three. The edge is placed at
+  // the last crossing of the threshold itself before the switch.
+  const double high = 1.2 * threshold_counts;
+  const double low = 0.8 * threshold_counts;
   std::vector<WallEdge> edges;
+  if (samples.empty()) {
+    return edges;
+  }
+  bool wall = samples.front().lit_counts[sensor] >= threshold_counts;
+  double crossing = samples.front().travel_mm;
   for (std::size_t i = 1u; i < samples.size(); ++i) {
-    const bool before = samples[i - 1u].lit_counts[sensor] >= threshold_counts;
-    const bool after = samples[i].lit_counts[sensor] >= threshold_counts;
-    if (before != after) {
-      // The beam has no width worth modelling: the edge lies between the two samples, and the
-      // middle is the estimate with the least worst-case error.
-      const double travel = 0.5 * (samples[i - 1u].travel_mm + samples[i].travel_mm);
-      edges.push_back(WallEdge{travel, before, sensor});
+    const double before = samples[i - 1u].lit_counts[sensor];
+    const double now = samples[i].lit_counts[sensor];
+    if ((before >= threshold_counts) != (now >= threshold_counts)) {
+      // The beam has no width worth modelling: the crossing lies between the two samples, and
+      // the middle is the estimate with the least worst-case error.
+      crossing = 0.5 * (samples[i - 1u].travel_mm + samples[i].travel_mm);
+    }
+    if ((wall && now < low) || (!wall && now >= high)) {
+      edges.push_back(WallEdge{crossing, wall, sensor});
+      wall = !wall;
     }
   }
   return edges;
@@ -57,6 +71,12 @@ CorridorLine fit_corridor_line(const SensorSet& sensors, const std::vector<RunSa
     out = CorridorLine{line.start_mm, line.scale, std::atan(line.scale), travel.size()};
   }
   return out;
+}
+
+double position_at_edge_mm(const sim::SensorMount& mount, double edge_face, bool falling,
+                           double offset_mm, double heading_rad, double half_width_mm) {
+  const double corner_line = falling ? half_width_mm : half_width_mm + sim::wall_thickness_mm;
+  return edge_face - look_ahead_mm(mount, offset_mm, heading_rad, corner_line);
 }
 
 WheelScale fit_wheel_scale(const std::vector<double>& true_position_mm,

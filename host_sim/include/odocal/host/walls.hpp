@@ -157,7 +157,7 @@ struct WallEdge {
 };
 
 /// (d) The edges a diagonal sensor saw: its reading crossing `threshold_counts` between two
-/// samples (travel increasing).
+/// samples (travel increasing), with a hysteresis of ±20 % of the threshold against noise.
 [[nodiscard]] std::vector<WallEdge> find_wall_edges(const std::vector<RunSample>& samples,
                                                     std::size_t sensor, double threshold_counts);
 
@@ -191,6 +191,15 @@ struct CorridorLine {
 [[nodiscard]] CorridorLine fit_corridor_line(const SensorSet& sensors,
                                              const std::vector<RunSample>& samples,
                                              double half_width_mm = face_from_centre_mm);
+
+/// (d) Where the robot's origin stands along the corridor (mm, the frame of `edge_face`) when a
+/// diagonal's axis passes a wall's end: a wall that ends is left at its face's corner
+/// (edge_face_mm(boundary, true), on the face line); a wall that begins is met first at the
+/// post's far corner (edge_face_mm(boundary, false), a wall's thickness beyond the face line),
+/// where the axis starts to meet the post's end face.
+[[nodiscard]] double position_at_edge_mm(const sim::SensorMount& mount, double edge_face,
+                                         bool falling, double offset_mm, double heading_rad,
+                                         double half_width_mm = face_from_centre_mm);
 
 /// (d) The wheels' scale from edges at known places: travel = start + scale · true position.
 struct WheelScale {

@@ -215,6 +215,38 @@ double look_ahead_mm(const sim::SensorMount& mount, double offset_mm, double hea
   return hit.x_mm;
 }
 
+bool on_wall_face(const sim::Maze& maze, const sim::SensorMount& mount,
+                  const sim::MazePose& believed, double margin_mm) {
+  const double c = std::cos(believed.theta_rad);
+  const double s = std::sin(believed.theta_rad);
+  const double x = believed.x_mm + c * mount.x_mm - s * mount.y_mm;
+  const double y = believed.y_mm + s * mount.x_mm + c * mount.y_mm;
+  const double direction = believed.theta_rad + mount.yaw_rad;
+  constexpr double look_mm = 400.0;
+  const sim::RayHit hit = maze.cast(x, y, direction, look_mm);
+  if (hit.kind != sim::SurfaceKind::wall) {
+    return false;
+  }
+  // A wall's face lies half a wall from a grid line across it; along it, the posts take the
+  // grid lines ± half a wall. The larger of the two distances to a grid line is the one along.
+  const auto from_grid = [](double v) {
+    return std::fabs(v - sim::cell_pitch_mm * std::round(v / sim::cell_pitch_mm));
+  };
+  const double hit_x = x + hit.distance_mm * std::cos(direction);
+  const double hit_y = y + hit.distance_mm * std::sin(direction);
+  const bool face_along_y = from_grid(hit_x) < from_grid(hit_y);
+  const double along = face_along_y ? from_grid(hit_y) : from_grid(hit_x);
+  // The wall must border the robot's own cell (not one seen through a gap).
+  const double across = face_along_y ? hit_x : hit_y;
+  const double own = face_along_y ? believed.x_mm : believed.y_mm;
+  const double line = std::round(across / sim::cell_pitch_mm);
+  const double cell = std::floor(own / sim::cell_pitch_mm);
+  if (line != cell && line != cell + 1.0) {
+    return false;
+  }
+  return along >= sim::wall_thickness_mm / 2.0 + margin_mm;
+}
+
 double edge_face_mm(double boundary_mm, bool falling) {
   const double half_post = sim::wall_thickness_mm / 2.0;
   return falling ? boundary_mm + half_post : boundary_mm - half_post;

@@ -117,6 +117,22 @@ TEST(Corridor, LookAheadIsWhereTheAxisMeetsTheSideFace) {
   EXPECT_LT(look_ahead_mm(right, -5.0, 0.0), look_ahead_mm(right, 0.0, 0.0));
 }
 
+TEST(Corridor, OnlyAWallsOwnFaceClearOfItsPostsIsACorridorReading) {
+  // The gapped corridor's right side: walls in rows 0, 1 and 3, open in row 2. Centred and
+  // heading north, the right diagonal meets the face line look_ahead_mm ahead.
+  const sim::Maze maze = rig::gapped_corridor();
+  const sim::SensorMount right = usual_mouse_sensors().mounts[right_diagonal];
+  const double ahead = look_ahead_mm(right, 0.0, 0.0);
+  const auto at = [&](double met_y) { return sim::MazePose{90.0, met_y - ahead, pi / 2.0}; };
+  EXPECT_TRUE(on_wall_face(maze, right, at(270.0), 3.0));   // mid-wall in row 1
+  EXPECT_TRUE(on_wall_face(maze, right, at(190.0), 3.0));   // 10 mm past the post at 180
+  EXPECT_FALSE(on_wall_face(maze, right, at(188.0), 3.0));  // within the margin of it
+  EXPECT_FALSE(on_wall_face(maze, right, at(182.0), 3.0));  // on the post's side face
+  EXPECT_FALSE(on_wall_face(maze, right, at(450.0), 3.0));  // through the gap of row 2
+  // Just short of the post beyond the gap: the axis goes on to the post's end face.
+  EXPECT_FALSE(on_wall_face(maze, right, at(530.0), 3.0));
+}
+
 TEST(WallEdges, FoundBetweenTheSamplesWhereTheReadingCrosses) {
   std::vector<RunSample> samples;
   for (int i = 0; i <= 20; ++i) {

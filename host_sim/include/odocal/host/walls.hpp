@@ -166,6 +166,16 @@ struct WallEdge {
 [[nodiscard]] double look_ahead_mm(const sim::SensorMount& mount, double offset_mm,
                                    double heading_rad, double half_width_mm = face_from_centre_mm);
 
+/// (b) Whether the axis of `mount`, from the pose `believed` the robot holds of itself (maze
+/// frame), meets the face of a wall of `maze` (the robot's map) at least `margin_mm` clear of the
+/// posts at its ends. Near a post the axis may meet the post's end face beside a gap (for a
+/// diagonal the incidence is then 50° instead of 40°: the reading falls by cos 50° / cos 40° ≈ 0.84
+/// at about the same distance, 3 mm of offset) or, through a gap, a face far beyond: the flat-face
+/// model of observe_corridor describes neither. `margin_mm` should cover the error of `believed`
+/// along the wall (a mouse knows it from the wall edges it has passed).
+[[nodiscard]] bool on_wall_face(const sim::Maze& maze, const sim::SensorMount& mount,
+                                const sim::MazePose& believed, double margin_mm);
+
 /// (d) The position along a corridor where a wall ends (falling) or begins, mm from the start of
 /// the cell boundary `boundary_mm`: the post's far or near face.
 [[nodiscard]] double edge_face_mm(double boundary_mm, bool falling);

@@ -87,6 +87,38 @@ bool solve_two(const TwoResiduals& residuals, double& u, double& v, double step_
   return false;
 }
 
+// The σ of a front wall's distance and heading: J = d(ln lit)/d(D, ψ) at the solution; each
+// reading's own error (noise, own strength) and the shared one (the face, the strengths' common
+// part) through J⁻¹.
+void front_wall_sd(const TwoResiduals& residuals, const ReadingNoise& noise,
+                   const std::array<double, 2>& lit, FrontWall& out) {
+  constexpr double step_d = 1e-3;
+  constexpr double step_h = 1e-6;
+  std::array<double, 2> r{};
+  std::array<double, 2> rd{};
+  std::array<double, 2> rh{};
+  if (!residuals(out.distance_mm, out.heading_rad, r[0], r[1]) ||
+      !residuals(out.distance_mm + step_d, out.heading_rad, rd[0], rd[1]) ||
+      !residuals(out.distance_mm, out.heading_rad + step_h, rh[0], rh[1])) {
+    out.valid = false;
+    return;
+  }
+  const double j00 = (rd[0] - r[0]) / step_d;
+  const double j10 = (rd[1] - r[1]) / step_d;
+  const double j01 = (rh[0] - r[0]) / step_h;
+  const double j11 = (rh[1] - r[1]) / step_h;
+  const double det = j00 * j11 - j01 * j10;
+  const double own0 = std::hypot(noise.own_strength_relative, noise.sigma_counts / lit[0]);
+  const double own1 = std::hypot(noise.own_strength_relative, noise.sigma_counts / lit[1]);
+  // A row (w0, w1) of J⁻¹ applied to the two ln errors.
+  const auto sd_of = [&](double w0, double w1) {
+    return std::sqrt((w0 + w1) * (w0 + w1) * noise.common_relative * noise.common_relative +
+                     w0 * w0 * own0 * own0 + w1 * w1 * own1 * own1);
+  };
+  out.distance_sd_mm = sd_of(j11 / det, -j01 / det);
+  out.heading_sd_rad = sd_of(-j10 / det, j00 / det);
+}
+
 // A single sensor's distance along its axis from its reading, square on.
 double square_on_distance(const SensorResponse& response, double lit) {
   return std::sqrt(response.a_counts_mm2 / lit);
@@ -123,7 +155,8 @@ double point_on_face(const sim::SensorMount& mount, const sim::MazePose& robot, 
 }
 
 FrontWall observe_front_wall(const SensorSet& sensors, double lit_left_front,
-                             double lit_right_front, double min_lit_counts) {
+                             double lit_right_front, double min_lit_counts,
+                             const ReadingNoise& noise) {
   FrontWall out;
   if (!usable(lit_left_front, min_lit_counts) || !usable(lit_right_front, min_lit_counts)) {
     return out;
@@ -152,6 +185,9 @@ FrontWall observe_front_wall(const SensorSet& sensors, double lit_left_front,
   out.valid = solve_two(residuals, distance, heading, 1e-3, 1e-5);
   out.distance_mm = distance;
   out.heading_rad = heading;
+  if (out.valid) {
+    front_wall_sd(residuals, noise, {lit_left_front, lit_right_front}, out);
+  }
   return out;
 }
 

@@ -70,18 +70,37 @@ struct SensorSet {
 [[nodiscard]] double point_on_face(const sim::SensorMount& mount, const sim::MazePose& robot,
                                    double normal_rad, double offset_mm);
 
+/// What a reading's error is made of, as relative errors of lit (σ of ln lit).
+struct ReadingNoise {
+  /// σ of one reading above ambient, counts (two conversions of the usual mouse's 6 counts).
+  double sigma_counts = 8.5;
+  /// Each sensor's learnt strength's error, taken as its own (not shared with the other sensor,
+  /// the cautious side for a heading): the start cell's three walls' mean reflectivity,
+  /// 0.05 / √3 / √3.
+  double own_strength_relative = 0.0167;
+  /// Shared by both readings of one face: its reflectivity, uniform in 1 ± 5 %: 0.05 / √3.
+  double common_relative = 0.0289;
+};
+
 /// (a) A wall ahead seen by both front sensors.
 struct FrontWall {
   bool valid = false;        ///< both readings usable and the solution converged
   double distance_mm = 0.0;  ///< from the robot's origin to the face, along the face's normal
   double heading_rad = 0.0;  ///< the robot's heading from the face's normal, counter-clockwise
+  /// Predicted σ of each, the noise carried through the inverse of the 2x2 sensitivity at the
+  /// solution: the heading is the two readings' imbalance over the sensors' 60 mm, so its σ grows
+  /// with the square of the distance (and the ADC's noise with it): about 0.6° at 90 mm, 1.8° at
+  /// 150 mm for the usual mouse. Refuse a heading whose σ is more than the use can bear.
+  double distance_sd_mm = 0.0;
+  double heading_sd_rad = 0.0;
 };
 
 /// (a) Solves the front sensors' two readings (counts above ambient) for the wall's distance and
 /// the heading: the face is taken flat and seen by both sensors. Readings below `min_lit_counts`
-/// or at full scale give valid = false.
+/// or at full scale give valid = false. `noise` gives the predicted σ.
 [[nodiscard]] FrontWall observe_front_wall(const SensorSet& sensors, double lit_left_front,
-                                           double lit_right_front, double min_lit_counts = 100.0);
+                                           double lit_right_front, double min_lit_counts = 100.0,
+                                           const ReadingNoise& noise = {});
 
 /// (b) A corridor walled on both sides seen by the two diagonals.
 struct CorridorPose {

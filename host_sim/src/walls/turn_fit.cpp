@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "odocal/host/walls.hpp"
 
@@ -39,7 +40,7 @@ struct TurnProblem {
 
 // The model's ln(lit) for one reading, false when the axis meets nothing close.
 bool model_log_lit(const TurnProblem& problem, const TurnParameters& q, const TurnReading& reading,
-                   double& log_lit) {
+                   double& log_lit, std::uint32_t* surface = nullptr) {
   const double heading = q[2] + q[3] * problem.samples[reading.sample].turn_counts;
   const sim::SensorMount& mount = problem.mounts[reading.sensor];
   const double c = std::cos(heading);
@@ -53,6 +54,9 @@ bool model_log_lit(const TurnProblem& problem, const TurnParameters& q, const Tu
   const double cos_incidence = std::cos(hit.incidence_rad);
   if (!(cos_incidence > 0.2)) {
     return false;
+  }
+  if (surface != nullptr) {
+    *surface = hit.surface;
   }
   log_lit =
       q[5u + reading.sensor] + q[4] * std::log(cos_incidence) - 2.0 * std::log(hit.distance_mm);
@@ -150,6 +154,102 @@ TurnParameters derivative_steps(const TurnParameters& q) {
   return steps;
 }
 
+// d(model)/dq for every reading, by parameter (numerical, forward differences).
+using TurnJacobian = std::array<std::vector<double>, turn_parameters>;
+
+TurnJacobian turn_jacobian(const TurnProblem& problem, const TurnParameters& q,
+                           const std::vector<TurnReading>& readings, const std::vector<double>& r) {
+  const TurnParameters steps = derivative_steps(q);
+  TurnJacobian jacobian;
+  for (std::size_t p = 0u; p < turn_parameters; ++p) {
+    TurnParameters moved = q;
+    moved[p] += steps[p];
+    const std::vector<double> r_moved = residuals(problem, moved, readings);
+    jacobian[p].resize(r.size());
+    for (std::size_t k = 0u; k < r.size(); ++k) {
+      jacobian[p][k] = -(r_moved[k] - r[k]) / steps[p];
+    }
+  }
+  return jacobian;
+}
+
+using TurnMatrix = std::array<std::array<double, turn_parameters>, turn_parameters>;
+
+// The fit's covariance from the noise model (the sandwich of least squares, ln lit unweighted):
+// C = A⁻¹ B A⁻¹, A = JᵀJ, B = Σ_k σ_k² j_k j_kᵀ (each reading's ADC noise, σ_k = σ / lit_k) +
+// σ_face² Σ_s g_s g_sᵀ (one reflectivity per face or post s shared by its readings, g_s the sum of
+// their rows). Empty (all zero) when A is singular.
+TurnMatrix turn_covariance(const TurnProblem& problem, const TurnParameters& q,
+                           const std::vector<TurnReading>& readings, const ReadingNoise& noise) {
+  const std::vector<double> r = residuals(problem, q, readings);
+  const TurnJacobian jacobian = turn_jacobian(problem, q, readings, r);
+  TurnMatrix a{};
+  TurnMatrix b{};
+  std::vector<std::pair<std::uint32_t, TurnParameters>> faces;
+  for (std::size_t k = 0u; k < readings.size(); ++k) {
+    TurnParameters row{};
+    for (std::size_t p = 0u; p < turn_parameters; ++p) {
+      row[p] = jacobian[p][k];
+    }
+    const double sigma = noise.sigma_counts / std::exp(readings[k].log_lit);
+    for (std::size_t p = 0u; p < turn_parameters; ++p) {
+      for (std::size_t m = 0u; m < turn_parameters; ++m) {
+        a[p][m] += row[p] * row[m];
+        b[p][m] += sigma * sigma * row[p] * row[m];
+      }
+    }
+    double model = 0.0;
+    std::uint32_t surface = 0u;
+    static_cast<void>(model_log_lit(problem, q, readings[k], model, &surface));
+    auto face = std::find_if(faces.begin(), faces.end(),
+                             [&](const auto& entry) { return entry.first == surface; });
+    if (face == faces.end()) {
+      faces.push_back({surface, TurnParameters{}});
+      face = faces.end() - 1;
+    }
+    for (std::size_t p = 0u; p < turn_parameters; ++p) {
+      face->second[p] += row[p];
+    }
+  }
+  const double face_variance = noise.common_relative * noise.common_relative;
+  for (const auto& [surface, g] : faces) {
+    for (std::size_t p = 0u; p < turn_parameters; ++p) {
+      for (std::size_t m = 0u; m < turn_parameters; ++m) {
+        b[p][m] += face_variance * g[p] * g[m];
+      }
+    }
+  }
+  // A⁻¹ column by column, then A⁻¹ B A⁻¹.
+  TurnMatrix inverse{};
+  for (std::size_t col = 0u; col < turn_parameters; ++col) {
+    TurnParameters unit{};
+    unit[col] = 1.0;
+    if (!solve_dense(a, unit)) {
+      return TurnMatrix{};
+    }
+    for (std::size_t p = 0u; p < turn_parameters; ++p) {
+      inverse[p][col] = unit[p];
+    }
+  }
+  TurnMatrix product{};
+  for (std::size_t p = 0u; p < turn_parameters; ++p) {
+    for (std::size_t m = 0u; m < turn_parameters; ++m) {
+      for (std::size_t k = 0u; k < turn_parameters; ++k) {
+        product[p][m] += inverse[p][k] * b[k][m];
+      }
+    }
+  }
+  TurnMatrix covariance{};
+  for (std::size_t p = 0u; p < turn_parameters; ++p) {
+    for (std::size_t m = 0u; m < turn_parameters; ++m) {
+      for (std::size_t k = 0u; k < turn_parameters; ++k) {
+        covariance[p][m] += product[p][k] * inverse[k][m];
+      }
+    }
+  }
+  return covariance;
+}
+
 // Levenberg-Marquardt on the readings chosen; returns the iterations taken.
 std::uint32_t levenberg_marquardt(const TurnProblem& problem,
                                   const std::vector<TurnReading>& readings, TurnParameters& q) {
@@ -158,17 +258,7 @@ std::uint32_t levenberg_marquardt(const TurnProblem& problem,
   double cost = sum_of_squares(r);
   std::uint32_t iteration = 0u;
   for (; iteration < 40u; ++iteration) {
-    const TurnParameters steps = derivative_steps(q);
-    std::array<std::vector<double>, turn_parameters> jacobian;
-    for (std::size_t p = 0u; p < turn_parameters; ++p) {
-      TurnParameters moved = q;
-      moved[p] += steps[p];
-      const std::vector<double> r_moved = residuals(problem, moved, readings);
-      jacobian[p].resize(r.size());
-      for (std::size_t k = 0u; k < r.size(); ++k) {
-        jacobian[p][k] = -(r_moved[k] - r[k]) / steps[p];  // d(model)/dq
-      }
-    }
+    const TurnJacobian jacobian = turn_jacobian(problem, q, readings, r);
     std::array<std::array<double, turn_parameters>, turn_parameters> normal{};
     TurnParameters gradient{};
     for (std::size_t p = 0u; p < turn_parameters; ++p) {
@@ -249,7 +339,8 @@ void initial_strengths(const TurnProblem& problem, TurnParameters& q, std::size_
 
 TurnCalibration calibrate_from_turn(const sim::Maze& maze, const TurnSetup& setup,
                                     const std::array<sim::SensorMount, sensor_count>& mounts,
-                                    const std::vector<TurnSample>& samples) {
+                                    const std::vector<TurnSample>& samples,
+                                    const ReadingNoise& noise) {
   if (samples.size() < min_readings_per_sensor || !(std::fabs(setup.radians_per_count) > 0.0)) {
     throw std::invalid_argument("calibrate_from_turn: too few samples or no nominal turn rate");
   }
@@ -278,6 +369,11 @@ TurnCalibration calibrate_from_turn(const sim::Maze& maze, const TurnSetup& setu
   out.centre_y_mm = q[1];
   out.start_heading_rad = q[2];
   out.radians_per_count = q[3];
+  const TurnMatrix covariance = turn_covariance(problem, q, readings, noise);
+  out.centre_x_sd_mm = std::sqrt(covariance[0][0]);
+  out.centre_y_sd_mm = std::sqrt(covariance[1][1]);
+  out.start_heading_sd_rad = std::sqrt(covariance[2][2]);
+  out.radians_per_count_sd = std::sqrt(covariance[3][3]);
   out.sensors.mounts = mounts;
   for (std::size_t i = 0u; i < sensor_count; ++i) {
     out.sensors.responses[i] = SensorResponse{std::exp(q[5u + i]), q[4]};

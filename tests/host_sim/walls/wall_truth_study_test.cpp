@@ -88,15 +88,21 @@ TurnCalibration study_turn(rig::Rig& truth, std::uint64_t seed, rig::TrueTurn& t
       std::hypot(study_sigma_wall, study_sigma_strength, study_sigma_noise(lit_square));
   kinds.centre.add(fit.centre_x_mm - turn.centre_x_mm, centre_sd);
   kinds.centre.add(fit.centre_y_mm - turn.centre_y_mm, centre_sd);
-  // A square sighting's heading is the front pair's imbalance over their 60 mm apart; the walls'
-  // reflectivity is common to both, each sensor's noise and learnt strength is not.
+  // The start heading and the angle per count: the fit's own σ from its Jacobian at the solution
+  // and the noise model (each reading's ADC noise, each face's reflectivity). It must be no looser
+  // than the square sighting's bound (the front pair's imbalance over their 60 mm) the study used
+  // before, and it must be near what the fit makes: z below 4 for each mouse.
   const double sighting_sd = square_mm / 2.0 * std::sqrt(2.0) *
                              std::hypot(study_sigma_strength, study_sigma_noise(lit_square)) / 60.0;
+  EXPECT_GT(fit.start_heading_sd_rad, 0.0);
+  EXPECT_LT(fit.start_heading_sd_rad, sighting_sd);
   kinds.start_heading.add((fit.start_heading_rad - turn.start_heading_rad) / degrees,
-                          sighting_sd / degrees);
+                          fit.start_heading_sd_rad / degrees);
   const double counts = samples.back().turn_counts;
+  EXPECT_GT(fit.radians_per_count_sd, 0.0);
+  EXPECT_LT(fit.radians_per_count_sd * counts, std::sqrt(2.0) * sighting_sd);
   kinds.turned.add((fit.radians_per_count - turn.radians_per_count) * counts / degrees,
-                   std::sqrt(2.0) * sighting_sd / degrees);
+                   fit.radians_per_count_sd * counts / degrees);
   for (std::size_t i = 0u; i < sensor_count; ++i) {
     const double truth_a = truth.layout().sensors[i].gain * 6.0e6;
     kinds.strength.add(100.0 * (fit.sensors.responses[i].a_counts_mm2 / truth_a - 1.0),

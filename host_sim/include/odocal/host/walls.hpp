@@ -146,6 +146,14 @@ struct TurnCalibration {
   double start_heading_rad = 0.0;  ///< the heading at turn_counts = 0
   /// (c) The angle turned per turn count, from the walls (no wheelbase in it).
   double radians_per_count = 0.0;
+  /// Predicted σ of the four above, from the noise model given to calibrate_from_turn: the fit's
+  /// covariance (JᵀJ)⁻¹ JᵀΣJ (JᵀJ)⁻¹ at the solution, Σ each reading's ADC noise and each face's
+  /// reflectivity shared by all the readings of that face. The centre's are not yet checked
+  /// against the truth (the study found centre_x_sd_mm far too small for some mice).
+  double centre_x_sd_mm = 0.0;
+  double centre_y_sd_mm = 0.0;
+  double start_heading_sd_rad = 0.0;
+  double radians_per_count_sd = 0.0;
   double rms_log_residual = 0.0;  ///< of the readings used, ln(measured / model)
   std::size_t readings_used = 0u;
   std::uint32_t iterations = 0u;
@@ -155,11 +163,12 @@ struct TurnCalibration {
 /// centre, the start heading, the angle per count, each sensor's a and the shared p, by
 /// Levenberg-Marquardt on ln(lit), the model cast into `maze` from the sensors' `mounts`. Uses the
 /// readings from 150 counts up to below full scale whose axis meets a face less than 160 mm away.
-/// Throws std::invalid_argument when fewer than 20 readings per sensor are usable.
+/// Throws std::invalid_argument when fewer than 20 readings per sensor are usable. `noise` (its
+/// sigma_counts and common_relative, a face's reflectivity) gives the predicted σ.
 [[nodiscard]] TurnCalibration calibrate_from_turn(
     const sim::Maze& maze, const TurnSetup& setup,
     const std::array<sim::SensorMount, sensor_count>& mounts,
-    const std::vector<TurnSample>& samples);
+    const std::vector<TurnSample>& samples, const ReadingNoise& noise = {});
 
 /// (d) One sample of a straight run along a corridor: the distance run by the encoders at the
 /// nominal wheel scale (mm) and the four readings above ambient.

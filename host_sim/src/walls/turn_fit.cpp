@@ -1,0 +1,384 @@
+// (c) and the sensors' calibration: a turn in place in the start cell fitted to the maze's known
+// walls. Levenberg-Marquardt on ln(lit) with numerical derivatives, grown from the start of the
+// turn to its end so that the angle per count, still poorly known at first, is pinned by the
+// first walls before the later ones are used.
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "odocal/host/walls.hpp"
+
+namespace odocal::host::walls {
+
+namespace {
+
+// Parameters: centre x, centre y, start heading, rad per count, p, ln a of each sensor.
+constexpr std::size_t turn_parameters = 5u + sensor_count;
+using TurnParameters = std::array<double, turn_parameters>;
+
+constexpr double min_turn_lit_counts = 150.0;
+constexpr double max_turn_lit_counts = 3800.0;
+constexpr double max_turn_distance_mm = 160.0;
+// A reading this far from the model (in ln) is taken for a ray near a corner or an edge.
+constexpr double max_log_residual = 0.35;
+constexpr std::size_t min_readings_per_sensor = 20u;
+
+struct TurnReading {
+  std::size_t sample = 0u;
+  std::size_t sensor = 0u;
+  double log_lit = 0.0;
+};
+
+struct TurnProblem {
+  const sim::Maze& maze;
+  const std::array<sim::SensorMount, sensor_count>& mounts;
+  const std::vector<TurnSample>& samples;
+};
+
+// The model's ln(lit) for one reading, false when the axis meets nothing close.
+bool model_log_lit(const TurnProblem& problem, const TurnParameters& q, const TurnReading& reading,
+                   double& log_lit, std::uint32_t* surface = nullptr) {
+  const double heading = q[2] + q[3] * problem.samples[reading.sample].turn_counts;
+  const sim::SensorMount& mount = problem.mounts[reading.sensor];
+  const double c = std::cos(heading);
+  const double s = std::sin(heading);
+  const double x = q[0] + c * mount.x_mm - s * mount.y_mm;
+  const double y = q[1] + s * mount.x_mm + c * mount.y_mm;
+  const sim::RayHit hit = problem.maze.cast(x, y, heading + mount.yaw_rad, max_turn_distance_mm);
+  if (hit.kind == sim::SurfaceKind::none || !(hit.distance_mm > 1.0)) {
+    return false;
+  }
+  const double cos_incidence = std::cos(hit.incidence_rad);
+  if (!(cos_incidence > 0.2)) {
+    return false;
+  }
+  if (surface != nullptr) {
+    *surface = hit.surface;
+  }
+  log_lit =
+      q[5u + reading.sensor] + q[4] * std::log(cos_incidence) - 2.0 * std::log(hit.distance_mm);
+  return true;
+}
+
+// The readings the fit uses at `q`, among the samples up to `last_sample`.
+std::vector<TurnReading> select_readings(const TurnProblem& problem, const TurnParameters& q,
+                                         std::size_t last_sample, bool check_residual) {
+  std::vector<TurnReading> readings;
+  for (std::size_t j = 0u; j <= last_sample; ++j) {
+    for (std::size_t i = 0u; i < sensor_count; ++i) {
+      const double lit = problem.samples[j].lit_counts[i];
+      if (!(lit >= min_turn_lit_counts && lit < max_turn_lit_counts)) {
+        continue;
+      }
+      const TurnReading reading{j, i, std::log(lit)};
+      double model = 0.0;
+      if (!model_log_lit(problem, q, reading, model)) {
+        continue;
+      }
+      if (check_residual && std::fabs(reading.log_lit - model) > max_log_residual) {
+        continue;
+      }
+      readings.push_back(reading);
+    }
+  }
+  return readings;
+}
+
+// Residuals (measured − model); a reading the model no longer sees weighs as the cut-off.
+std::vector<double> residuals(const TurnProblem& problem, const TurnParameters& q,
+                              const std::vector<TurnReading>& readings) {
+  std::vector<double> out(readings.size());
+  for (std::size_t k = 0u; k < readings.size(); ++k) {
+    double model = 0.0;
+    out[k] = model_log_lit(problem, q, readings[k], model) ? readings[k].log_lit - model
+                                                           : max_log_residual;
+  }
+  return out;
+}
+
+double sum_of_squares(const std::vector<double>& r) {
+  double sum = 0.0;
+  for (const double value : r) {
+    sum += value * value;
+  }
+  return sum;
+}
+
+// Solves the small dense system A x = b in place (Gaussian elimination, partial pivoting).
+bool solve_dense(std::array<std::array<double, turn_parameters>, turn_parameters> a,
+                 TurnParameters& b) {
+  constexpr std::size_t n = turn_parameters;
+  for (std::size_t col = 0u; col < n; ++col) {
+    std::size_t pivot = col;
+    for (std::size_t row = col + 1u; row < n; ++row) {
+      if (std::fabs(a[row][col]) > std::fabs(a[pivot][col])) {
+        pivot = row;
+      }
+    }
+    if (!(std::fabs(a[pivot][col]) > 1e-300)) {
+      return false;
+    }
+    std::swap(a[pivot], a[col]);
+    std::swap(b[pivot], b[col]);
+    for (std::size_t row = col + 1u; row < n; ++row) {
+      const double factor = a[row][col] / a[col][col];
+      for (std::size_t k = col; k < n; ++k) {
+        a[row][k] -= factor * a[col][k];
+      }
+      b[row] -= factor * b[col];
+    }
+  }
+  for (std::size_t col = n; col-- > 0u;) {
+    for (std::size_t k = col + 1u; k < n; ++k) {
+      b[col] -= a[col][k] * b[k];
+    }
+    b[col] /= a[col][col];
+  }
+  return true;
+}
+
+// Numerical derivative steps, per parameter.
+TurnParameters derivative_steps(const TurnParameters& q) {
+  TurnParameters steps{};
+  steps[0] = 1e-3;
+  steps[1] = 1e-3;
+  steps[2] = 1e-6;
+  steps[3] = 1e-6 * std::fabs(q[3]) + 1e-12;
+  steps[4] = 1e-5;
+  for (std::size_t i = 0u; i < sensor_count; ++i) {
+    steps[5u + i] = 1e-5;
+  }
+  return steps;
+}
+
+// d(model)/dq for every reading, by parameter (numerical, forward differences).
+using TurnJacobian = std::array<std::vector<double>, turn_parameters>;
+
+TurnJacobian turn_jacobian(const TurnProblem& problem, const TurnParameters& q,
+                           const std::vector<TurnReading>& readings, const std::vector<double>& r) {
+  const TurnParameters steps = derivative_steps(q);
+  TurnJacobian jacobian;
+  for (std::size_t p = 0u; p < turn_parameters; ++p) {
+    TurnParameters moved = q;
+    moved[p] += steps[p];
+    const std::vector<double> r_moved = residuals(problem, moved, readings);
+    jacobian[p].resize(r.size());
+    for (std::size_t k = 0u; k < r.size(); ++k) {
+      jacobian[p][k] = -(r_moved[k] - r[k]) / steps[p];
+    }
+  }
+  return jacobian;
+}
+
+using TurnMatrix = std::array<std::array<double, turn_parameters>, turn_parameters>;
+
+// The fit's covariance from the noise model (the sandwich of least squares, ln lit unweighted):
+// C = A⁻¹ B A⁻¹, A = JᵀJ, B = Σ_k σ_k² j_k j_kᵀ (each reading's ADC noise, σ_k = σ / lit_k) +
+// σ_face² Σ_s g_s g_sᵀ (one reflectivity per face or post s shared by its readings, g_s the sum of
+// their rows). Empty (all zero) when A is singular.
+TurnMatrix turn_covariance(const TurnProblem& problem, const TurnParameters& q,
+                           const std::vector<TurnReading>& readings, const ReadingNoise& noise) {
+  const std::vector<double> r = residuals(problem, q, readings);
+  const TurnJacobian jacobian = turn_jacobian(problem, q, readings, r);
+  TurnMatrix a{};
+  TurnMatrix b{};
+  std::vector<std::pair<std::uint32_t, TurnParameters>> faces;
+  for (std::size_t k = 0u; k < readings.size(); ++k) {
+    TurnParameters row{};
+    for (std::size_t p = 0u; p < turn_parameters; ++p) {
+      row[p] = jacobian[p][k];
+    }
+    const double sigma = noise.sigma_counts / std::exp(readings[k].log_lit);
+    for (std::size_t p = 0u; p < turn_parameters; ++p) {
+      for (std::size_t m = 0u; m < turn_parameters; ++m) {
+        a[p][m] += row[p] * row[m];
+        b[p][m] += sigma * sigma * row[p] * row[m];
+      }
+    }
+    double model = 0.0;
+    std::uint32_t surface = 0u;
+    static_cast<void>(model_log_lit(problem, q, readings[k], model, &surface));
+    auto face = std::find_if(faces.begin(), faces.end(),
+                             [&](const auto& entry) { return entry.first == surface; });
+    if (face == faces.end()) {
+      faces.push_back({surface, TurnParameters{}});
+      face = faces.end() - 1;
+    }
+    for (std::size_t p = 0u; p < turn_parameters; ++p) {
+      face->second[p] += row[p];
+    }
+  }
+  const double face_variance = noise.common_relative * noise.common_relative;
+  for (const auto& [surface, g] : faces) {
+    for (std::size_t p = 0u; p < turn_parameters; ++p) {
+      for (std::size_t m = 0u; m < turn_parameters; ++m) {
+        b[p][m] += face_variance * g[p] * g[m];
+      }
+    }
+  }
+  // A⁻¹ column by column, then A⁻¹ B A⁻¹.
+  TurnMatrix inverse{};
+  for (std::size_t col = 0u; col < turn_parameters; ++col) {
+    TurnParameters unit{};
+    unit[col] = 1.0;
+    if (!solve_dense(a, unit)) {
+      return TurnMatrix{};
+    }
+    for (std::size_t p = 0u; p < turn_parameters; ++p) {
+      inverse[p][col] = unit[p];
+    }
+  }
+  TurnMatrix product{};
+  for (std::size_t p = 0u; p < turn_parameters; ++p) {
+    for (std::size_t m = 0u; m < turn_parameters; ++m) {
+      for (std::size_t k = 0u; k < turn_parameters; ++k) {
+        product[p][m] += inverse[p][k] * b[k][m];
+      }
+    }
+  }
+  TurnMatrix covariance{};
+  for (std::size_t p = 0u; p < turn_parameters; ++p) {
+    for (std::size_t m = 0u; m < turn_parameters; ++m) {
+      for (std::size_t k = 0u; k < turn_parameters; ++k) {
+        covariance[p][m] += product[p][k] * inverse[k][m];
+      }
+    }
+  }
+  return covariance;
+}
+
+// Levenberg-Marquardt on the readings chosen; returns the iterations taken.
+std::uint32_t levenberg_marquardt(const TurnProblem& problem,
+                                  const std::vector<TurnReading>& readings, TurnParameters& q) {
+  double lambda = 1e-3;
+  std::vector<double> r = residuals(problem, q, readings);
+  double cost = sum_of_squares(r);
+  std::uint32_t iteration = 0u;
+  for (; iteration < 40u; ++iteration) {
+    const TurnJacobian jacobian = turn_jacobian(problem, q, readings, r);
+    std::array<std::array<double, turn_parameters>, turn_parameters> normal{};
+    TurnParameters gradient{};
+    for (std::size_t p = 0u; p < turn_parameters; ++p) {
+      for (std::size_t k = 0u; k < r.size(); ++k) {
+        gradient[p] += jacobian[p][k] * r[k];
+      }
+      for (std::size_t m = 0u; m <= p; ++m) {
+        double sum = 0.0;
+        for (std::size_t k = 0u; k < r.size(); ++k) {
+          sum += jacobian[p][k] * jacobian[m][k];
+        }
+        normal[p][m] = sum;
+        normal[m][p] = sum;
+      }
+    }
+    bool improved = false;
+    while (!improved && lambda < 1e8) {
+      auto damped = normal;
+      TurnParameters step = gradient;
+      for (std::size_t p = 0u; p < turn_parameters; ++p) {
+        damped[p][p] += lambda * (normal[p][p] + 1e-12);
+      }
+      if (!solve_dense(damped, step)) {
+        lambda *= 10.0;
+        continue;
+      }
+      TurnParameters trial = q;
+      for (std::size_t p = 0u; p < turn_parameters; ++p) {
+        trial[p] += step[p];
+      }
+      const std::vector<double> r_trial = residuals(problem, trial, readings);
+      const double trial_cost = sum_of_squares(r_trial);
+      if (trial_cost < cost) {
+        const double drop = cost - trial_cost;
+        q = trial;
+        r = r_trial;
+        cost = trial_cost;
+        lambda = std::max(lambda * 0.3, 1e-9);
+        improved = true;
+        if (drop < 1e-10 * (1.0 + cost)) {
+          return iteration + 1u;
+        }
+      } else {
+        lambda *= 10.0;
+      }
+    }
+    if (!improved) {
+      break;
+    }
+  }
+  return iteration;
+}
+
+// Each sensor's ln a given the rest: the median of ln(lit) − (model without a).
+void initial_strengths(const TurnProblem& problem, TurnParameters& q, std::size_t last_sample) {
+  for (std::size_t i = 0u; i < sensor_count; ++i) {
+    q[5u + i] = 0.0;
+  }
+  const std::vector<TurnReading> readings = select_readings(problem, q, last_sample, false);
+  for (std::size_t i = 0u; i < sensor_count; ++i) {
+    std::vector<double> offsets;
+    for (const TurnReading& reading : readings) {
+      double model = 0.0;
+      if (reading.sensor == i && model_log_lit(problem, q, reading, model)) {
+        offsets.push_back(reading.log_lit - model);
+      }
+    }
+    if (offsets.size() < min_readings_per_sensor) {
+      throw std::invalid_argument("calibrate_from_turn: sensor " + std::to_string(i) +
+                                  " sees too few walls in the start cell");
+    }
+    std::nth_element(offsets.begin(), offsets.begin() + offsets.size() / 2u, offsets.end());
+    q[5u + i] = offsets[offsets.size() / 2u];
+  }
+}
+
+}  // namespace
+
+TurnCalibration calibrate_from_turn(const sim::Maze& maze, const TurnSetup& setup,
+                                    const std::array<sim::SensorMount, sensor_count>& mounts,
+                                    const std::vector<TurnSample>& samples,
+                                    const ReadingNoise& noise) {
+  if (samples.size() < min_readings_per_sensor || !(std::fabs(setup.radians_per_count) > 0.0)) {
+    throw std::invalid_argument("calibrate_from_turn: too few samples or no nominal turn rate");
+  }
+  const TurnProblem problem{maze, mounts, samples};
+  const sim::MazePose centre = sim::Maze::cell_centre(setup.column, setup.row);
+  TurnParameters q{};
+  q[0] = centre.x_mm;
+  q[1] = centre.y_mm;
+  q[2] = setup.start_heading_rad;
+  q[3] = setup.radians_per_count;
+  q[4] = 1.0;
+  TurnCalibration out;
+  // Grown in stages: a quarter, half, then all of the turn.
+  for (const double fraction : {0.25, 0.5, 1.0}) {
+    const auto last = static_cast<std::size_t>(fraction * static_cast<double>(samples.size() - 1u));
+    initial_strengths(problem, q, last);
+    const std::vector<TurnReading> readings = select_readings(problem, q, last, true);
+    out.iterations += levenberg_marquardt(problem, readings, q);
+  }
+  const std::vector<TurnReading> readings = select_readings(problem, q, samples.size() - 1u, true);
+  out.iterations += levenberg_marquardt(problem, readings, q);
+  const std::vector<double> r = residuals(problem, q, readings);
+  out.readings_used = readings.size();
+  out.rms_log_residual = std::sqrt(sum_of_squares(r) / static_cast<double>(r.size()));
+  out.centre_x_mm = q[0];
+  out.centre_y_mm = q[1];
+  out.start_heading_rad = q[2];
+  out.radians_per_count = q[3];
+  const TurnMatrix covariance = turn_covariance(problem, q, readings, noise);
+  out.centre_x_sd_mm = std::sqrt(covariance[0][0]);
+  out.centre_y_sd_mm = std::sqrt(covariance[1][1]);
+  out.start_heading_sd_rad = std::sqrt(covariance[2][2]);
+  out.radians_per_count_sd = std::sqrt(covariance[3][3]);
+  out.sensors.mounts = mounts;
+  for (std::size_t i = 0u; i < sensor_count; ++i) {
+    out.sensors.responses[i] = SensorResponse{std::exp(q[5u + i]), q[4]};
+  }
+  return out;
+}
+
+}  // namespace odocal::host::walls

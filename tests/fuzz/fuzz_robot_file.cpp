@@ -3,7 +3,7 @@
 // no exception, false with an error "<source>: ..." and the spec untouched, or true with a robot
 // inside the ranges the simulated firmware runs (the firmware accepts the told geometry, the
 // model checks out, the true errors are finite and near 1); and load_robot_file on the same bytes
-// in a file says the same.
+// in a file says the same (unless the bytes may name a maze file, found from each one's folder).
 
 #include <cmath>
 #include <cstddef>
@@ -61,7 +61,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       __builtin_trap();
   }
 
-  // The same bytes as a file: the same verdict, and the same message but for the source.
+  // The same bytes as a file: the same verdict, and the same message but for the source. Not when
+  // the bytes may name a maze file: it is found from each robot file's own folder (the working
+  // directory for the text, the scratch folder for the file), which may hold different files.
+  if (text.find("maze") != std::string::npos || text.find("\\u") != std::string::npos) {
+    return 0;
+  }
   const std::string path = scratch.write("robot.json", data, size);
   host::RobotSpec from_file = sentinel();
   std::string file_error;

@@ -15,6 +15,7 @@
 #include "odocal/host/calib_json.hpp"
 #include "odocal/host/csv.hpp"
 #include "odocal/params/param_table.hpp"
+#include "robot_file_walls.hpp"
 
 namespace odocal::host {
 
@@ -120,7 +121,8 @@ bool fail(std::string& error, const std::string& source, const std::string& key,
   return false;
 }
 
-/// Every key a robot file may hold (the numeric ones set_key takes, and the named ones).
+/// Every key a robot file may hold (the numeric ones set_key takes, and the named ones; the maze
+/// and wall-sensor keys are robot_file_walls::keys).
 constexpr const char* robot_file_keys[] = {"wheel_diameter_mm",      "wheelbase_mm",
                                            "counts_per_rev",         "true_left_diameter_mm",
                                            "true_right_diameter_mm", "true_wheelbase_mm",
@@ -151,12 +153,18 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 std::string unknown_key(const std::string& key) {
   const char* best = nullptr;
   std::size_t best_distance = 0;
-  for (const char* known : robot_file_keys) {
+  const auto consider = [&](const char* known) {
     const std::size_t d = edit_distance(key, known);
     if (best == nullptr || d < best_distance) {
       best = known;
       best_distance = d;
     }
+  };
+  for (const char* known : robot_file_keys) {
+    consider(known);
+  }
+  for (const char* known : robot_file_walls::keys) {
+    consider(known);
   }
   if (best != nullptr && best_distance <= std::max<std::size_t>(2, key.size() / 4)) {
     return std::string("unknown key (did you mean \"") + best + "\"?)";
@@ -207,6 +215,9 @@ bool near_nominal(double true_mm, double nominal_mm, double tolerance) {
 /// unknown or its value is out of its form (the ranges that involve other keys come after).
 bool read_key(const std::string& key, const nlohmann::json& value, const std::string& source,
               RobotSpec& out, std::string& error) {
+  if (robot_file_walls::is_key(key)) {
+    return true;  // read once the robot's geometry is known (robot_file_walls::read)
+  }
   if (key == "encoder_fault") {
     if (!value.is_string() || !parse_encoder_fault(value.get<std::string>(), out)) {
       return fail(error, source, key,
@@ -399,7 +410,8 @@ bool parse_robot(const std::string& text, const std::string& source, RobotSpec& 
   }
   scale_untold_truth(doc, out);
   if (!check_nominal_geometry(out, source, error) || !check_true_geometry(out, source, error) ||
-      !check_true_noise(out.truth, source, error)) {
+      !check_true_noise(out.truth, source, error) ||
+      !robot_file_walls::read(doc, source, out, error)) {
     return false;
   }
   spec = out;

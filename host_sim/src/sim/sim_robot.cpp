@@ -8,6 +8,17 @@
 
 namespace odocal::host {
 
+namespace {
+// Salts the robot's seed for the wall sensors' noise ("wallnois"): streams apart from the plant's.
+constexpr std::uint64_t wall_noise_stream = 0x77616c6c6e6f6973u;
+}  // namespace
+
+sim::SimWallSensor SimulatedRobot::make_wall_sensor(std::uint32_t index, std::uint64_t seed) const {
+  const std::uint64_t noise_seed = sim::Random::derive(seed ^ wall_noise_stream, index).next_u64();
+  return sim::SimWallSensor(wall_scene_, plant_in_maze_, spec_.walls.sensors.sensors[index],
+                            noise_seed);
+}
+
 SimulatedRobot::SimulatedRobot(const RobotSpec& spec, std::uint64_t seed)
     : spec_(spec),
       plant_(spec.truth, seed),
@@ -18,7 +29,11 @@ SimulatedRobot::SimulatedRobot(const RobotSpec& spec, std::uint64_t seed)
       left_wiring_(encoder_line(0, true), encoder_line(0, false), plant_.clock(),
                    loop_.left_decoder()),
       right_wiring_(encoder_line(1, true), encoder_line(1, false), plant_.clock(),
-                    loop_.right_decoder()) {
+                    loop_.right_decoder()),
+      wall_scene_(spec_.walls.maze, spec_.walls.physics, spec_.walls.seed),
+      plant_in_maze_(plant_, spec_.walls.start_pose()),
+      wall_sensors_{{make_wall_sensor(0u, seed), make_wall_sensor(1u, seed),
+                     make_wall_sensor(2u, seed), make_wall_sensor(3u, seed)}} {
   left_wiring_.attach();
   right_wiring_.attach();
   fault_pending_ =

@@ -4,6 +4,7 @@
 /// hal/sim plant and run by a deterministic event loop. The robot it simulates comes from the
 /// robot file (robot_file.hpp).
 
+#include <array>
 #include <cstdint>
 #include <functional>
 
@@ -13,6 +14,7 @@
 #include "odocal/host/robot_file.hpp"
 #include "odocal/sim/encoder_wiring.hpp"
 #include "odocal/sim/plant.hpp"
+#include "odocal/sim/wall_sensor_model.hpp"
 
 namespace odocal::host {
 
@@ -70,6 +72,26 @@ class SimulatedRobot {
   /// odometry had at its last reset (the world frame before any).
   [[nodiscard]] sim::WorldPose measure_in_odometry_frame();
 
+  /// The robot's wall sensors (issue 48): the layout's four with a maze (RobotSpec::walls), none
+  /// without. They look from the plant's true pose put into the maze at the start cell's centre
+  /// (where run_path puts the robot down), through the scene's maze, physics and reflectivities;
+  /// each draws its noise from a stream of its own derived from the robot's seed, so the plant's
+  /// random terms are the same with or without them.
+  [[nodiscard]] std::uint32_t wall_sensor_count() const {
+    return spec_.walls.present() ? sim::WallSensorLayout::count : 0u;
+  }
+  /// Sensor `index` (< wall_sensor_count(), in the layout's order: left front, left diagonal,
+  /// right diagonal, right front); an index beyond is taken as the last sensor.
+  hal::WallSensor& wall_sensor(std::uint32_t index) { return wall_sensors_[sensor_slot(index)]; }
+  /// The same sensor as the simulator sees it (its mount, gain, emitter).
+  [[nodiscard]] const sim::SimWallSensor& sim_wall_sensor(std::uint32_t index) const {
+    return wall_sensors_[sensor_slot(index)];
+  }
+  /// The maze, physics and reflectivities the sensors read.
+  [[nodiscard]] const sim::SensorScene& wall_scene() const { return wall_scene_; }
+  /// The robot's true pose in the maze frame, mm and rad.
+  [[nodiscard]] sim::MazePose pose_in_maze() const { return plant_in_maze_.pose_in_maze(); }
+
   /// Simulated time, s.
   [[nodiscard]] double simulated_s() const { return static_cast<double>(plant_.now_ns()) * 1e-9; }
 
@@ -84,6 +106,12 @@ class SimulatedRobot {
   /// Line A (`a`) or B of the encoder the firmware's connector on `side` reads.
   sim::EncoderLine& encoder_line(int side, bool a);
 
+  static std::uint32_t sensor_slot(std::uint32_t index) {
+    return index < sim::WallSensorLayout::count ? index : sim::WallSensorLayout::count - 1u;
+  }
+  /// Sensor `index` of the layout, reading the plant in the maze with its own noise stream.
+  sim::SimWallSensor make_wall_sensor(std::uint32_t index, std::uint64_t seed) const;
+
   RobotSpec spec_;
   sim::Plant plant_;
   drive::InvertedOutput reversed_direction_;  ///< the reversed motor's direction line (if any)
@@ -95,7 +123,10 @@ class SimulatedRobot {
   std::uint64_t next_tick_ns_ = 0u;
   bool fault_pending_ = false;
   std::uint32_t pose_resets_ = 0u;
-  sim::WorldPose frame_{};  ///< true pose at the last odometry reset
+  sim::WorldPose frame_{};       ///< true pose at the last odometry reset
+  sim::SensorScene wall_scene_;  ///< reads spec_.walls.maze (kept here, never moved)
+  sim::PlantInMaze plant_in_maze_;
+  std::array<sim::SimWallSensor, sim::WallSensorLayout::count> wall_sensors_;
 };
 
 }  // namespace odocal::host

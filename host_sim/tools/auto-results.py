@@ -270,7 +270,8 @@ def main():
         "figure is the ratio of the two RMS end errors; the measurement count is every run the "
         "user measured (auto's verification included). %s Regenerate the table with `python3 "
         "tests/host_sim/session/auto_study.py BIN_DIR --seeds %d`%s; the test `odocal_auto_study` "
-        "runs auto on seeds 1-%d and holds it to the limits below." % (
+        "(a benchmark, `toolchain/run-benchmarks.sh`) runs auto on seeds 1-%d and holds it to the "
+        "limits below." % (
             defaults["measure_sigma_m"] * 1e3, math.degrees(defaults["measure_heading_sigma_rad"]),
             study.EVAL_SESSIONS, study.UNSEEN_RUNS,
             join_words(str(study.EVAL_SEED + i) for i in range(study.EVAL_SESSIONS)),

@@ -7,32 +7,21 @@
 #include "odocal/hal/stm32f4/cortex_m4.hpp"
 #include "odocal/hal/stm32f4/interrupts.hpp"
 #include "odocal/hal/stm32f4/usart_stream.hpp"
+#include "odocal/name_list.hpp"
 
 namespace odocal::firmware {
 namespace {
 
 const char* kind_name(FaultKind kind) {
-  switch (kind) {
-    case FaultKind::hard_fault:
-      return "hard";
-    case FaultKind::mem_manage:
-      return "memmanage";
-    case FaultKind::bus_fault:
-      return "bus";
-    case FaultKind::usage_fault:
-      return "usage";
-    case FaultKind::nmi:
-      return "nmi";
-    case FaultKind::unexpected_exception:
-      return "exception";
-    case FaultKind::unhandled_interrupt:
-      return "irq";
-    case FaultKind::heap_use:
-      return "heap";
-    case FaultKind::pure_virtual:
-      break;
-  }
-  return "pure-virtual";
+  // In FaultKind's order (name_list.hpp: one string instead of a table of pointers).
+  static constexpr char names[] =
+      "hard\0memmanage\0bus\0usage\0nmi\0exception\0irq\0heap\0pure-virtual";
+  static_assert(nul_count(names) == static_cast<std::size_t>(FaultKind::pure_virtual) + 1u,
+                "one name per FaultKind, in its order");
+  const auto n = static_cast<unsigned>(kind);
+  return name_at(names, n <= static_cast<unsigned>(FaultKind::pure_virtual)
+                            ? n
+                            : static_cast<unsigned>(FaultKind::pure_virtual));
 }
 
 }  // namespace

@@ -39,9 +39,9 @@ void nmi_handler() {
 
 extern "C" [[noreturn]] __attribute__((section(".text.reset_handler"))) void reset_handler() {
   namespace scb = odocal::hal::stm32f4::scb;
-  // FPU on before any float instruction can run (static constructors included).
-  scb::cpacr.modify(scb::cpacr_cp10, 0b11u);
-  scb::cpacr.modify(scb::cpacr_cp11, 0b11u);
+  // FPU on before any float instruction can run (static constructors included): CP10 and CP11
+  // to full access (0b11 each) in one write: PM0214 wants the two fields set alike.
+  scb::cpacr.set(scb::cpacr_cp10.mask() | scb::cpacr_cp11.mask());
   __asm volatile("dsb\n isb" ::: "memory");
 
   // Word copies written as volatile loops so the compiler does not turn them into library calls

@@ -4,6 +4,7 @@
 
 #include "norm.hpp"
 #include "odocal/math/bounded_trig.hpp"
+#include "odocal/name_list.hpp"
 
 namespace odocal::calib {
 namespace {
@@ -25,21 +26,15 @@ double chord_angle(double slope) {
 }  // namespace
 
 const char* to_string(LateralStatus status) {
-  switch (status) {
-    case LateralStatus::ok:
-      return "ok";
-    case LateralStatus::too_few_trials:
-      return "need 2 to 1024 trials";
-    case LateralStatus::bad_geometry:
-      return "sizes and theta_L must be > 0";
-    case LateralStatus::non_finite:
-      return "a value is not finite";
-    case LateralStatus::error_too_large:
-      return "a stop point lies off the line";
-    case LateralStatus::degenerate:
-      return "no positive factor fits";
-  }
-  return "unknown status";
+  // In LateralStatus' order (name_list.hpp: one string instead of a table of pointers).
+  static constexpr char messages[] =
+      "ok\0need 2 to 1024 trials\0sizes and theta_L must be > 0\0a value is not finite\0"
+      "a stop point lies off the line\0no positive factor fits";
+  static_assert(nul_count(messages) == static_cast<std::size_t>(LateralStatus::degenerate) + 1u,
+                "one message per LateralStatus, in its order");
+  const auto n = static_cast<unsigned>(status);
+  return n <= static_cast<unsigned>(LateralStatus::degenerate) ? name_at(messages, n)
+                                                               : "unknown status";
 }
 
 template <typename Real>

@@ -8,6 +8,7 @@
 #include "norm.hpp"
 #include "odocal/drive/robot_model.hpp"
 #include "odocal/math/bounded_trig.hpp"
+#include "odocal/name_list.hpp"
 
 namespace odocal::calib {
 namespace {
@@ -296,23 +297,15 @@ bool solve_exact(const UmbmarkInputOf<Real>& input, const Real (&observed)[4], R
 }  // namespace
 
 const char* to_string(UmbmarkStatus status) {
-  switch (status) {
-    case UmbmarkStatus::ok:
-      return "ok";
-    case UmbmarkStatus::too_few_runs:
-      return "need 2 to 64 runs per direction";
-    case UmbmarkStatus::bad_side:
-      return "side must be > 0";
-    case UmbmarkStatus::bad_wheelbase:
-      return "wheelbase must be > 0";
-    case UmbmarkStatus::non_finite:
-      return "a return error is not finite";
-    case UmbmarkStatus::error_too_large:
-      return "a return error exceeds the path";
-    case UmbmarkStatus::degenerate:
-      return "degenerate: no square fits";
-  }
-  return "unknown status";
+  // In UmbmarkStatus' order (name_list.hpp: one string instead of a table of pointers).
+  static constexpr char messages[] =
+      "ok\0need 2 to 64 runs per direction\0side must be > 0\0wheelbase must be > 0\0"
+      "a return error is not finite\0a return error exceeds the path\0degenerate: no square fits";
+  static_assert(nul_count(messages) == static_cast<std::size_t>(UmbmarkStatus::degenerate) + 1u,
+                "one message per UmbmarkStatus, in its order");
+  const auto n = static_cast<unsigned>(status);
+  return n <= static_cast<unsigned>(UmbmarkStatus::degenerate) ? name_at(messages, n)
+                                                               : "unknown status";
 }
 
 template <typename Real>

@@ -101,7 +101,9 @@ void Console::cmd_umbmark_solve(const Token* words, std::size_t count) {
       result.e_d, result.e_b, result.c_l, result.c_r, result.wheelbase_new_mm, result.alpha_deg,
       result.beta_deg, result.e_max_syst_mm, result.sem_mm,
       result.second_pass_recommended ? 1u : 0u, umbmark_.side_mm(),
-      umbmark_.cw_count() + umbmark_.ccw_count(), exact ? "umbmark-exact" : "umbmark");
+      umbmark_.cw_count() + umbmark_.ccw_count(),
+      params::method_name(exact ? params::FactorMethod::umbmark_exact
+                                : params::FactorMethod::umbmark));
 }
 
 void Console::cmd_lateral_clear() {

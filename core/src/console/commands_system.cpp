@@ -3,8 +3,8 @@
 #include <bit>
 
 #include "odocal/console/console.hpp"
-#include "odocal/console/name_list.hpp"
 #include "odocal/console/version.hpp"
+#include "odocal/name_list.hpp"
 
 namespace odocal::console {
 namespace {

@@ -1,6 +1,6 @@
 #include "odocal/console/reply.hpp"
 
-#include "odocal/console/name_list.hpp"
+#include "odocal/name_list.hpp"
 
 namespace odocal::console {
 
@@ -16,17 +16,8 @@ const char* error_code_name(ErrorCode code) {
   // checked name by name in tests/core/console).
   static_assert(nul_count(names) == static_cast<std::size_t>(ErrorCode::count),
                 "one name per ErrorCode, in its order");
-  auto n = static_cast<unsigned>(code);
-  if (n >= static_cast<unsigned>(ErrorCode::count)) {
-    return "unknown";
-  }
-  const char* name = names;
-  while (n > 0u) {
-    if (*name++ == '\0') {
-      --n;
-    }
-  }
-  return name;
+  const auto n = static_cast<unsigned>(code);
+  return n < static_cast<unsigned>(ErrorCode::count) ? name_at(names, n) : "unknown";
 }
 
 ErrLine::ErrLine(OutputQueue& queue, ErrorCode code) : ReplyLine(queue) {

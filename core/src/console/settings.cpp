@@ -1,5 +1,7 @@
 #include "odocal/console/settings.hpp"
 
+#include "odocal/name_list.hpp"
+
 namespace odocal::console {
 namespace {
 
@@ -14,21 +16,12 @@ bool is_lateral_factor(params::ParamId id) {
 }  // namespace
 
 const char* store_word(params::StoreResult result) {
-  switch (result) {
-    case params::StoreResult::ok:
-      return "ok";
-    case params::StoreResult::empty:
-      return "empty";
-    case params::StoreResult::newer_version:
-      return "newer_version";
-    case params::StoreResult::device_error:
-      return "device_error";
-    case params::StoreResult::bad_geometry:
-      return "bad_geometry";
-    case params::StoreResult::corrupt:
-      return "corrupt";
-  }
-  return "unknown";
+  // In StoreResult's order (name_list.hpp: one string instead of a table of pointers).
+  static constexpr char words[] = "ok\0empty\0newer_version\0device_error\0bad_geometry\0corrupt";
+  static_assert(nul_count(words) == static_cast<std::size_t>(params::StoreResult::corrupt) + 1u,
+                "one word per StoreResult, in its order");
+  const auto n = static_cast<unsigned>(result);
+  return n <= static_cast<unsigned>(params::StoreResult::corrupt) ? name_at(words, n) : "unknown";
 }
 
 Settings::Settings(drive::ControlLoop& loop, params::ParamStore& store,

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "odocal/name_list.hpp"
+
 namespace odocal::drive {
 namespace {
 
@@ -36,17 +38,12 @@ constexpr std::uint32_t kMaxTickGap_us = 100000u;
 }  // namespace
 
 const char* mode_name(Mode mode) {
-  switch (mode) {
-    case Mode::drive:
-      return "drive";
-    case Mode::path:
-      return "path";
-    case Mode::fault:
-      return "fault";
-    case Mode::idle:
-      break;
-  }
-  return "idle";
+  // In Mode's order (name_list.hpp: one string instead of a table of pointers).
+  static constexpr char names[] = "idle\0drive\0path\0fault";
+  static_assert(nul_count(names) == static_cast<std::size_t>(Mode::fault) + 1u,
+                "one name per Mode, in its order");
+  const auto n = static_cast<unsigned>(mode);
+  return name_at(names, n <= static_cast<unsigned>(Mode::fault) ? n : 0u);
 }
 
 void InvertedOutput::do_set(bool level) {

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "odocal/name_list.hpp"
+
 namespace odocal::drive {
 namespace {
 
@@ -48,21 +50,12 @@ float creep_speed(const DriveConfig& limits, bool by_distance, float cruise) {
 }  // namespace
 
 const char* path_name(PathId id) {
-  switch (id) {
-    case PathId::umbmark_cw:
-      return "umbmark-cw";
-    case PathId::umbmark_ccw:
-      return "umbmark-ccw";
-    case PathId::line:
-      return "line";
-    case PathId::unseen:
-      return "unseen";
-    case PathId::drive:
-      return "drive";
-    case PathId::none:
-      break;
-  }
-  return "none";
+  // In PathId's order (name_list.hpp: one string instead of a table of pointers).
+  static constexpr char names[] = "none\0umbmark-cw\0umbmark-ccw\0line\0unseen\0drive";
+  static_assert(nul_count(names) == static_cast<std::size_t>(PathId::drive) + 1u,
+                "one name per PathId, in its order");
+  const auto n = static_cast<unsigned>(id);
+  return name_at(names, n <= static_cast<unsigned>(PathId::drive) ? n : 0u);
 }
 
 bool Path::push(const Segment& segment) {

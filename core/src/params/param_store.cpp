@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <cstring>
 
+#include "odocal/name_list.hpp"
 #include "odocal/params/crc32.hpp"
 
 namespace odocal::params {
@@ -215,21 +216,14 @@ std::size_t encode_record(const ParamSet& set, std::uint32_t sequence, std::uint
 }
 
 const char* to_string(StoreResult result) {
-  switch (result) {
-    case StoreResult::ok:
-      return "ok";
-    case StoreResult::empty:
-      return "no saved parameters";
-    case StoreResult::newer_version:
-      return "record newer than this firmware";
-    case StoreResult::device_error:
-      return "block store failed";
-    case StoreResult::bad_geometry:
-      return "store needs 2 sectors";
-    case StoreResult::corrupt:
-      return "every stored record is damaged";
-  }
-  return "unknown";
+  // In StoreResult's order (name_list.hpp: one string instead of a table of pointers).
+  static constexpr char messages[] =
+      "ok\0no saved parameters\0record newer than this firmware\0block store failed\0"
+      "store needs 2 sectors\0every stored record is damaged";
+  static_assert(nul_count(messages) == static_cast<std::size_t>(StoreResult::corrupt) + 1u,
+                "one message per StoreResult, in its order");
+  const auto n = static_cast<unsigned>(result);
+  return n <= static_cast<unsigned>(StoreResult::corrupt) ? name_at(messages, n) : "unknown";
 }
 
 ParamStore::ParamStore(hal::BlockStore& device, std::size_t first_sector)

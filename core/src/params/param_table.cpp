@@ -3,6 +3,8 @@
 #include <cstring>
 #include <type_traits>
 
+#include "odocal/name_list.hpp"
+
 namespace odocal::params {
 namespace {
 
@@ -74,25 +76,13 @@ bool in_range(ParamId id, float value) {
 }
 
 const char* method_name(FactorMethod method) {
-  switch (method) {
-    case FactorMethod::manual:
-      return "manual";
-    case FactorMethod::umbmark:
-      return "umbmark";
-    case FactorMethod::umbmark_exact:
-      return "umbmark-exact";
-    case FactorMethod::migrated:
-      return "migrated";
-    case FactorMethod::maddahi:
-      return "maddahi";
-    case FactorMethod::fit:
-      return "fit";
-    case FactorMethod::bootstrap:
-      return "maddahi-bootstrap";
-    case FactorMethod::defaults:
-      break;
-  }
-  return "defaults";
+  // In FactorMethod's order (name_list.hpp: one string instead of a table of pointers).
+  static constexpr char names[] =
+      "defaults\0manual\0umbmark\0umbmark-exact\0migrated\0maddahi\0fit\0maddahi-bootstrap";
+  static_assert(nul_count(names) == static_cast<std::size_t>(last_factor_method) + 1u,
+                "one name per FactorMethod, in its order");
+  const auto n = static_cast<unsigned>(method);
+  return name_at(names, n <= static_cast<unsigned>(last_factor_method) ? n : 0u);
 }
 
 ParamSet default_params() {

@@ -5,9 +5,9 @@
 
 #include <cstdint>
 
-#include "odocal/console/name_list.hpp"
 #include "odocal/console/settings.hpp"
 #include "odocal/drive/control_loop.hpp"
+#include "odocal/name_list.hpp"
 
 namespace odocal::console {
 

@@ -137,6 +137,13 @@ struct FormLookup {
 /// keyword (second word), else the keyword-less form that takes this many words.
 [[nodiscard]] FormLookup find_form(const Token* words, std::size_t count);
 
+/// The factors a calibration form puts in force: the wheel group for `wheel_form`, the lateral
+/// group for the command's other form (`umbmark apply` / `lateral apply`, `fit apply` / `lateral
+/// set`).
+constexpr drive::FactorGroup factor_group(Handler handler, Handler wheel_form) {
+  return handler == wheel_form ? drive::FactorGroup::wheel : drive::FactorGroup::lateral;
+}
+
 /// Each form to its handler: the one switch from a Handler to the console's member that serves it
 /// (Console::dispatch calls it with itself, after the self-test's refusal; the compiler warns on a
 /// Handler it misses). Written beside the list, so that a new command is its row and its case
@@ -221,15 +228,11 @@ void dispatch_form(C& c, Handler handler, const Token* words, std::size_t count)
       return;
     case Handler::umbmark_apply:
     case Handler::lateral_apply:
-      c.cmd_calib_apply(handler == Handler::lateral_apply ? drive::FactorGroup::lateral
-                                                          : drive::FactorGroup::wheel,
-                        words, count);
+      c.cmd_calib_apply(factor_group(handler, Handler::umbmark_apply), words, count);
       return;
     case Handler::lateral_set:
     case Handler::fit_apply:
-      c.cmd_host_factors(
-          handler == Handler::fit_apply ? drive::FactorGroup::wheel : drive::FactorGroup::lateral,
-          words, count);
+      c.cmd_host_factors(factor_group(handler, Handler::fit_apply), words, count);
       return;
     case Handler::stream_odom:
     case Handler::stream_ticks:

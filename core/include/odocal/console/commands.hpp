@@ -51,6 +51,7 @@ enum class Changes : std::uint8_t {
   X(provenance, "provenance", 1, 1, form_question, nothing)                                        \
   X(odom, "odom", 1, 1, form_question, nothing)                                                    \
   X(odom_reset, "odom reset", 2, 2, form_sub, nothing)                                             \
+  X(walls, "walls", 1, 1, form_question, nothing)                                                  \
   X(drive, "drive <v_mps> <w_radps> [ms]", 3, 4, 0, nothing)                                       \
   X(stop, "stop", 1, 1, 0, nothing)                                                                \
   X(selftest, "selftest [left|right]", 1, 2, form_moving, nothing)                                 \
@@ -182,6 +183,9 @@ void dispatch_form(C& c, Handler handler, const Token* words, std::size_t count)
     case Handler::odom:
     case Handler::odom_reset:
       c.cmd_odom(handler);
+      return;
+    case Handler::walls:
+      c.cmd_walls();
       return;
     case Handler::drive:
       c.cmd_drive(words, count);

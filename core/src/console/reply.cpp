@@ -6,12 +6,12 @@ namespace odocal::console {
 
 const char* error_code_name(ErrorCode code) {
   // The names in the enumeration's order, each ended by a NUL: the n-th follows n NULs. One
-  // string instead of a table of 21 pointers.
+  // string instead of a table of 22 pointers.
   static constexpr char names[] =
       "line_too_long\0non_ascii\0unknown_command\0unknown_parameter\0wrong_arity\0"
       "bad_argument\0bad_number\0out_of_range\0busy\0fault\0rejected\0store_error\0"
       "store_empty\0store_version\0umbmark_full\0umbmark_failed\0not_solved\0no_trial\0"
-      "lateral_full\0lateral_failed\0store_corrupt";
+      "lateral_full\0lateral_failed\0store_corrupt\0no_sensors";
   // As many names as codes: a code added without its name does not compile (their order is
   // checked name by name in tests/core/console).
   static_assert(nul_count(names) == static_cast<std::size_t>(ErrorCode::count),

@@ -235,6 +235,10 @@ def main():
 
     reply = guest.command("bogus")
     checks.check(reply is not None and reply.startswith("err"), "unknown command refused", reply)
+    # No board has wall sensors yet (the images link the console without its target options).
+    reply = guest.command("walls")
+    checks.check(reply == "err no_sensors this robot has no wall sensors",
+                 "walls: no wall sensors", reply)
 
     # The console keeps no receive ring of its own: input waits in the USART's (127 bytes), which
     # the main loop drains into the line editor on every pass. A whole 127-byte line and its line

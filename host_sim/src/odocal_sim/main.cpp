@@ -353,6 +353,10 @@ bool run_boot(const Boot& b) {
   console_options.crlf = io.terminal;
   console_options.banner = io.terminal;
   console_options.defaults = &b.defaults;
+  // A robot in a maze: `walls` reads its four sensors (none without a maze: `err no_sensors`).
+  for (std::uint32_t i = 0u; i < robot.wall_sensor_count(); ++i) {
+    console_options.wall_sensors[i] = &robot.wall_sensor(i);
+  }
   // The published extended UMBmark lays 10 mm cables; a robot file's bump_height_mm replaces
   // that height, as in `odocal sim extended`.
   SimCommand sim_command(robot,

@@ -100,6 +100,7 @@ TEST(CommandList, EveryFormChangesOnlyTheParametersItsRowNames) {
                                           "defaults",
                                           "odom",
                                           "odom reset",
+                                          "walls",
                                           "drive 0.1 0 50",
                                           "stop",
                                           "selftest",

@@ -94,12 +94,13 @@ TEST(ReplyNumbers, ErrorCodeNamesByCode) {
                          "busy",          "fault",         "rejected",        "store_error",
                          "store_empty",   "store_version", "umbmark_full",    "umbmark_failed",
                          "not_solved",    "no_trial",      "lateral_full",    "lateral_failed",
-                         "store_corrupt"};
-  for (int code = 0; code < 21; ++code) {
+                         "store_corrupt", "no_sensors"};
+  for (int code = 0; code < 22; ++code) {
     EXPECT_STREQ(error_code_name(static_cast<ErrorCode>(code)), names[code]) << code;
   }
   EXPECT_EQ(ErrorCode::store_corrupt, static_cast<ErrorCode>(20));
-  EXPECT_STREQ(error_code_name(static_cast<ErrorCode>(21)), "unknown");
+  EXPECT_EQ(ErrorCode::no_sensors, static_cast<ErrorCode>(21));
+  EXPECT_STREQ(error_code_name(static_cast<ErrorCode>(22)), "unknown");
   EXPECT_STREQ(error_code_name(static_cast<ErrorCode>(255)), "unknown");
 }
 

@@ -51,6 +51,7 @@ enum class Changes : std::uint8_t {
   X(provenance, "provenance", 1, 1, form_question, nothing)                                        \
   X(odom, "odom", 1, 1, form_question, nothing)                                                    \
   X(odom_reset, "odom reset", 2, 2, form_sub, nothing)                                             \
+  X(walls, "walls", 1, 1, form_question, nothing)                                                  \
   X(drive, "drive <v_mps> <w_radps> [ms]", 3, 4, 0, nothing)                                       \
   X(stop, "stop", 1, 1, 0, nothing)                                                                \
   X(selftest, "selftest [left|right]", 1, 2, form_moving, nothing)                                 \
@@ -137,6 +138,13 @@ struct FormLookup {
 /// keyword (second word), else the keyword-less form that takes this many words.
 [[nodiscard]] FormLookup find_form(const Token* words, std::size_t count);
 
+/// The factors a calibration form puts in force: the wheel group for `wheel_form`, the lateral
+/// group for the command's other form (`umbmark apply` / `lateral apply`, `fit apply` / `lateral
+/// set`).
+constexpr drive::FactorGroup factor_group(Handler handler, Handler wheel_form) {
+  return handler == wheel_form ? drive::FactorGroup::wheel : drive::FactorGroup::lateral;
+}
+
 /// Each form to its handler: the one switch from a Handler to the console's member that serves it
 /// (Console::dispatch calls it with itself, after the self-test's refusal; the compiler warns on a
 /// Handler it misses). Written beside the list, so that a new command is its row and its case
@@ -175,6 +183,9 @@ void dispatch_form(C& c, Handler handler, const Token* words, std::size_t count)
     case Handler::odom:
     case Handler::odom_reset:
       c.cmd_odom(handler);
+      return;
+    case Handler::walls:
+      c.cmd_walls();
       return;
     case Handler::drive:
       c.cmd_drive(words, count);
@@ -221,15 +232,11 @@ void dispatch_form(C& c, Handler handler, const Token* words, std::size_t count)
       return;
     case Handler::umbmark_apply:
     case Handler::lateral_apply:
-      c.cmd_calib_apply(handler == Handler::lateral_apply ? drive::FactorGroup::lateral
-                                                          : drive::FactorGroup::wheel,
-                        words, count);
+      c.cmd_calib_apply(factor_group(handler, Handler::umbmark_apply), words, count);
       return;
     case Handler::lateral_set:
     case Handler::fit_apply:
-      c.cmd_host_factors(
-          handler == Handler::fit_apply ? drive::FactorGroup::wheel : drive::FactorGroup::lateral,
-          words, count);
+      c.cmd_host_factors(factor_group(handler, Handler::fit_apply), words, count);
       return;
     case Handler::stream_odom:
     case Handler::stream_ticks:

@@ -24,6 +24,7 @@
 #include "odocal/drive/control_loop.hpp"
 #include "odocal/drive/trial.hpp"
 #include "odocal/hal/byte_stream.hpp"
+#include "odocal/hal/wall_sensor.hpp"
 #include "odocal/params/param_store.hpp"
 #include "odocal/params/param_table.hpp"
 
@@ -51,9 +52,13 @@ struct TargetCommand {
   void* context = nullptr;
 };
 
-/// What the target chooses. `extra`, `status_pairs` and `defaults` are the target options: the
-/// images that use none (the STM32F4 ones) link the console without the code for them
-/// (core/src/console/target/, core/CMakeLists.txt), where they must stay unset.
+/// How many wall sensors `walls` reports (ConsoleOptions::wall_sensors): a maze robot's usual
+/// four.
+inline constexpr std::size_t wall_sensor_slots = 4u;
+
+/// What the target chooses. `extra`, `status_pairs`, `defaults` and `wall_sensors` are the target
+/// options: the images that use none (the STM32F4 ones) link the console without the code for
+/// them (core/src/console/target/, core/CMakeLists.txt), where they must stay unset.
 struct ConsoleOptions {
   EchoMode echo = EchoMode::off;
   bool crlf = true;  ///< end output lines with CR LF (UART, pty) rather than LF (stdio pipes)
@@ -74,6 +79,10 @@ struct ConsoleOptions {
   const params::ParamSet* defaults = nullptr;
   /// Optional: one command of the target's own.
   TargetCommand extra{};
+  /// Optional: the robot's wall sensors, which `walls` reads, in the order left front, left
+  /// diagonal, right diagonal, right front; nullptr: that one is absent. The console only reads
+  /// them, from the main loop (never while the tick does). Each must outlive the console.
+  std::array<hal::WallSensor*, wall_sensor_slots> wall_sensors{};
 };
 
 /// Counters reported by `status`.
@@ -301,6 +310,12 @@ class Console {
   [[nodiscard]] const char* target_usage() const;
   /// Appends the target's own ` key=value` pairs to the `status` reply.
   void append_target_status(Reply& reply);
+  /// `walls`: each present wall sensor's reflected light (ambient taken away), counts; `err
+  /// no_sensors` when there is none. Runs while the robot moves (a mouse reads walls as it
+  /// drives). Main loop.
+  void cmd_walls();
+  /// `walls`' refusal: one text for options.cpp and no_options.cpp.
+  static constexpr char no_wall_sensors[] = "this robot has no wall sensors";
   // commands_params.cpp. [[gnu::noinline]]: handlers with a big frame (a parameter set, a drive
   // configuration, the UMBmark solver) stay out of the dispatch's frame, which every command's
   // path (`load` and the store's the deepest) shares (worst-case stack, docs/stm32f4.md).

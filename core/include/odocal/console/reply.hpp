@@ -36,6 +36,7 @@ enum class ErrorCode : std::uint8_t {
   lateral_full,       ///< no room for another lateral trial
   lateral_failed,     ///< the lateral solver refused the trials (message says why)
   store_corrupt,      ///< `load` found records, every one of them damaged
+  no_sensors,         ///< `walls` on a robot without wall sensors
   count,              ///< not a code: how many there are (error_code_name names each)
 };
 

@@ -309,6 +309,16 @@ void start_console(host::SimulatedRobot& robot, console::Console& console, const
                  static_cast<double>(spec.nominal.wheelbase_mm),
                  static_cast<double>(spec.nominal.counts_per_rev));
   }
+  if (spec.walls.present() && io.terminal) {
+    static constexpr const char* kFacing[] = {"north", "east", "south", "west"};
+    std::fprintf(stderr,
+                 "odocal-sim: in a %ux%u maze (%s), at the centre of cell (%u, %u) facing %s, with "
+                 "four wall sensors ('walls' reads them)\n",
+                 spec.walls.maze.width(), spec.walls.maze.height(),
+                 spec.walls.maze_file.empty() ? "the practice maze" : spec.walls.maze_file.c_str(),
+                 spec.walls.start_column, spec.walls.start_row,
+                 kFacing[static_cast<unsigned>(spec.walls.start_heading) & 3u]);
+  }
 }
 
 /// A robot running ROSArduinoBridge: no store, no wiring faults (its firmware has no fixes for

@@ -36,6 +36,8 @@ struct TurnProblem {
   const sim::Maze& maze;
   const std::array<sim::SensorMount, sensor_count>& mounts;
   const std::vector<TurnSample>& samples;
+  /// The parameters the fit moves (the others stay as given: a look with the sensors known).
+  std::array<bool, turn_parameters> free{true, true, true, true, true, true, true, true, true};
 };
 
 // The model's ln(lit) for one reading, false when the axis meets nothing close.
@@ -162,10 +164,13 @@ TurnJacobian turn_jacobian(const TurnProblem& problem, const TurnParameters& q,
   const TurnParameters steps = derivative_steps(q);
   TurnJacobian jacobian;
   for (std::size_t p = 0u; p < turn_parameters; ++p) {
+    jacobian[p].assign(r.size(), 0.0);
+    if (!problem.free[p]) {
+      continue;
+    }
     TurnParameters moved = q;
     moved[p] += steps[p];
     const std::vector<double> r_moved = residuals(problem, moved, readings);
-    jacobian[p].resize(r.size());
     for (std::size_t k = 0u; k < r.size(); ++k) {
       jacobian[p][k] = -(r_moved[k] - r[k]) / steps[p];
     }
@@ -210,6 +215,9 @@ TurnMatrix turn_covariance(const TurnProblem& problem, const TurnParameters& q,
     for (std::size_t p = 0u; p < turn_parameters; ++p) {
       face->second[p] += row[p];
     }
+  }
+  for (std::size_t p = 0u; p < turn_parameters; ++p) {
+    a[p][p] += problem.free[p] ? 0.0 : 1.0;  // a fixed parameter: no variance of its own
   }
   const double face_variance = noise.common_relative * noise.common_relative;
   for (const auto& [surface, g] : faces) {
@@ -279,7 +287,7 @@ std::uint32_t levenberg_marquardt(const TurnProblem& problem,
       auto damped = normal;
       TurnParameters step = gradient;
       for (std::size_t p = 0u; p < turn_parameters; ++p) {
-        damped[p][p] += lambda * (normal[p][p] + 1e-12);
+        damped[p][p] += problem.free[p] ? lambda * (normal[p][p] + 1e-12) : 1.0;
       }
       if (!solve_dense(damped, step)) {
         lambda *= 10.0;
@@ -378,6 +386,61 @@ TurnCalibration calibrate_from_turn(const sim::Maze& maze, const TurnSetup& setu
   for (std::size_t i = 0u; i < sensor_count; ++i) {
     out.sensors.responses[i] = SensorResponse{std::exp(q[5u + i]), q[4]};
   }
+  return out;
+}
+
+TurnLocation locate_by_turn(const sim::Maze& maze, const TurnSetup& setup, const SensorSet& sensors,
+                            const std::vector<TurnSample>& samples, const ReadingNoise& noise) {
+  if (samples.size() < min_readings_per_sensor || !(std::fabs(setup.radians_per_count) > 0.0)) {
+    throw std::invalid_argument("locate_by_turn: too few samples or no nominal turn rate");
+  }
+  TurnProblem problem{maze, sensors.mounts, samples};
+  for (std::size_t p = 4u; p < turn_parameters; ++p) {
+    problem.free[p] = false;
+  }
+  const sim::MazePose centre = sim::Maze::cell_centre(setup.column, setup.row);
+  TurnParameters q{};
+  q[0] = centre.x_mm + setup.offset_x_mm;
+  q[1] = centre.y_mm + setup.offset_y_mm;
+  q[2] = setup.start_heading_rad;
+  q[3] = setup.radians_per_count;
+  q[4] = sensors.responses[0].incidence_power;
+  for (std::size_t i = 0u; i < sensor_count; ++i) {
+    q[5u + i] = std::log(sensors.responses[i].a_counts_mm2);
+  }
+  TurnLocation out;
+  // Grown as the calibration's, the first stage on every reading the walls can explain.
+  for (const double fraction : {0.25, 0.5, 1.0}) {
+    const auto last = static_cast<std::size_t>(fraction * static_cast<double>(samples.size() - 1u));
+    const std::vector<TurnReading> readings = select_readings(problem, q, last, fraction > 0.3);
+    out.iterations += levenberg_marquardt(problem, readings, q);
+  }
+  const std::vector<TurnReading> readings = select_readings(problem, q, samples.size() - 1u, true);
+  std::array<std::size_t, sensor_count> per_sensor{};
+  for (const TurnReading& reading : readings) {
+    ++per_sensor[reading.sensor];
+  }
+  std::size_t seeing = 0u;
+  for (const std::size_t n : per_sensor) {
+    seeing += n >= min_readings_per_sensor / 2u ? 1u : 0u;
+  }
+  if (seeing < 2u) {
+    throw std::invalid_argument(
+        "locate_by_turn: the walls around the robot explain too few "
+        "readings (is it in the cell it was thought to be in?)");
+  }
+  out.iterations += levenberg_marquardt(problem, readings, q);
+  const std::vector<double> r = residuals(problem, q, readings);
+  out.readings_used = readings.size();
+  out.rms_log_residual = std::sqrt(sum_of_squares(r) / static_cast<double>(r.size()));
+  out.centre_x_mm = q[0];
+  out.centre_y_mm = q[1];
+  out.start_heading_rad = q[2];
+  out.radians_per_count = q[3];
+  const TurnMatrix covariance = turn_covariance(problem, q, readings, noise);
+  out.centre_x_sd_mm = std::sqrt(covariance[0][0]);
+  out.centre_y_sd_mm = std::sqrt(covariance[1][1]);
+  out.start_heading_sd_rad = std::sqrt(covariance[2][2]);
   return out;
 }
 

@@ -101,5 +101,37 @@ TEST(TurnFit, RefusesASensorWithTooFewUsableReadings) {
       std::invalid_argument);
 }
 
+// A look (locate_by_turn): the sensors known, a turn in a corner cell of the practice maze (walls
+// north and west only) in the session's 5° steps gives back where the robot stood.
+TEST(TurnLook, LocatesTheRobotInACornerCellWithTheSensorsKnown) {
+  const sim::Maze maze = sim::practice_maze();
+  TurnTruth truth;
+  const sim::MazePose cell = sim::Maze::cell_centre(0u, 5u);
+  truth.centre_x_mm = cell.x_mm + 6.0;
+  truth.centre_y_mm = cell.y_mm - 9.0;
+  truth.start_heading_rad = pi / 2.0 - 3.0 * degrees;
+  std::vector<TurnSample> every = turn_fit_samples(maze, truth);
+  std::vector<TurnSample> samples;
+  for (std::size_t j = 0u; j < every.size(); j += 10u) {
+    samples.push_back(every[j]);
+  }
+  SensorSet sensors = usual_mouse_sensors();
+  for (std::size_t i = 0u; i < sensor_count; ++i) {
+    sensors.responses[i] = SensorResponse{truth.a_counts_mm2[i], truth.incidence_power};
+  }
+  // Thought to stand at the cell's centre, facing north, the rate 2 % off.
+  const TurnSetup setup{0u, 5u, pi / 2.0, truth.radians_per_count * 1.02};
+  const TurnLocation look = locate_by_turn(maze, setup, sensors, samples);
+  EXPECT_NEAR(look.centre_x_mm, truth.centre_x_mm, 1e-3);
+  EXPECT_NEAR(look.centre_y_mm, truth.centre_y_mm, 1e-3);
+  EXPECT_NEAR(look.start_heading_rad, truth.start_heading_rad, 1e-5);
+  EXPECT_NEAR(look.radians_per_count / truth.radians_per_count, 1.0, 1e-6);
+  EXPECT_LT(look.rms_log_residual, 1e-6);
+  // Thought to be a cell further east, where the walls seen are not: refused.
+  const TurnSetup elsewhere{2u, 2u, pi / 2.0, truth.radians_per_count};
+  EXPECT_THROW(static_cast<void>(locate_by_turn(maze, elsewhere, sensors, samples)),
+               std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace odocal::host::walls

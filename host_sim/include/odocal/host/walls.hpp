@@ -136,6 +136,9 @@ struct TurnSetup {
   std::uint32_t row = 0u;
   double start_heading_rad = 0.0;
   double radians_per_count = 0.0;
+  /// Where the robot is thought to stand from the cell's centre, mm (locate_by_turn's start).
+  double offset_x_mm = 0.0;
+  double offset_y_mm = 0.0;
 };
 
 /// The turn's fit: the sensors learnt, where the robot turned and the angle per turn count.
@@ -169,6 +172,32 @@ struct TurnCalibration {
     const sim::Maze& maze, const TurnSetup& setup,
     const std::array<sim::SensorMount, sensor_count>& mounts,
     const std::vector<TurnSample>& samples, const ReadingNoise& noise = {});
+
+/// Where a look found the robot: the centre of its turn and its heading when the look began.
+struct TurnLocation {
+  double centre_x_mm = 0.0;  ///< maze frame
+  double centre_y_mm = 0.0;
+  double start_heading_rad = 0.0;  ///< at turn_counts = 0
+  double radians_per_count = 0.0;  ///< this turn's own (its slip in it)
+  /// Predicted σ from the noise model (as TurnCalibration's).
+  double centre_x_sd_mm = 0.0;
+  double centre_y_sd_mm = 0.0;
+  double start_heading_sd_rad = 0.0;
+  double rms_log_residual = 0.0;
+  std::size_t readings_used = 0u;
+  std::uint32_t iterations = 0u;
+};
+
+/// A look: a turn in place (a full turn or more) in any cell whose walls fix a position (two
+/// walls at right angles at least), fitted with the sensors already learnt (`sensors`, from
+/// calibrate_from_turn): the centre, the heading at its start and its angle per count. `setup`
+/// gives the cell, where in it the robot is thought to be, and the heading and angle per count
+/// expected. Throws std::invalid_argument when fewer than two sensors see walls the model
+/// explains (the robot is not where it was thought to be, or the cell has too few walls).
+[[nodiscard]] TurnLocation locate_by_turn(const sim::Maze& maze, const TurnSetup& setup,
+                                          const SensorSet& sensors,
+                                          const std::vector<TurnSample>& samples,
+                                          const ReadingNoise& noise = {});
 
 /// (d) One sample of a straight run along a corridor: the distance run by the encoders at the
 /// nominal wheel scale (mm) and the four readings above ambient.

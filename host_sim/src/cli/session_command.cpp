@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <ctime>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -18,6 +19,7 @@
 #include "odocal/host/bridge_console.hpp"
 #include "odocal/host/csv.hpp"
 #include "odocal/host/robot_client.hpp"
+#include "odocal/host/robot_file.hpp"
 #include "odocal/host/serial_port.hpp"
 #include "odocal/host/session.hpp"
 #include "odocal/host/sim_process.hpp"
@@ -76,6 +78,9 @@ struct SessionFlags {
   std::optional<double> wheelbase_mm;
   std::optional<double> counts_per_rev;
   RosFlags ros;
+  std::string truth =
+      "tape";        ///< --truth: tape (a person, a file or odocal-sim's measure) or walls
+  std::string maze;  ///< --maze: with --truth walls and --port (practice or a file)
 };
 
 bool bridge_protocol(const SessionFlags& f) {
@@ -120,6 +125,8 @@ nlohmann::json recorded_options(const SessionFlags& f) {
       {"counts_per_rev",
        f.counts_per_rev ? nlohmann::json(*f.counts_per_rev) : nlohmann::json(nullptr)}};
   record_ros_flags(f.ros, recorded);
+  recorded["truth"] = f.truth;
+  recorded["maze"] = absolute(f.maze);
   return recorded;
 }
 
@@ -181,6 +188,11 @@ SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
     text("--sim", "sim", f.sim_robot);
     text("--store", "store", f.store);
     text("--measurements", "measurements", f.measurements);
+    if (o.value("truth", std::string("tape")) == "walls") {
+      throw InputError(file, 0, "options.truth",
+                       "a session calibrated by the walls is not resumed: the robot's place in "
+                       "the maze went with it; start a new one (nothing was saved)");
+    }
     // The port may be another device name after a replug: taken as given.
     if (cmd.count("--port") == 0u) {
       f.port = o.at("port").get<std::string>();
@@ -249,6 +261,80 @@ SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
   return f;
 }
 
+/// `{}` under --truth walls (DESIGN: "a usual mouse in a practice maze"): a robot file that says
+/// nothing of the robot's size is given a micromouse's (docs/simulation.md, "--truth walls").
+const nlohmann::json kUsualMouse = {{"wheel_diameter_mm", 32.0},
+                                    {"wheelbase_mm", 76.0},
+                                    {"true_left_diameter_mm", 31.95},
+                                    {"true_right_diameter_mm", 32.06},
+                                    {"true_wheelbase_mm", 77.1}};
+
+/// The robot file odocal-sim runs: `path` itself, or (--truth walls, a file that gives no size
+/// of the robot) `path` with the usual mouse's size, written to `out_dir`/robot.json.
+std::string walls_robot_file(const std::string& path, const std::string& out_dir) {
+  nlohmann::json doc = nlohmann::json::parse(read_text_file(path), nullptr, false);
+  if (!doc.is_object()) {
+    return path;  // odocal-sim names what is wrong with it
+  }
+  for (const auto& [key, value] : kUsualMouse.items()) {
+    if (doc.contains(key)) {
+      return path;
+    }
+  }
+  doc.update(kUsualMouse);
+  const std::string derived = out_dir + "/robot.json";
+  std::ofstream out(derived, std::ios::trunc);
+  out << doc.dump(2) << "\n";
+  if (!out.flush()) {
+    throw InputError(derived, 0, "", "cannot write the robot file for odocal-sim");
+  }
+  return derived;
+}
+
+/// What the session knows of the maze (--truth walls): with --sim the robot file's maze, start
+/// and sensor mounts; with --port `--maze` (the practice maze by default), the start cell (0, 0)
+/// facing north and the usual mouse's mounts.
+MazeKnowledge maze_knowledge(const SessionFlags& f, const std::string& sim_file) {
+  MazeKnowledge k;
+  sim::WallSensorLayout layout;
+  if (!f.sim_robot.empty()) {
+    RobotSpec spec;
+    std::string error;
+    if (!load_robot_file(sim_file, spec, error)) {
+      throw InputError(f.sim_robot, 0, "", error);
+    }
+    if (!spec.walls.present()) {
+      throw InputError(f.sim_robot, 0, "",
+                       "--truth walls: this robot stands in no maze (its wheelbase and wheel "
+                       "diameter come to more than a corridor's 168 mm, or the file says \"maze\": "
+                       "\"none\"); docs/simulation.md");
+    }
+    k.maze = spec.walls.maze;
+    k.start_column = spec.walls.start_column;
+    k.start_row = spec.walls.start_row;
+    k.start_heading_rad = spec.walls.start_pose().theta_rad;
+    layout = spec.walls.sensors;
+    k.name = spec.walls.source == MazeSource::file ? spec.walls.maze_file : "the practice maze";
+  } else if (f.maze.empty() || f.maze == "practice") {
+    k.maze = sim::practice_maze();
+  } else {
+    const std::string text = read_text_file(f.maze);
+    sim::Maze maze(16u, 16u);
+    const sim::MazeTextStatus status = sim::parse_maze_text(text, maze);
+    if (!status.ok()) {
+      char why[160];
+      static_cast<void>(sim::describe(status, why, sizeof why));
+      throw InputError(f.maze, 0, "", std::string("--maze: ") + why);
+    }
+    k.maze = maze;
+    k.name = f.maze;
+  }
+  for (std::size_t i = 0; i < k.mounts.size(); ++i) {
+    k.mounts[i] = layout.sensors[i].mount;
+  }
+  return k;
+}
+
 /// The session's options from its flags, each checked against the procedure (InputError).
 SessionOptions options_of(const SessionFlags& f) {
   if (f.port.empty() && f.sim_robot.empty()) {
@@ -315,6 +401,23 @@ SessionOptions options_of(const SessionFlags& f) {
   options.log = &std::cerr;
   options.recorded = recorded_options(f);
   options.ros_velocity = ros_estimate(f.ros);
+  if (f.truth == "walls") {
+    if (options.procedure != Procedure::automatic) {
+      throw InputError("--truth", 0, "", "walls: only with --procedure auto");
+    }
+    if (!f.measurements.empty()) {
+      throw InputError("--measurements", 0, "",
+                       "--truth walls takes no tape reading; leave --measurements out");
+    }
+    if (bridge_protocol(f)) {
+      throw InputError("--truth", 0, "",
+                       "walls: the robot reads its wall sensors through odocal's console "
+                       "(`walls`); ROSArduinoBridge has no such command");
+    }
+    options.walls.emplace();  // filled in by run(), once the robot file is known
+  } else if (!f.maze.empty()) {
+    throw InputError("--maze", 0, "", "only with --truth walls");
+  }
   options.started_unix_s = static_cast<std::uint64_t>(std::time(nullptr));
   const bool terminal = ::isatty(STDIN_FILENO) == 1;
   options.confirm_in = terminal ? &std::cin : nullptr;
@@ -357,11 +460,19 @@ int run(const SessionFlags& given, const CLI::App& cmd) {
   std::unique_ptr<SimProcess> sim;
   std::unique_ptr<FdChannel> port;
   FdChannel* channel = nullptr;
-  if (!f.sim_robot.empty()) {
-    if (::access(f.sim_robot.c_str(), R_OK) != 0) {
-      throw InputError(f.sim_robot, 0, "", "--sim: cannot read the robot file");
+  std::string sim_file = f.sim_robot;
+  if (!f.sim_robot.empty() && ::access(f.sim_robot.c_str(), R_OK) != 0) {
+    throw InputError(f.sim_robot, 0, "", "--sim: cannot read the robot file");
+  }
+  if (options.walls) {
+    if (!f.sim_robot.empty()) {
+      prepare_out_dir(options.out_dir, true);
+      sim_file = walls_robot_file(f.sim_robot, options.out_dir);
     }
-    sim = std::make_unique<SimProcess>(sibling_program("odocal-sim"), f.sim_robot, f.seed, f.store,
+    options.walls = maze_knowledge(f, sim_file);
+  }
+  if (!f.sim_robot.empty()) {
+    sim = std::make_unique<SimProcess>(sibling_program("odocal-sim"), sim_file, f.seed, f.store,
                                        bridge_protocol(f) ? f.protocol : std::string());
     channel = &sim->channel();
   } else {
@@ -386,7 +497,9 @@ int run(const SessionFlags& given, const CLI::App& cmd) {
   sigaction(SIGTERM, &action, nullptr);
   RobotClient robot(bridge ? static_cast<LineChannel&>(*bridge) : *channel);
   std::unique_ptr<MeasurementSource> source;
-  if (file_source) {
+  if (options.walls) {
+    source = wall_measurements(robot, *options.walls, std::cerr);
+  } else if (file_source) {
     source = std::move(file_source);
   } else if (sim) {
     source = robot_measurements(robot);
@@ -475,6 +588,15 @@ void register_session_command(CLI::App& app, int& exit_code) {
                   "CSV x_mm,y_mm[,theta_deg] (or a session's measurements.csv, "
                   "run,x_mm,y_mm,theta_deg): the measured stop point of each run, in order "
                   "(default: --sim measures, else you are asked)");
+  cmd->add_option("--truth", flags->truth,
+                  "what measures the runs: tape (default: you, --measurements, or odocal-sim's "
+                  "measure) or walls (auto only: a maze robot measured by its wall sensors in "
+                  "its maze, no tape reading; docs/maze.md)")
+      ->check(CLI::IsMember({"tape", "walls"}));
+  cmd->add_option("--maze", flags->maze,
+                  "--truth walls with --port: the maze the robot stands in, `practice` (the "
+                  "default) or a maze text file (docs/maze.md); with --sim the robot file's")
+      ->needs(port);
   cmd->add_flag("--yes", flags->yes, "save the result on the robot without asking");
   cmd->add_flag("--json", flags->json, "print the session JSON on stdout");
   cmd->add_option("--out", flags->out,

@@ -321,7 +321,8 @@ std::uint32_t levenberg_marquardt(const TurnProblem& problem,
 }
 
 // Each sensor's ln a given the rest: the median of ln(lit) − (model without a).
-void initial_strengths(const TurnProblem& problem, TurnParameters& q, std::size_t last_sample) {
+void initial_strengths(const TurnProblem& problem, TurnParameters& q, std::size_t last_sample,
+                       std::size_t min_readings) {
   for (std::size_t i = 0u; i < sensor_count; ++i) {
     q[5u + i] = 0.0;
   }
@@ -334,7 +335,7 @@ void initial_strengths(const TurnProblem& problem, TurnParameters& q, std::size_
         offsets.push_back(reading.log_lit - model);
       }
     }
-    if (offsets.size() < min_readings_per_sensor) {
+    if (offsets.size() < min_readings) {
       throw std::invalid_argument("calibrate_from_turn: sensor " + std::to_string(i) +
                                   " sees too few walls in the start cell");
     }
@@ -364,7 +365,10 @@ TurnCalibration calibrate_from_turn(const sim::Maze& maze, const TurnSetup& setu
   // Grown in stages: a quarter, half, then all of the turn.
   for (const double fraction : {0.25, 0.5, 1.0}) {
     const auto last = static_cast<std::size_t>(fraction * static_cast<double>(samples.size() - 1u));
-    initial_strengths(problem, q, last);
+    // The early stages (part of the turn) start from fewer readings: a coarse turn (a robot
+    // that stops every few degrees) has few in its first quarter.
+    initial_strengths(problem, q, last,
+                      fraction < 1.0 ? min_readings_per_sensor / 4u : min_readings_per_sensor);
     const std::vector<TurnReading> readings = select_readings(problem, q, last, true);
     out.iterations += levenberg_marquardt(problem, readings, q);
   }

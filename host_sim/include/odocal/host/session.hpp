@@ -5,6 +5,7 @@
 /// wait for `# done`, read `trial`, take the measurement (the simulator's `measure`, a CSV file,
 /// or a person at the terminal); then compute, show, apply, and save only when allowed.
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
@@ -20,6 +21,8 @@
 #include "odocal/host/motion.hpp"
 #include "odocal/host/robot_client.hpp"
 #include "odocal/host/ros2_yaml.hpp"
+#include "odocal/sim/maze.hpp"
+#include "odocal/sim/wall_sensor_model.hpp"
 
 namespace odocal::host {
 
@@ -83,6 +86,18 @@ struct ReadingVerdict {
 /// it did not come from a keyboard).
 using ReadingCheck = std::function<ReadingVerdict(const SessionPose&, const std::string&)>;
 
+/// `--truth walls` (DESIGN "No tape measure"): what the session knows of the maze before the
+/// robot moves: the maze's plan, the start cell and heading the owner put the robot down in, and
+/// where the robot's drawing puts its four wall sensors. Nothing here is measured.
+struct MazeKnowledge {
+  sim::Maze maze{};
+  std::uint32_t start_column = 0u;
+  std::uint32_t start_row = 0u;
+  double start_heading_rad = 1.5707963267948966;  ///< maze frame (counter-clockwise from east)
+  std::array<sim::SensorMount, sim::WallSensorLayout::count> mounts{};
+  std::string name = "the practice maze";  ///< for the log and session.json
+};
+
 /// Where the measurements come from.
 class MeasurementSource {
  public:
@@ -114,6 +129,11 @@ class MeasurementSource {
   }
   /// Whether its readings are a person's (typed, or from a file): the simulator's tape is not.
   [[nodiscard]] virtual bool by_hand() const { return true; }
+  /// Whether its readings are a tape's (a person's or the simulator's `measure`). False for the
+  /// walls (`--truth walls`): no tape reading is taken (session.json's `measurements` counts
+  /// none), and the robot is not put back on a start mark before each run: it is measured where
+  /// it stops and starts the next run from there.
+  [[nodiscard]] virtual bool is_tape() const { return true; }
   /// The measured stop pose of `run` (index: 0-based over the whole session). Throws
   /// InputError / LinkError when there is none.
   virtual SessionPose take(const RunRecord& run, std::size_t index, std::size_t planned) = 0;
@@ -122,6 +142,13 @@ class MeasurementSource {
   /// "odocal-sim measure", "FILE", "terminal".
   [[nodiscard]] virtual std::string describe() const = 0;
 };
+
+/// The walls of the maze as the measurements (`--truth walls`, DESIGN "No tape measure"): the
+/// robot learns its sensors in the start cell and looks after every run (wall_truth.hpp). Log:
+/// what it learnt and found.
+[[nodiscard]] std::unique_ptr<MeasurementSource> wall_measurements(RobotClient& robot,
+                                                                   const MazeKnowledge& maze,
+                                                                   std::ostream& log);
 
 /// The simulator's tape measure: `measure` on the console.
 [[nodiscard]] std::unique_ptr<MeasurementSource> robot_measurements(RobotClient& robot);
@@ -218,6 +245,8 @@ struct SessionOptions {
   /// How the robot's diff_drive_controller estimates its velocity (the twist covariance of
   /// diff_drive_controller.yaml; --ros-update-rate-hz, --ros-velocity-window).
   RosVelocityEstimate ros_velocity;
+  /// `--truth walls`: the walls are the measurements (the source is a WallTruth); unset: a tape.
+  std::optional<MazeKnowledge> walls;
   /// The `result` the interrupted session being resumed recorded (e.g. its self-test, which is
   /// then not driven again).
   nlohmann::json resumed_result = nlohmann::json::object();

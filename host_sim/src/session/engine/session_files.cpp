@@ -86,7 +86,9 @@ nlohmann::json Context::write_session_json(bool complete, const nlohmann::json& 
                         {"date", options.started_unix_s},
                         {"options", options.recorded},
                         {"runs", runs_json(complete ? runs : kept)},
-                        {"measurements", complete ? runs.size() : kept.size()},
+                        {"measurements", !source.is_tape() ? 0u
+                                         : complete        ? runs.size()
+                                                           : kept.size()},
                         {"result", result},
                         {"applied", applied},
                         {"saved", saved}};

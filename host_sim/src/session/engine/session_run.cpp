@@ -384,10 +384,12 @@ RunRecord Context::run(const std::string& label, const Motion& motion, double ex
     runs.push_back(r);
     return r;
   }
-  wait_for_enter(fmt::format("Run {}/{} ({}): put the robot on the start mark, aligned with the "
-                             "start line, hands off;",
-                             index + 1, planned, label),
-                 fmt::format("run {}", index + 1));
+  if (source.is_tape()) {
+    wait_for_enter(fmt::format("Run {}/{} ({}): put the robot on the start mark, aligned with the "
+                               "start line, hands off;",
+                               index + 1, planned, label),
+                   fmt::format("run {}", index + 1));
+  }
   check_still_up(index);
   RunRecord r;
   r.label = label;

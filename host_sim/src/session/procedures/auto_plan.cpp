@@ -138,6 +138,9 @@ std::pair<Kind, Eigen::MatrixXd> best_run(const Eigen::MatrixXd& c, const Plan& 
   double best = HUGE_VAL;
   std::pair<Kind, Eigen::MatrixXd> out{Kind::line, c};
   for (Kind k : kinds) {
+    if (!p.arcs && (k == Kind::arc_left || k == Kind::arc_right)) {
+      continue;
+    }
     Eigen::MatrixXd next = with_run(c, k, p, g);
     const double s = sigma_sys(gu, next);
     if (s < best) {
@@ -325,7 +328,7 @@ Precision precision_of(const FitResult& r, const FitNominal& nominal,
     // the held-out comparison sees.
     // Better by a fifth, and by more than a quarter of the tape's noise (perfect measurements
     // make any model's held-out error a fraction of a millimetre).
-    arc_unresolved = arc_count < 4 && one != nullptr && arc != nullptr && arc->tried &&
+    arc_unresolved = plan.arcs && arc_count < 4 && one != nullptr && arc != nullptr && arc->tried &&
                      !arc->supported && arc->heldout_path_rms_mm < 0.8 * one->heldout_path_rms_mm &&
                      one->heldout_path_rms_mm - arc->heldout_path_rms_mm > 0.25 * kMeasureSigmaMm;
   }
@@ -420,10 +423,9 @@ Expectation expected_before_runs(const Plan& plan, const FitNominal& nominal, do
   g.b = nominal.wheelbase_mm;
   Eigen::MatrixXd c = Eigen::MatrixXd::Identity(3, 3) * (0.03 * 0.03);
   const Eigen::MatrixXd gu = end_jacobian(unseen_moves(), g, 3, false);
-  const Kind first[] = {Kind::line, Kind::spin_ccw, Kind::arc_left,
-                        Kind::line, Kind::spin_cw,  Kind::arc_right};
+  const Kind* first = first_round_of(plan);
   Expectation e;
-  for (std::size_t i = 0; i < first_round && i < std::size(first); ++i) {
+  for (std::size_t i = 0; i < first_round && i < kFirstRound; ++i) {
     c = with_run(c, first[i], plan, g);
   }
   e.runs = first_round;

@@ -67,7 +67,20 @@ struct Plan {
   double arc_rad = 1.5 * kPi;
   double arc_mps = 0.2;
   double cruise_mps = 0.3;
+  /// Arcs among the runs (not in a maze: its corridors leave room for lines and turns in place).
+  bool arcs = true;
 };
+
+/// The first round: every parameter seen from two sides. With the walls (no arcs in a maze's
+/// corridors) lines out and back take the arcs' places: lines are what give the wheels' ratio.
+constexpr std::size_t kFirstRound = 6;
+constexpr Kind kTapeFirstRound[kFirstRound] = {Kind::line, Kind::spin_ccw, Kind::arc_left,
+                                               Kind::line, Kind::spin_cw,  Kind::arc_right};
+constexpr Kind kWallsFirstRound[kFirstRound] = {Kind::line,    Kind::spin_ccw, Kind::line,
+                                                Kind::spin_cw, Kind::line,     Kind::line};
+[[nodiscard]] constexpr const Kind* first_round_of(const Plan& p) {
+  return p.arcs ? kTapeFirstRound : kWallsFirstRound;
+}
 
 /// The drive command of a run of `k`, and its nominal duration (`expected_s`).
 Motion motion_of(Kind k, const Plan& p, double& expected_s, Context& c);

@@ -23,6 +23,7 @@
 #include "run_jury.hpp"
 #include "session_internal.hpp"
 #include "unseen_path.hpp"
+#include "wall_truth.hpp"
 
 namespace odocal::host::session {
 namespace {
@@ -47,7 +48,11 @@ std::string fit_text_for_auto(const FitResult& r) {
 /// One auto session's state and its steps, in the order run_auto takes them.
 class AutoSession {
  public:
-  explicit AutoSession(Context& c) : c_(c) {}
+  explicit AutoSession(Context& c) : c_(c), walls_(dynamic_cast<WallTruth*>(&c.source)) {}
+
+  /// `--truth walls`: the sensors learnt from the start cell before the first run (the owner's
+  /// one moment: the robot put down in the start cell).
+  void learn_the_walls(Outcome& out);
 
   /// 1. The wiring: a miswired robot passes for a bad calibration. Throws when a fault stays.
   void check_wiring(Outcome& out);
@@ -58,6 +63,8 @@ class AutoSession {
   void apply_final_fit(Outcome& out);
   /// 3. Verification on the unseen path with the factors in force (the verify procedure's step).
   void verify(Outcome& out);
+  /// 3. With the walls: a corridor the calibration never drove, judged by the walls.
+  void verify_by_walls(Outcome& out);
 
  private:
   /// The runs' sizes, the budget of measurements and the count the target likely takes, said
@@ -107,7 +114,17 @@ class AutoSession {
   FitOptions fo_;
   FitResult fitted_;
   Precision p_;
+  WallTruth* walls_ = nullptr;  ///< the walls measure the runs (--truth walls), else a tape
 };
+
+void AutoSession::learn_the_walls(Outcome& out) {
+  out.result["truth"] = "walls";
+  c_.wait_for_enter("The walls: put the robot down in the start cell of " + walls_->maze().name +
+                        ", facing out of it (no mark, nothing to measure), hands off;",
+                    "the calibration turn");
+  walls_->calibrate();
+  c_.partial["walls"] = walls_->json();
+}
 
 void AutoSession::check_wiring(Outcome& out) {
   c_.log << "Auto calibration: the wiring self-test first.\n";
@@ -141,9 +158,25 @@ void AutoSession::drive_one(Kind k, const std::string& why) {
   if (recorded) {
     k = *recorded;
     motion = c_.options.replay[c_.runs.size()].motion;
+  } else if (walls_ != nullptr && k == Kind::line) {
+    // Up the corridor from the start cell, or back down it from its far end: forwards both
+    // ways, the robot turned round first (no run), so that the wheels' ratio bends the lines to
+    // either side in turn and the robot stays in its corridor.
+    const bool up = walls_->in_start_cell();
+    walls_->face(walls_->maze().start_heading_rad + (up ? 0.0 : kPi));
+    motion = motion_of(k, plan_, expected_s, c_);
+    c_.log << fmt::format("Next: {} the corridor, a straight line of {:.2f} m ({}).\n",
+                          up ? "up" : "back down", plan_.line_m, why);
   } else {
     motion = motion_of(k, plan_, expected_s, c_);
-    c_.log << fmt::format("Next: {} ({}).\n", what_to_do(k, plan_), why);
+    c_.log << fmt::format(
+        "Next: {} ({}).\n",
+        walls_ != nullptr && k == Kind::line
+            ? fmt::format("up the corridor, a straight line of {:.2f} m", plan_.line_m)
+        : walls_ != nullptr ? fmt::format("{:.0f} turns in place {}", plan_.spin_turns,
+                                          k == Kind::spin_ccw ? "counter-clockwise" : "clockwise")
+                            : what_to_do(k, plan_),
+        why);
   }
   const RunRecord r = c_.run(kind_label(k), motion, expected_s, true);
   if (!r.measured.theta_deg) {
@@ -154,6 +187,9 @@ void AutoSession::drive_one(Kind k, const std::string& why) {
   chosen_.push_back({{"kind", kind_label(k)}, {"command", motion.command()}, {"why", why}});
   if (k == Kind::arc_left || k == Kind::arc_right) {
     ++arc_runs_;
+  }
+  if (walls_ != nullptr) {
+    c_.partial["walls"] = walls_->json();
   }
   for (const std::size_t again : jury_->settle()) {
     if (const std::optional<Kind> kind = kind_of_label(c_.runs[again].label)) {
@@ -251,6 +287,22 @@ void AutoSession::plan_the_budget() {
   nominal_.wheelbase_mm = c_.get(ParamId::wheelbase_mm);
   nominal_.counts_per_rev = c_.get(ParamId::counts_per_rev);
   plan_ = plan_for(c_, nominal_.wheelbase_mm);
+  if (walls_ != nullptr) {
+    // The lines run the start cell's corridor to the wall at its end; a look there fixes both
+    // coordinates only with a wall to a side too. Without such a corridor the walls cannot give
+    // the wheels' scale (a turn in place has no distance in it).
+    const Corridor corridor = walls_->calibration_corridor();
+    if (corridor.cells < 2u || !corridor.end_has_side_wall) {
+      throw std::runtime_error(fmt::format(
+          "--truth walls: the start cell's corridor in {} runs {} cell(s) and {} at its end: "
+          "the walls cannot give the wheels' scale without a straight corridor of two cells or "
+          "more that ends in a corner (calibrate with a tape: leave --truth out)",
+          walls_->maze().name, corridor.cells,
+          corridor.end_has_side_wall ? "has a side wall" : "has no side wall"));
+    }
+    plan_.arcs = false;
+    plan_.line_m = corridor.length_mm() * 1e-3;
+  }
   // The jury judges every run about the geometry in force when the session started.
   jury_ = std::make_unique<RunJury>(
       c_, nominal_, fit_geometry_of(geometry_in_force(c_.initial, nominal_.wheel_diameter_mm)));
@@ -290,16 +342,23 @@ void AutoSession::plan_the_budget() {
 
 void AutoSession::measure_until_known(Outcome& out) {
   plan_the_budget();
-  c_.log << "How to measure: mark the start on the floor and two points on the robot, one over "
-            "the middle of the axle and one ahead of it (as far as the robot allows). After each "
-            "run, measure the axle mark's position from the start mark along the start line (x, "
-            "ahead) and across it (y, left), and the heading: the angle of the line through the "
-            "two marks (atan2 of their across and along differences), in degrees, "
-            "counter-clockwise positive.\n";
-  const Kind first_round[auto_first_round] = {Kind::line, Kind::spin_ccw, Kind::arc_left,
-                                              Kind::line, Kind::spin_cw,  Kind::arc_right};
-  for (Kind k : first_round) {
-    drive_one(k, "first round: every parameter seen from two sides");
+  if (walls_ != nullptr) {
+    c_.log << "How it is measured: by the walls. After each run the robot looks (a turn in "
+              "place, stopping every few degrees to read its sensors) and the walls around it "
+              "say where it stopped and which way it faces. Nothing to type, nothing to measure; "
+              "the robot starts each run where the last one left it.\n";
+  } else {
+    c_.log << "How to measure: mark the start on the floor and two points on the robot, one "
+              "over the middle of the axle and one ahead of it (as far as the robot allows). "
+              "After each run, measure the axle mark's position from the start mark along the "
+              "start line (x, ahead) and across it (y, left), and the heading: the angle of the "
+              "line through the two marks (atan2 of their across and along differences), in "
+              "degrees, counter-clockwise positive.\n";
+  }
+  static_assert(kFirstRound == auto_first_round, "the first round's kinds, one per run");
+  const Kind* first_round = first_round_of(plan_);
+  for (std::size_t i = 0; i < kFirstRound; ++i) {
+    drive_one(first_round[i], "first round: every parameter seen from two sides");
   }
   fo_.seed = c_.options.seed;
   fo_.replicates = 0;
@@ -484,15 +543,127 @@ void AutoSession::verify(Outcome& out) {
   out.text += fit_text_for_auto(fitted_) + text.str();
 }
 
+void AutoSession::verify_by_walls(Outcome& out) {
+  // The unseen corridor: from the far end of the calibration's corridor, a corridor to a side
+  // that no calibration run drove, ending in a corner the walls can place the robot in.
+  const MazeKnowledge& maze = walls_->maze();
+  const Corridor out_corridor = walls_->calibration_corridor();
+  std::optional<Corridor> best;
+  double turn_rad = 0.0;
+  for (const double side : {-0.5 * kPi, 0.5 * kPi}) {
+    const Corridor k = corridor_from(maze.maze, out_corridor.end_column, out_corridor.end_row,
+                                     maze.start_heading_rad + side);
+    if (k.cells >= 2u && k.end_has_side_wall && (!best || k.cells > best->cells)) {
+      best = k;
+      turn_rad = side;
+    }
+  }
+  if (!best) {
+    c_.log << "Verify: the maze has no second corridor from the far end of the first (two cells "
+              "or more, ending in a corner): the verification is left out; the unseen path "
+              "(odocal session --procedure verify) checks the factors with a tape.\n";
+    out.result["verify"] = nullptr;
+    return;
+  }
+  const double length_m = best->length_mm() * 1e-3;
+  c_.log << fmt::format(
+      "Verify: {} runs with the new factors along a corridor no calibration run drove ({:.2f} m "
+      "from cell ({}, {}) to cell ({}, {})), judged by the walls: each should stop {:.0f} mm "
+      "ahead of where it starts, on the same line.\n",
+      auto_verify_runs, length_m, out_corridor.end_column, out_corridor.end_row, best->end_column,
+      best->end_row, length_m * 1e3);
+  const double along = maze.start_heading_rad + turn_rad;
+  if (walls_->in_start_cell()) {
+    walls_->face(maze.start_heading_rad);
+    walls_->move_and_look(Motion::line(plan_.line_m).command(),
+                          c_.path_seconds(plan_.line_m, 0.0, 1) + 2.0);
+  }
+  walls_->face(along);
+  c_.planned = c_.runs.size() + auto_verify_runs;
+  const FitGeometry before_g =
+      fit_geometry_of(geometry_in_force(c_.initial, nominal_.wheel_diameter_mm));
+  const FitGeometry after_g =
+      fit_geometry_of(geometry_in_force(applied_, nominal_.wheel_diameter_mm));
+  nlohmann::json stops = nlohmann::json::array();
+  double sum2 = 0.0;
+  double before2 = 0.0;
+  double odometry2 = 0.0;
+  for (std::size_t i = 0; i < auto_verify_runs; ++i) {
+    if (i > 0) {
+      // Back to the corridor's start (no run), to drive it again.
+      walls_->face(along + kPi);
+      walls_->move_and_look(Motion::line(length_m).command(),
+                            c_.path_seconds(length_m, 0.0, 1) + 2.0);
+      walls_->face(along);
+    }
+    const RunRecord r =
+        c_.run("verify", Motion::line(length_m), c_.path_seconds(length_m, 0.0, 1), true);
+    const double ex = r.measured.x_mm - length_m * 1e3;
+    const double ey = r.measured.y_mm;
+    sum2 += ex * ex + ey * ey;
+    odometry2 +=
+        std::pow(r.measured.x_mm - r.odom.x_mm, 2) + std::pow(r.measured.y_mm - r.odom.y_mm, 2);
+    const TickLog log = tick_log_of(r, false);
+    const std::size_t last = log.rows.size() - 1;
+    const EndSensitivity old_end = end_sensitivity(log, 0, last, nominal_, before_g);
+    const EndSensitivity new_end = end_sensitivity(log, 0, last, nominal_, after_g);
+    before2 += std::pow(ex - (old_end.end[0] - new_end.end[0]), 2) +
+               std::pow(ey - (old_end.end[1] - new_end.end[1]), 2);
+    stops.push_back({{"x_mm", r.measured.x_mm},
+                     {"y_mm", r.measured.y_mm},
+                     {"theta_deg", r.measured.theta_deg.value_or(0.0)},
+                     {"error_x_mm", ex},
+                     {"error_y_mm", ey},
+                     {"error_mm", std::hypot(ex, ey)}});
+  }
+  const double n = static_cast<double>(auto_verify_runs);
+  const double rms = std::sqrt(sum2 / n);
+  out.result["verify"] = {{"judged_by", "walls"},
+                          {"path", fmt::format("line {:.3f} m", length_m)},
+                          {"from_cell", {out_corridor.end_column, out_corridor.end_row}},
+                          {"to_cell", {best->end_column, best->end_row}},
+                          {"goal", {{"x_mm", length_m * 1e3}, {"y_mm", 0.0}}},
+                          {"stops", stops},
+                          {"rms_mm", rms},
+                          {"before_rms_mm", std::sqrt(before2 / n)},
+                          {"odometry_rms_mm", std::sqrt(odometry2 / n)},
+                          {"flagged", !suspects_.empty()}};
+  out.result["walls"] = walls_->json();
+  std::ostringstream text;
+  text << fmt::format(
+      "Auto (the walls): {} calibration runs, {} to verify, no tape reading. Model {}. The "
+      "unseen corridor's stops, judged by the walls, end {:.1f} mm RMS from the goal ({:.1f} mm "
+      "from where the calibrated odometry says they stopped); with the factors it had before the "
+      "session, about {:.1f} mm (their counts replayed).\n",
+      driven(), auto_verify_runs, model_name(fitted_.geometry.model), rms, std::sqrt(odometry2 / n),
+      std::sqrt(before2 / n));
+  if (!suspects_.empty()) {
+    text << fmt::format(
+        "WARNING: {} run(s) disagree with the others (result.suspect_runs): a look the walls "
+        "misread, or a run that went wrong.\n",
+        suspects_.size());
+  }
+  c_.log << text.str();
+  out.text += fit_text_for_auto(fitted_) + text.str();
+}
+
 }  // namespace
 
 Outcome run_auto(Context& c) {
   Outcome out;
   AutoSession session(c);
   session.check_wiring(out);
+  const bool walls = dynamic_cast<WallTruth*>(&c.source) != nullptr;
+  if (walls) {
+    session.learn_the_walls(out);
+  }
   session.measure_until_known(out);
   session.apply_final_fit(out);
-  session.verify(out);
+  if (walls) {
+    session.verify_by_walls(out);
+  } else {
+    session.verify(out);
+  }
   return out;
 }
 

@@ -1,0 +1,316 @@
+// `--truth walls`: the walls of the maze as the session's measurement source (wall_truth.hpp).
+
+#include "wall_truth.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace odocal::host {
+namespace session {
+namespace {
+
+constexpr double kWallPi = std::numbers::pi;
+constexpr double kWallDeg = kWallPi / 180.0;
+/// A look's step: about 5° at the turn rate below (the robot brakes to rest after each).
+constexpr double kStepRadps = 1.5;
+constexpr int kStepMs = 60;
+/// The calibration turns a turn and a quarter (each sensor sees the three walls at least once
+/// from both sides); a look one turn and a bit (it ends facing about where it began).
+constexpr double kCalibrationTurnRad = 2.5 * kWallPi;
+constexpr double kLookTurnRad = 2.0 * kWallPi + 5.0 * kWallDeg;
+/// A look stops after this many steps whatever the odometry says (a wheel that does not turn).
+constexpr std::size_t kMaxSteps = 400u;
+/// Square-up: a heading further than this from a quarter of the maze is turned back.
+constexpr double kSquareRad = 0.4 * kWallDeg;
+
+double wrap_rad(double rad) {
+  return std::remainder(rad, 2.0 * kWallPi);
+}
+
+double lit(const Reply& reply, const char* key) {
+  const auto it = reply.pairs.find(key);
+  return it == reply.pairs.end() ? 0.0 : reply.number(key);
+}
+
+int side_of(double heading_rad) {
+  // 0 east, 1 north, 2 west, 3 south.
+  const long quarter = std::lround(heading_rad / (0.5 * kWallPi));
+  return static_cast<int>(((quarter % 4) + 4) % 4);
+}
+
+sim::Side maze_side(int quarter) {
+  constexpr sim::Side sides[] = {sim::Side::east, sim::Side::north, sim::Side::west,
+                                 sim::Side::south};
+  return sides[quarter];
+}
+
+}  // namespace
+
+Corridor corridor_from(const sim::Maze& maze, std::uint32_t column, std::uint32_t row,
+                       double heading_rad) {
+  const int quarter = side_of(heading_rad);
+  constexpr int dx[] = {1, 0, -1, 0};
+  constexpr int dy[] = {0, 1, 0, -1};
+  Corridor out{0u, false, column, row};
+  while (!maze.has_wall(out.end_column, out.end_row, maze_side(quarter)) &&
+         out.cells < maze.width() + maze.height()) {
+    out.end_column = static_cast<std::uint32_t>(static_cast<int>(out.end_column) + dx[quarter]);
+    out.end_row = static_cast<std::uint32_t>(static_cast<int>(out.end_row) + dy[quarter]);
+    ++out.cells;
+  }
+  out.end_has_side_wall =
+      maze.has_wall(out.end_column, out.end_row, maze_side((quarter + 1) % 4)) ||
+      maze.has_wall(out.end_column, out.end_row, maze_side((quarter + 3) % 4));
+  return out;
+}
+
+WallTruth::WallTruth(RobotClient& robot, const MazeKnowledge& maze, std::ostream& log)
+    : robot_(robot), maze_(maze), log_(log) {
+  const sim::MazePose start = sim::Maze::cell_centre(maze.start_column, maze.start_row);
+  pose_ = {start.x_mm, start.y_mm, maze.start_heading_rad};
+}
+
+double WallTruth::odom_heading_rad() {
+  return robot_.query("odom").number("theta_deg") * kWallDeg;
+}
+
+void WallTruth::wait_done(double expected_s) {
+  static_cast<void>(robot_.wait_done(static_cast<int>(1000.0 * expected_s) + 5000));
+}
+
+std::vector<walls::TurnSample> WallTruth::turn_and_read(double turn_rad) {
+  std::vector<walls::TurnSample> samples;
+  const double sign = turn_rad < 0.0 ? -1.0 : 1.0;
+  double last = odom_heading_rad();
+  double turned = 0.0;
+  const std::string step = fmt::format("drive 0 {:.4f} {}", sign * kStepRadps, kStepMs);
+  for (std::size_t k = 0u; k <= kMaxSteps; ++k) {
+    if (k > 0u) {
+      robot_.expect_ok(step);
+      wait_done(kStepMs / 1000.0);
+      const double now = odom_heading_rad();
+      turned += wrap_rad(now - last);
+      last = now;
+    }
+    const Reply walls = robot_.command("walls");
+    if (!walls.ok) {
+      throw std::runtime_error(
+          "--truth walls: the robot's `walls` answered `" + walls.line +
+          "`: it has no wall sensors (docs/maze.md); calibrate it with a tape (no --truth)");
+    }
+    samples.push_back({turned,
+                       {lit(walls, "left_front"), lit(walls, "left_diagonal"),
+                        lit(walls, "right_diagonal"), lit(walls, "right_front")}});
+    if (sign * turned >= sign * turn_rad) {
+      return samples;
+    }
+  }
+  throw std::runtime_error(fmt::format(
+      "--truth walls: the robot turned only {:.0f} degrees in {} steps of a look (a wheel that "
+      "does not turn? a stall?)",
+      turned / kWallDeg, kMaxSteps));
+}
+
+void WallTruth::calibrate() {
+  log_ << "The walls: the robot learns its sensors from the start cell (" << maze_.name
+       << ", cell (" << maze_.start_column << ", " << maze_.start_row
+       << ")): a turn and a quarter in place, reading its four sensors every few degrees.\n";
+  const std::vector<walls::TurnSample> samples = turn_and_read(kCalibrationTurnRad);
+  const walls::TurnSetup setup{maze_.start_column, maze_.start_row, maze_.start_heading_rad, 1.0};
+  try {
+    calibration_ = walls::calibrate_from_turn(maze_.maze, setup, maze_.mounts, samples);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(std::string("--truth walls: the start cell's walls do not explain "
+                                         "what the sensors read (") +
+                             e.what() +
+                             "): is the robot in the start cell, facing out of it, in the maze "
+                             "the session was told?");
+  }
+  const walls::TurnCalibration& cal = *calibration_;
+  true_per_odom_ = cal.radians_per_count;
+  pose_ = {cal.centre_x_mm, cal.centre_y_mm,
+           cal.start_heading_rad + true_per_odom_ * samples.back().turn_counts};
+  const sim::MazePose centre = sim::Maze::cell_centre(maze_.start_column, maze_.start_row);
+  log_ << fmt::format(
+      "  Sensors learnt from {} readings: strengths {:.2f}, {:.2f}, {:.2f}, {:.2f} x 10^6 "
+      "counts mm^2 (left front, left diagonal, right diagonal, right front), incidence power "
+      "{:.2f}. The robot stood {:.1f} mm east and {:.1f} mm north of the cell's centre, facing "
+      "{:.2f} deg; it turns {:.4f} rad per radian its odometry counts (the wheelbase it is told, "
+      "seen by the walls).\n",
+      cal.readings_used, cal.sensors.responses[0].a_counts_mm2 / 1e6,
+      cal.sensors.responses[1].a_counts_mm2 / 1e6, cal.sensors.responses[2].a_counts_mm2 / 1e6,
+      cal.sensors.responses[3].a_counts_mm2 / 1e6, cal.sensors.responses[0].incidence_power,
+      cal.centre_x_mm - centre.x_mm, cal.centre_y_mm - centre.y_mm,
+      cal.start_heading_rad / kWallDeg, cal.radians_per_count);
+  turn_by(wrap_rad(maze_.start_heading_rad - pose_.theta_rad));
+  square_up();
+}
+
+bool WallTruth::in_start_cell() const {
+  return std::floor(pose_.x_mm / sim::cell_pitch_mm) == static_cast<double>(maze_.start_column) &&
+         std::floor(pose_.y_mm / sim::cell_pitch_mm) == static_cast<double>(maze_.start_row);
+}
+
+void WallTruth::turn_by(double turn_rad) {
+  if (std::fabs(turn_rad) < 0.05 * kWallDeg) {
+    return;
+  }
+  const double before = odom_heading_rad();
+  const double w = turn_rad < 0.0 ? -kStepRadps : kStepRadps;
+  const int ms =
+      std::max(10, static_cast<int>(std::lround(1000.0 * std::fabs(turn_rad) / kStepRadps)));
+  robot_.expect_ok(fmt::format("drive 0 {:.4f} {}", w, ms));
+  wait_done(ms / 1000.0);
+  // The odometry's heading wraps at ±180°: the turn asked for says how many times it did.
+  const double wrapped = wrap_rad(odom_heading_rad() - before);
+  const double turned =
+      wrapped + 2.0 * kWallPi * std::round((turn_rad - wrapped) / (2.0 * kWallPi));
+  pose_.theta_rad = wrap_rad(pose_.theta_rad + true_per_odom_ * turned);
+}
+
+void WallTruth::face(double heading_rad) {
+  turn_by(wrap_rad(heading_rad - pose_.theta_rad));
+  square_up();
+}
+
+void WallTruth::square_up() {
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    const double quarter = 0.5 * kWallPi * std::round(pose_.theta_rad / (0.5 * kWallPi));
+    const double off = quarter - pose_.theta_rad;
+    if (std::fabs(off) < kSquareRad) {
+      return;
+    }
+    // Short turns overshoot less than they undershoot: the rest is turned again.
+    turn_by(off);
+  }
+}
+
+sim::MazePose WallTruth::look(const sim::MazePose& guess, const std::string& why) {
+  const auto column =
+      static_cast<std::uint32_t>(std::clamp(std::floor(guess.x_mm / sim::cell_pitch_mm), 0.0,
+                                            static_cast<double>(maze_.maze.width() - 1u)));
+  const auto row =
+      static_cast<std::uint32_t>(std::clamp(std::floor(guess.y_mm / sim::cell_pitch_mm), 0.0,
+                                            static_cast<double>(maze_.maze.height() - 1u)));
+  const sim::MazePose centre = sim::Maze::cell_centre(column, row);
+  const std::vector<walls::TurnSample> samples = turn_and_read(kLookTurnRad);
+  walls::TurnSetup setup{column, row, guess.theta_rad, true_per_odom_};
+  setup.offset_x_mm = guess.x_mm - centre.x_mm;
+  setup.offset_y_mm = guess.y_mm - centre.y_mm;
+  walls::TurnLocation found;
+  try {
+    found = walls::locate_by_turn(maze_.maze, setup, calibration_->sensors, samples);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(fmt::format(
+        "--truth walls: the look after {} in cell ({}, {}) does not find the walls the maze "
+        "has there ({}): the robot is not where its odometry says, or the maze is not the one "
+        "the session was told",
+        why, column, row, e.what()));
+  }
+  true_per_odom_ = found.radians_per_count;
+  const sim::MazePose at_start{found.centre_x_mm, found.centre_y_mm,
+                               wrap_rad(found.start_heading_rad)};
+  pose_ = {
+      found.centre_x_mm, found.centre_y_mm,
+      wrap_rad(found.start_heading_rad + found.radians_per_count * samples.back().turn_counts)};
+  looks_.push_back({{"after", why},
+                    {"cell", {column, row}},
+                    {"x_mm", found.centre_x_mm},
+                    {"y_mm", found.centre_y_mm},
+                    {"theta_deg", at_start.theta_rad / kWallDeg},
+                    {"x_sd_mm", found.centre_x_sd_mm},
+                    {"y_sd_mm", found.centre_y_sd_mm},
+                    {"theta_sd_deg", found.start_heading_sd_rad / kWallDeg},
+                    {"readings", found.readings_used},
+                    {"rms_log_residual", found.rms_log_residual}});
+  square_up();
+  return at_start;
+}
+
+SessionPose WallTruth::take(const RunRecord& run, std::size_t index, std::size_t planned) {
+  static_cast<void>(planned);
+  if (!calibration_) {
+    calibrate();  // a run before the calibration (the self-test's measured run)
+  }
+  const sim::MazePose start = pose_;
+  const double c = std::cos(start.theta_rad);
+  const double s = std::sin(start.theta_rad);
+  // The odometry's heading is wrapped to ±180°: the turns the motion asked for unwrap it, and
+  // the angle per odometry radian the walls saw turns it into the robot's (a few turns in place
+  // on a wheelbase 1 % off are a few degrees).
+  const double wrapped = run.odom.theta_deg.value_or(0.0) * kWallDeg;
+  const double asked = run.motion.kind == Motion::Kind::timed
+                           ? static_cast<double>(run.motion.w_radps) * run.motion.ms / 1000.0
+                           : 0.0;
+  const double odom_theta =
+      wrapped + 2.0 * kWallPi * std::round((asked - wrapped) / (2.0 * kWallPi));
+  const sim::MazePose guess{start.x_mm + c * run.odom.x_mm - s * run.odom.y_mm,
+                            start.y_mm + s * run.odom.x_mm + c * run.odom.y_mm,
+                            start.theta_rad + true_per_odom_ * odom_theta};
+  const sim::MazePose end = look(guess, fmt::format("run {}", index + 1));
+  const double dx = end.x_mm - start.x_mm;
+  const double dy = end.y_mm - start.y_mm;
+  SessionPose measured;
+  measured.x_mm = c * dx + s * dy;
+  measured.y_mm = -s * dx + c * dy;
+  measured.theta_deg = wrap_rad(end.theta_rad - start.theta_rad) / kWallDeg;
+  looks_.back()["run"] = index + 1;
+  log_ << fmt::format(
+      "  The walls: it stopped at x {:.1f} mm, y {:.1f} mm, heading {:.2f} deg "
+      "(a look in cell ({}, {})).\n",
+      measured.x_mm, measured.y_mm, *measured.theta_deg,
+      looks_.back()["cell"][0].get<std::uint32_t>(), looks_.back()["cell"][1].get<std::uint32_t>());
+  return measured;
+}
+
+void WallTruth::move_and_look(const std::string& command, double expected_s) {
+  robot_.expect_ok("odom reset");
+  const sim::MazePose start = pose_;
+  robot_.expect_ok(command);
+  wait_done(expected_s);
+  const Reply odom = robot_.query("odom");
+  const double c = std::cos(start.theta_rad);
+  const double s = std::sin(start.theta_rad);
+  const double x = odom.number("x_mm");
+  const double y = odom.number("y_mm");
+  const sim::MazePose guess{start.x_mm + c * x - s * y, start.y_mm + s * x + c * y,
+                            start.theta_rad + odom.number("theta_deg") * kWallDeg};
+  static_cast<void>(look(guess, "`" + command + "`"));
+}
+
+nlohmann::json WallTruth::json() const {
+  nlohmann::json out = {{"maze", maze_.name},
+                        {"start_cell", {maze_.start_column, maze_.start_row}},
+                        {"looks", looks_}};
+  if (calibration_) {
+    const walls::TurnCalibration& cal = *calibration_;
+    nlohmann::json sensors = nlohmann::json::array();
+    for (const walls::SensorResponse& r : cal.sensors.responses) {
+      sensors.push_back({{"a_counts_mm2", r.a_counts_mm2}, {"incidence_power", r.incidence_power}});
+    }
+    out["calibration"] = {{"sensors", sensors},
+                          {"centre_x_mm", cal.centre_x_mm},
+                          {"centre_y_mm", cal.centre_y_mm},
+                          {"start_heading_deg", cal.start_heading_rad / kWallDeg},
+                          {"start_heading_sd_deg", cal.start_heading_sd_rad / kWallDeg},
+                          {"true_rad_per_odometry_rad", cal.radians_per_count},
+                          {"true_rad_per_odometry_rad_sd", cal.radians_per_count_sd},
+                          {"readings", cal.readings_used},
+                          {"rms_log_residual", cal.rms_log_residual}};
+  }
+  return out;
+}
+
+}  // namespace session
+
+std::unique_ptr<MeasurementSource> wall_measurements(RobotClient& robot, const MazeKnowledge& maze,
+                                                     std::ostream& log) {
+  return std::make_unique<session::WallTruth>(robot, maze, log);
+}
+
+}  // namespace odocal::host

@@ -1,0 +1,104 @@
+#pragma once
+// Internal to the session: `--truth walls` (DESIGN "No tape measure"), the walls of the maze as
+// the session's measurement source. The robot learns its sensors from a turn in the start cell;
+// after every run it looks (a turn in place, stopping every few degrees to read its four sensors)
+// and the walls around it say where it stopped, in the run's start frame, as a tape would.
+
+#include <array>
+#include <cstddef>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "odocal/host/session.hpp"
+#include "odocal/host/walls.hpp"
+
+namespace odocal::host::session {
+
+/// A straight corridor of the maze from a cell, along a heading: how many cells it runs before a
+/// wall ahead, and whether its last cell has a wall to a side (a look there then fixes both
+/// coordinates). cells 0: a wall right ahead.
+struct Corridor {
+  std::uint32_t cells = 0u;
+  bool end_has_side_wall = false;
+  std::uint32_t end_column = 0u;
+  std::uint32_t end_row = 0u;
+  [[nodiscard]] double length_mm() const { return cells * sim::cell_pitch_mm; }
+};
+
+/// The corridor from (column, row) along `heading` (a multiple of 90°, maze frame).
+Corridor corridor_from(const sim::Maze& maze, std::uint32_t column, std::uint32_t row,
+                       double heading_rad);
+
+/// The walls as the session's tape: every measured run's stop looked at.
+class WallTruth final : public MeasurementSource {
+ public:
+  WallTruth(RobotClient& robot, const MazeKnowledge& maze, std::ostream& log);
+
+  /// The turn in the start cell (about a turn and a quarter): the sensors learnt, the robot's
+  /// pose in the maze; then it faces its start heading again. Throws std::runtime_error when the
+  /// robot has no wall sensors or the walls do not explain what they read.
+  void calibrate();
+  [[nodiscard]] bool calibrated() const { return calibration_.has_value(); }
+
+  /// Whether the robot stands in the start cell now.
+  [[nodiscard]] bool in_start_cell() const;
+  /// The robot's pose now (maze frame), as the last look and the turns since left it.
+  [[nodiscard]] const sim::MazePose& pose() const { return pose_; }
+
+  /// Turns in place to face `heading_rad` (maze frame), squared up to the maze's quarters: no run
+  /// (a line up the corridor and back down it both go forwards, so that the wheels' ratio bends
+  /// them to either side in turn and the robot stays in the corridor).
+  void face(double heading_rad);
+
+  /// A move that is no run (getting to the verification's corridor): `command` driven from
+  /// odometry zero, then a look. `expected_s`: its nominal duration.
+  void move_and_look(const std::string& command, double expected_s);
+
+  [[nodiscard]] const MazeKnowledge& maze() const { return maze_; }
+  /// The corridor the calibration's lines drive: from the start cell, along the start heading.
+  [[nodiscard]] Corridor calibration_corridor() const {
+    return corridor_from(maze_.maze, maze_.start_column, maze_.start_row, maze_.start_heading_rad);
+  }
+
+  /// What the walls found, for session.json's result: the sensors learnt and every look.
+  [[nodiscard]] nlohmann::json json() const;
+
+  // MeasurementSource
+  [[nodiscard]] bool by_hand() const override { return false; }
+  [[nodiscard]] bool is_tape() const override { return false; }
+  SessionPose take(const RunRecord& run, std::size_t index, std::size_t planned) override;
+  [[nodiscard]] std::size_t available(std::size_t) const override { return SIZE_MAX; }
+  [[nodiscard]] std::string describe() const override { return "the walls of " + maze_.name; }
+
+ private:
+  /// Turns in place in steps (`drive 0 w ms`), reading the odometry's heading and the walls at
+  /// rest after each, until `turn_rad` of odometry heading; the samples' turn coordinate is the
+  /// odometry's heading turned (rad, unwrapped).
+  std::vector<walls::TurnSample> turn_and_read(double turn_rad);
+  /// The odometry's heading now, rad (the console's theta_deg).
+  double odom_heading_rad();
+  /// A look from `guess` (where the robot is thought to be): the pose at its start, and pose_ at
+  /// its end.
+  sim::MazePose look(const sim::MazePose& guess, const std::string& why);
+  /// Turns to the nearest quarter of the maze (pose_ follows the odometry's heading through the
+  /// last look's angle per radian).
+  void square_up();
+  /// Turns in place by about `turn_rad` and follows it in pose_.
+  void turn_by(double turn_rad);
+  void wait_done(double expected_s);
+
+  RobotClient& robot_;
+  MazeKnowledge maze_;
+  std::ostream& log_;
+  std::optional<walls::TurnCalibration> calibration_;
+  sim::MazePose pose_{};
+  /// True heading per radian of odometry heading, turning in place (the last look's).
+  double true_per_odom_ = 1.0;
+  nlohmann::json looks_ = nlohmann::json::array();
+};
+
+}  // namespace odocal::host::session

@@ -315,6 +315,7 @@ MazeKnowledge maze_knowledge(const SessionFlags& f, const std::string& sim_file)
     k.start_heading_rad = spec.walls.start_pose().theta_rad;
     layout = spec.walls.sensors;
     k.name = spec.walls.source == MazeSource::file ? spec.walls.maze_file : "the practice maze";
+    k.simulator = true;
   } else if (f.maze.empty() || f.maze == "practice") {
     k.maze = sim::practice_maze();
   } else {

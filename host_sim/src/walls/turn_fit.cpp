@@ -402,6 +402,7 @@ TurnLocation locate_by_turn(const sim::Maze& maze, const TurnSetup& setup, const
   for (std::size_t p = 4u; p < turn_parameters; ++p) {
     problem.free[p] = false;
   }
+  problem.free[3] = setup.fit_rate;
   const sim::MazePose centre = sim::Maze::cell_centre(setup.column, setup.row);
   TurnParameters q{};
   q[0] = centre.x_mm + setup.offset_x_mm;

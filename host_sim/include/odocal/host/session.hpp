@@ -96,6 +96,10 @@ struct MazeKnowledge {
   double start_heading_rad = 1.5707963267948966;  ///< maze frame (counter-clockwise from east)
   std::array<sim::SensorMount, sim::WallSensorLayout::count> mounts{};
   std::string name = "the practice maze";  ///< for the log and session.json
+  /// The robot is odocal-sim (--sim): after every run its tape (`measure`, the simulator's truth
+  /// plus the robot file's measure_sigma_mm) is read beside the walls, and what the walls got
+  /// wrong is reported (result.walls.against_simulator). Never used by the calibration.
+  bool simulator = false;
 };
 
 /// Where the measurements come from.

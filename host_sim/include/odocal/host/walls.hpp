@@ -139,6 +139,9 @@ struct TurnSetup {
   /// Where the robot is thought to stand from the cell's centre, mm (locate_by_turn's start).
   double offset_x_mm = 0.0;
   double offset_y_mm = 0.0;
+  /// locate_by_turn: whether the look fits its own angle per count (else radians_per_count holds:
+  /// a rate known better from the calibration's three walls than from a corner's two).
+  bool fit_rate = true;
 };
 
 /// The turn's fit: the sensors learnt, where the robot turned and the angle per turn count.

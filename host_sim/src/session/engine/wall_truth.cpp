@@ -20,9 +20,10 @@ constexpr double kWallDeg = kWallPi / 180.0;
 constexpr double kStepRadps = 1.5;
 constexpr int kStepMs = 60;
 /// The calibration turns a turn and a quarter (each sensor sees the three walls at least once
-/// from both sides); a look one turn and a bit (it ends facing about where it began).
+/// from both sides); a look half a turn and a bit there and back (its turn coordinate ends where
+/// it began, so the heading at its end is known as well as at its start, whatever the rate).
 constexpr double kCalibrationTurnRad = 2.5 * kWallPi;
-constexpr double kLookTurnRad = 2.0 * kWallPi + 5.0 * kWallDeg;
+constexpr double kLookTurnRad = kWallPi + 10.0 * kWallDeg;
 /// A look stops after this many steps whatever the odometry says (a wheel that does not turn).
 constexpr std::size_t kMaxSteps = 400u;
 /// Square-up: a heading further than this from a quarter of the maze is turned back.
@@ -75,53 +76,70 @@ WallTruth::WallTruth(RobotClient& robot, const MazeKnowledge& maze, std::ostream
   pose_ = {start.x_mm, start.y_mm, maze.start_heading_rad};
 }
 
-double WallTruth::odom_heading_rad() {
-  return robot_.query("odom").number("theta_deg") * kWallDeg;
+double WallTruth::trial_turn_counts() {
+  const Reply trial = robot_.query("trial");
+  return trial.number("count_r") - trial.number("count_l");
+}
+
+double WallTruth::nominal_radians_per_count() {
+  const auto get = [this](const char* name) {
+    return robot_.query(std::string("get ") + name).number(name);
+  };
+  return kWallPi * get("wheel_diameter_mm") / get("counts_per_rev") / get("wheelbase_mm");
 }
 
 void WallTruth::wait_done(double expected_s) {
   static_cast<void>(robot_.wait_done(static_cast<int>(1000.0 * expected_s) + 5000));
 }
 
-std::vector<walls::TurnSample> WallTruth::turn_and_read(double turn_rad) {
+std::vector<walls::TurnSample> WallTruth::turn_and_read(double turn_rad, bool and_back) {
   std::vector<walls::TurnSample> samples;
-  const double sign = turn_rad < 0.0 ? -1.0 : 1.0;
-  double last = odom_heading_rad();
+  // The turn coordinate: the right wheel's counts minus the left's, summed over the steps (each a
+  // trial, over when the wheels stand still): raw counts, whatever the factors in force.
   double turned = 0.0;
-  const std::string step = fmt::format("drive 0 {:.4f} {}", sign * kStepRadps, kStepMs);
-  for (std::size_t k = 0u; k <= kMaxSteps; ++k) {
-    if (k > 0u) {
-      robot_.expect_ok(step);
-      wait_done(kStepMs / 1000.0);
-      const double now = odom_heading_rad();
-      turned += wrap_rad(now - last);
-      last = now;
-    }
-    const Reply walls = robot_.command("walls");
-    if (!walls.ok) {
-      throw std::runtime_error(
-          "--truth walls: the robot's `walls` answered `" + walls.line +
-          "`: it has no wall sensors (docs/maze.md); calibrate it with a tape (no --truth)");
-    }
-    samples.push_back({turned,
-                       {lit(walls, "left_front"), lit(walls, "left_diagonal"),
-                        lit(walls, "right_diagonal"), lit(walls, "right_front")}});
-    if (sign * turned >= sign * turn_rad) {
-      return samples;
+  const double step_counts = kStepRadps * kStepMs / 1000.0 / rate_;
+  // Out to turn_rad, then (and_back) back to where it began: the turn coordinate ends near 0.
+  for (int leg = 0; leg < (and_back ? 2 : 1); ++leg) {
+    const double goal = leg == 0 ? turn_rad / rate_ : 0.0;
+    const double sign = goal - turned < 0.0 ? -1.0 : 1.0;
+    const std::string step = fmt::format("drive 0 {:.4f} {}", sign * kStepRadps, kStepMs);
+    bool there = false;
+    for (std::size_t k = 0u; !there; ++k) {
+      if (k > kMaxSteps) {
+        throw std::runtime_error(fmt::format(
+            "--truth walls: the robot turned only {:.0f} degrees in {} steps of a look (a wheel "
+            "that does not turn? a stall?)",
+            turned * rate_ / kWallDeg, kMaxSteps));
+      }
+      if (k > 0u || leg > 0) {
+        robot_.expect_ok(step);
+        wait_done(kStepMs / 1000.0);
+        turned += trial_turn_counts();
+      }
+      const Reply walls = robot_.command("walls");
+      if (!walls.ok) {
+        throw std::runtime_error(
+            "--truth walls: the robot's `walls` answered `" + walls.line +
+            "`: it has no wall sensors (docs/maze.md); calibrate it with a tape (no --truth)");
+      }
+      samples.push_back({turned,
+                         {lit(walls, "left_front"), lit(walls, "left_diagonal"),
+                          lit(walls, "right_diagonal"), lit(walls, "right_front")}});
+      // Within half a step of the goal, or past it.
+      there = sign * (turned - goal) >= -0.5 * step_counts;
     }
   }
-  throw std::runtime_error(fmt::format(
-      "--truth walls: the robot turned only {:.0f} degrees in {} steps of a look (a wheel that "
-      "does not turn? a stall?)",
-      turned / kWallDeg, kMaxSteps));
+  return samples;
 }
 
 void WallTruth::calibrate() {
   log_ << "The walls: the robot learns its sensors from the start cell (" << maze_.name
        << ", cell (" << maze_.start_column << ", " << maze_.start_row
        << ")): a turn and a quarter in place, reading its four sensors every few degrees.\n";
-  const std::vector<walls::TurnSample> samples = turn_and_read(kCalibrationTurnRad);
-  const walls::TurnSetup setup{maze_.start_column, maze_.start_row, maze_.start_heading_rad, 1.0};
+  rate_ = nominal_radians_per_count();
+  const double nominal_rate = rate_;
+  const std::vector<walls::TurnSample> samples = turn_and_read(kCalibrationTurnRad, false);
+  const walls::TurnSetup setup{maze_.start_column, maze_.start_row, maze_.start_heading_rad, rate_};
   try {
     calibration_ = walls::calibrate_from_turn(maze_.maze, setup, maze_.mounts, samples);
   } catch (const std::invalid_argument& e) {
@@ -132,21 +150,20 @@ void WallTruth::calibrate() {
                              "the session was told?");
   }
   const walls::TurnCalibration& cal = *calibration_;
-  true_per_odom_ = cal.radians_per_count;
+  rate_ = cal.radians_per_count;
   pose_ = {cal.centre_x_mm, cal.centre_y_mm,
-           cal.start_heading_rad + true_per_odom_ * samples.back().turn_counts};
+           wrap_rad(cal.start_heading_rad + rate_ * samples.back().turn_counts)};
   const sim::MazePose centre = sim::Maze::cell_centre(maze_.start_column, maze_.start_row);
   log_ << fmt::format(
       "  Sensors learnt from {} readings: strengths {:.2f}, {:.2f}, {:.2f}, {:.2f} x 10^6 "
       "counts mm^2 (left front, left diagonal, right diagonal, right front), incidence power "
       "{:.2f}. The robot stood {:.1f} mm east and {:.1f} mm north of the cell's centre, facing "
-      "{:.2f} deg; it turns {:.4f} rad per radian its odometry counts (the wheelbase it is told, "
-      "seen by the walls).\n",
+      "{:.2f} deg; it turns {:.4f} times what its nominal wheelbase says (seen by the walls).\n",
       cal.readings_used, cal.sensors.responses[0].a_counts_mm2 / 1e6,
       cal.sensors.responses[1].a_counts_mm2 / 1e6, cal.sensors.responses[2].a_counts_mm2 / 1e6,
       cal.sensors.responses[3].a_counts_mm2 / 1e6, cal.sensors.responses[0].incidence_power,
       cal.centre_x_mm - centre.x_mm, cal.centre_y_mm - centre.y_mm,
-      cal.start_heading_rad / kWallDeg, cal.radians_per_count);
+      cal.start_heading_rad / kWallDeg, cal.radians_per_count / nominal_rate);
   turn_by(wrap_rad(maze_.start_heading_rad - pose_.theta_rad));
   square_up();
 }
@@ -160,22 +177,30 @@ void WallTruth::turn_by(double turn_rad) {
   if (std::fabs(turn_rad) < 0.05 * kWallDeg) {
     return;
   }
-  const double before = odom_heading_rad();
   const double w = turn_rad < 0.0 ? -kStepRadps : kStepRadps;
   const int ms =
       std::max(10, static_cast<int>(std::lround(1000.0 * std::fabs(turn_rad) / kStepRadps)));
   robot_.expect_ok(fmt::format("drive 0 {:.4f} {}", w, ms));
   wait_done(ms / 1000.0);
-  // The odometry's heading wraps at ±180°: the turn asked for says how many times it did.
-  const double wrapped = wrap_rad(odom_heading_rad() - before);
-  const double turned =
-      wrapped + 2.0 * kWallPi * std::round((turn_rad - wrapped) / (2.0 * kWallPi));
-  pose_.theta_rad = wrap_rad(pose_.theta_rad + true_per_odom_ * turned);
+  pose_.theta_rad = wrap_rad(pose_.theta_rad + rate_ * trial_turn_counts());
 }
 
 void WallTruth::face(double heading_rad) {
   turn_by(wrap_rad(heading_rad - pose_.theta_rad));
   square_up();
+}
+
+double WallTruth::aim_at(std::uint32_t column, std::uint32_t row) {
+  const sim::MazePose target = sim::Maze::cell_centre(column, row);
+  const double heading = std::atan2(target.y_mm - pose_.y_mm, target.x_mm - pose_.x_mm);
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    const double off = wrap_rad(heading - pose_.theta_rad);
+    if (std::fabs(off) < 0.5 * kSquareRad) {
+      break;
+    }
+    turn_by(off);
+  }
+  return std::hypot(target.y_mm - pose_.y_mm, target.x_mm - pose_.x_mm) * 1e-3;
 }
 
 void WallTruth::square_up() {
@@ -198,10 +223,13 @@ sim::MazePose WallTruth::look(const sim::MazePose& guess, const std::string& why
       static_cast<std::uint32_t>(std::clamp(std::floor(guess.y_mm / sim::cell_pitch_mm), 0.0,
                                             static_cast<double>(maze_.maze.height() - 1u)));
   const sim::MazePose centre = sim::Maze::cell_centre(column, row);
-  const std::vector<walls::TurnSample> samples = turn_and_read(kLookTurnRad);
-  walls::TurnSetup setup{column, row, guess.theta_rad, true_per_odom_};
+  const std::vector<walls::TurnSample> samples = turn_and_read(kLookTurnRad, true);
+  walls::TurnSetup setup{column, row, guess.theta_rad, rate_};
   setup.offset_x_mm = guess.x_mm - centre.x_mm;
   setup.offset_y_mm = guess.y_mm - centre.y_mm;
+  // The rate the calibration's three walls gave (a look's half turn there and back pins its
+  // own less well, and its end heading does not depend on it).
+  setup.fit_rate = false;
   walls::TurnLocation found;
   try {
     found = walls::locate_by_turn(maze_.maze, setup, calibration_->sensors, samples);
@@ -212,7 +240,6 @@ sim::MazePose WallTruth::look(const sim::MazePose& guess, const std::string& why
         "the session was told",
         why, column, row, e.what()));
   }
-  true_per_odom_ = found.radians_per_count;
   const sim::MazePose at_start{found.centre_x_mm, found.centre_y_mm,
                                wrap_rad(found.start_heading_rad)};
   pose_ = {
@@ -240,18 +267,18 @@ SessionPose WallTruth::take(const RunRecord& run, std::size_t index, std::size_t
   const sim::MazePose start = pose_;
   const double c = std::cos(start.theta_rad);
   const double s = std::sin(start.theta_rad);
-  // The odometry's heading is wrapped to ±180°: the turns the motion asked for unwrap it, and
-  // the angle per odometry radian the walls saw turns it into the robot's (a few turns in place
-  // on a wheelbase 1 % off are a few degrees).
-  const double wrapped = run.odom.theta_deg.value_or(0.0) * kWallDeg;
-  const double asked = run.motion.kind == Motion::Kind::timed
-                           ? static_cast<double>(run.motion.w_radps) * run.motion.ms / 1000.0
-                           : 0.0;
-  const double odom_theta =
-      wrapped + 2.0 * kWallPi * std::round((asked - wrapped) / (2.0 * kWallPi));
-  const sim::MazePose guess{start.x_mm + c * run.odom.x_mm - s * run.odom.y_mm,
-                            start.y_mm + s * run.odom.x_mm + c * run.odom.y_mm,
-                            start.theta_rad + true_per_odom_ * odom_theta};
+  // The heading from the run's counts (raw, unwrapped) at the rate the walls saw.
+  const sim::MazePose guess{
+      start.x_mm + c * run.odom.x_mm - s * run.odom.y_mm,
+      start.y_mm + s * run.odom.x_mm + c * run.odom.y_mm,
+      start.theta_rad + rate_ * static_cast<double>(run.count_r - run.count_l)};
+  std::optional<SessionPose> tape;
+  if (maze_.simulator) {
+    const Reply reply = robot_.query("measure");
+    if (reply.ok) {
+      tape = SessionPose{reply.number("x_mm"), reply.number("y_mm"), reply.number("theta_deg")};
+    }
+  }
   const sim::MazePose end = look(guess, fmt::format("run {}", index + 1));
   const double dx = end.x_mm - start.x_mm;
   const double dy = end.y_mm - start.y_mm;
@@ -260,6 +287,15 @@ SessionPose WallTruth::take(const RunRecord& run, std::size_t index, std::size_t
   measured.y_mm = -s * dx + c * dy;
   measured.theta_deg = wrap_rad(end.theta_rad - start.theta_rad) / kWallDeg;
   looks_.back()["run"] = index + 1;
+  if (tape) {
+    const std::array<double, 3> error{
+        measured.x_mm - tape->x_mm, measured.y_mm - tape->y_mm,
+        wrap_rad((*measured.theta_deg - *tape->theta_deg) * kWallDeg) / kWallDeg};
+    errors_.push_back(error);
+    looks_.back()["simulator"] = {
+        {"x_mm", tape->x_mm},     {"y_mm", tape->y_mm},     {"theta_deg", *tape->theta_deg},
+        {"error_x_mm", error[0]}, {"error_y_mm", error[1]}, {"error_theta_deg", error[2]}};
+  }
   log_ << fmt::format(
       "  The walls: it stopped at x {:.1f} mm, y {:.1f} mm, heading {:.2f} deg "
       "(a look in cell ({}, {})).\n",
@@ -279,7 +315,7 @@ void WallTruth::move_and_look(const std::string& command, double expected_s) {
   const double x = odom.number("x_mm");
   const double y = odom.number("y_mm");
   const sim::MazePose guess{start.x_mm + c * x - s * y, start.y_mm + s * x + c * y,
-                            start.theta_rad + odom.number("theta_deg") * kWallDeg};
+                            start.theta_rad + rate_ * trial_turn_counts()};
   static_cast<void>(look(guess, "`" + command + "`"));
 }
 
@@ -287,6 +323,30 @@ nlohmann::json WallTruth::json() const {
   nlohmann::json out = {{"maze", maze_.name},
                         {"start_cell", {maze_.start_column, maze_.start_row}},
                         {"looks", looks_}};
+  if (!errors_.empty()) {
+    // What the walls' stops got wrong against the simulator's tape, per reading kind.
+    const char* kinds[] = {"x_mm", "y_mm", "theta_deg"};
+    nlohmann::json against = nlohmann::json::object();
+    for (std::size_t k = 0; k < 3; ++k) {
+      double sum = 0.0;
+      double sum2 = 0.0;
+      double worst = 0.0;
+      for (const auto& e : errors_) {
+        sum += e[k];
+        sum2 += e[k] * e[k];
+        worst = std::max(worst, std::fabs(e[k]));
+      }
+      const double n = static_cast<double>(errors_.size());
+      const double mean = sum / n;
+      against[kinds[k]] = {
+          {"runs", errors_.size()},
+          {"mean", mean},
+          {"rms", std::sqrt(sum2 / n)},
+          {"sd", n > 1.0 ? std::sqrt(std::max(sum2 - n * mean * mean, 0.0) / (n - 1.0)) : 0.0},
+          {"max_abs", worst}};
+    }
+    out["against_simulator"] = against;
+  }
   if (calibration_) {
     const walls::TurnCalibration& cal = *calibration_;
     nlohmann::json sensors = nlohmann::json::array();

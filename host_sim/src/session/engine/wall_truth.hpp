@@ -54,6 +54,11 @@ class WallTruth final : public MeasurementSource {
   /// them to either side in turn and the robot stays in the corridor).
   void face(double heading_rad);
 
+  /// Turns in place to face the centre of cell (column, row) (no run) and returns how far it is,
+  /// m: a line aimed so keeps the robot on its corridor's centre line, whatever the lines before
+  /// left it off it.
+  double aim_at(std::uint32_t column, std::uint32_t row);
+
   /// A move that is no run (getting to the verification's corridor): `command` driven from
   /// odometry zero, then a look. `expected_s`: its nominal duration.
   void move_and_look(const std::string& command, double expected_s);
@@ -75,12 +80,15 @@ class WallTruth final : public MeasurementSource {
   [[nodiscard]] std::string describe() const override { return "the walls of " + maze_.name; }
 
  private:
-  /// Turns in place in steps (`drive 0 w ms`), reading the odometry's heading and the walls at
-  /// rest after each, until `turn_rad` of odometry heading; the samples' turn coordinate is the
-  /// odometry's heading turned (rad, unwrapped).
-  std::vector<walls::TurnSample> turn_and_read(double turn_rad);
-  /// The odometry's heading now, rad (the console's theta_deg).
-  double odom_heading_rad();
+  /// Turns in place in steps (`drive 0 w ms`, each a trial), reading the trial's counts and the
+  /// walls at rest after each, until about `turn_rad` (at rate_), and with `and_back` back again;
+  /// the samples' turn coordinate is the right wheel's counts minus the left's, summed.
+  std::vector<walls::TurnSample> turn_and_read(double turn_rad, bool and_back);
+  /// The last trial's turn: its right wheel's counts minus its left's (raw counts).
+  double trial_turn_counts();
+  /// Radians turned per turn count by the nominal geometry (wheel diameter, counts per turn,
+  /// wheelbase as the robot holds them).
+  double nominal_radians_per_count();
   /// A look from `guess` (where the robot is thought to be): the pose at its start, and pose_ at
   /// its end.
   sim::MazePose look(const sim::MazePose& guess, const std::string& why);
@@ -96,9 +104,11 @@ class WallTruth final : public MeasurementSource {
   std::ostream& log_;
   std::optional<walls::TurnCalibration> calibration_;
   sim::MazePose pose_{};
-  /// True heading per radian of odometry heading, turning in place (the last look's).
-  double true_per_odom_ = 1.0;
+  /// Radians the robot turns in place per turn count (right counts minus left), the calibration's.
+  double rate_ = 0.0;
   nlohmann::json looks_ = nlohmann::json::array();
+  /// Per run (with MazeKnowledge::simulator): the walls' reading minus the simulator's tape.
+  std::vector<std::array<double, 3>> errors_;
 };
 
 }  // namespace odocal::host::session

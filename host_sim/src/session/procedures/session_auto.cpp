@@ -163,10 +163,17 @@ void AutoSession::drive_one(Kind k, const std::string& why) {
     // ways, the robot turned round first (no run), so that the wheels' ratio bends the lines to
     // either side in turn and the robot stays in its corridor.
     const bool up = walls_->in_start_cell();
-    walls_->face(walls_->maze().start_heading_rad + (up ? 0.0 : kPi));
-    motion = motion_of(k, plan_, expected_s, c_);
-    c_.log << fmt::format("Next: {} the corridor, a straight line of {:.2f} m ({}).\n",
-                          up ? "up" : "back down", plan_.line_m, why);
+    const Corridor corridor = walls_->calibration_corridor();
+    const MazeKnowledge& maze = walls_->maze();
+    const double length_m = up ? walls_->aim_at(corridor.end_column, corridor.end_row)
+                               : walls_->aim_at(maze.start_column, maze.start_row);
+    motion = Motion::line(length_m);
+    expected_s = c_.path_seconds(length_m, 0.0, 1);
+    c_.log << fmt::format(
+        "Next: {} the corridor, a straight line of {:.3f} m aimed at the centre of cell ({}, {}) "
+        "({}).\n",
+        up ? "up" : "back down", motion.length_m, up ? corridor.end_column : maze.start_column,
+        up ? corridor.end_row : maze.start_row, why);
   } else {
     motion = motion_of(k, plan_, expected_s, c_);
     c_.log << fmt::format(
@@ -594,11 +601,12 @@ void AutoSession::verify_by_walls(Outcome& out) {
       walls_->face(along + kPi);
       walls_->move_and_look(Motion::line(length_m).command(),
                             c_.path_seconds(length_m, 0.0, 1) + 2.0);
-      walls_->face(along);
     }
-    const RunRecord r =
-        c_.run("verify", Motion::line(length_m), c_.path_seconds(length_m, 0.0, 1), true);
-    const double ex = r.measured.x_mm - length_m * 1e3;
+    // Aimed at the far cell's centre: the goal is that far straight ahead.
+    const Motion aimed = Motion::line(walls_->aim_at(best->end_column, best->end_row));
+    const double goal_mm = aimed.length_m * 1e3;
+    const RunRecord r = c_.run("verify", aimed, c_.path_seconds(aimed.length_m, 0.0, 1), true);
+    const double ex = r.measured.x_mm - goal_mm;
     const double ey = r.measured.y_mm;
     sum2 += ex * ex + ey * ey;
     odometry2 +=
@@ -609,7 +617,8 @@ void AutoSession::verify_by_walls(Outcome& out) {
     const EndSensitivity new_end = end_sensitivity(log, 0, last, nominal_, after_g);
     before2 += std::pow(ex - (old_end.end[0] - new_end.end[0]), 2) +
                std::pow(ey - (old_end.end[1] - new_end.end[1]), 2);
-    stops.push_back({{"x_mm", r.measured.x_mm},
+    stops.push_back({{"goal_x_mm", goal_mm},
+                     {"x_mm", r.measured.x_mm},
                      {"y_mm", r.measured.y_mm},
                      {"theta_deg", r.measured.theta_deg.value_or(0.0)},
                      {"error_x_mm", ex},

@@ -66,7 +66,9 @@ def study_one(a, work, k, doc):
     mo, sd_o, rms_o = coverage_study.mean_and_scatter(best)
     out, _ = coverage_study.run([a.bindir + "/odocal", "session", "--sim", robot, "--store", store,
                                  "--seed", str(200 + k), "--procedure", "auto", "--truth", "walls",
-                                 "--yes", "--json", "--out", os.path.join(work, "walls-%d" % k)])
+                                 "--yes", "--json", "--out", os.path.join(work, "walls-%d" % k)]
+                                + ([] if a.max_runs is None else
+                                   ["--max-measurements", str(a.max_runs)]))
     session = json.loads(out)
     result = session["result"]
     last = result["precision"][-1]
@@ -126,6 +128,8 @@ def main():
     ap.add_argument("--seed", type=int, default=48, help="the generator's seed")
     ap.add_argument("--runs", type=int, default=8, help="unseen-path runs per mouse and oracle")
     ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--max-runs", type=int, default=None,
+                    help="the sessions' --max-measurements (with the walls: runs; default auto's)")
     ap.add_argument("--coverage", action="store_true", help="check the stated precision's coverage")
     ap.add_argument("--check", action="store_true")
     ap.add_argument("--json", action="store_true")

@@ -23,7 +23,7 @@ constexpr int kStepMs = 60;
 /// from both sides); a look half a turn and a bit there and back (its turn coordinate ends where
 /// it began, so the heading at its end is known as well as at its start, whatever the rate).
 constexpr double kCalibrationTurnRad = 2.5 * kWallPi;
-constexpr double kLookTurnRad = kWallPi + 10.0 * kWallDeg;
+constexpr double kLookTurnRad = 2.0 * kWallPi + 10.0 * kWallDeg;
 /// A look stops after this many steps whatever the odometry says (a wheel that does not turn).
 constexpr std::size_t kMaxSteps = 400u;
 /// Square-up: a heading further than this from a quarter of the maze is turned back.
@@ -190,9 +190,32 @@ void WallTruth::face(double heading_rad) {
   square_up();
 }
 
-double WallTruth::aim_at(std::uint32_t column, std::uint32_t row) {
+Motion WallTruth::corridor_line(std::size_t n, double cruise_mps, double& expected_s,
+                                std::string& what) {
+  const Corridor corridor = calibration_corridor();
+  const bool up = in_start_cell();
+  const bool backwards = n % 4u == 1u || n % 4u == 2u;
+  const std::uint32_t column = up ? corridor.end_column : maze_.start_column;
+  const std::uint32_t row = up ? corridor.end_row : maze_.start_row;
+  const double length_m = aim_at(column, row, backwards);
+  what = fmt::format("{} the corridor {}, {:.3f} m to the centre of cell ({}, {})",
+                     up ? "up" : "back down", backwards ? "in reverse" : "forwards", length_m,
+                     column, row);
+  if (!backwards) {
+    expected_s = length_m / cruise_mps + 2.0;
+    return Motion::line(length_m);
+  }
+  // No `run line` in reverse: a timed drive, which brakes once its time is up (about the distance
+  // its start-up took: it ends near v·t).
+  const double ms = std::round(length_m / cruise_mps * 1000.0);
+  expected_s = ms / 1000.0 + 2.0;
+  return Motion::timed(-cruise_mps, 0.0, ms);
+}
+
+double WallTruth::aim_at(std::uint32_t column, std::uint32_t row, bool backwards) {
   const sim::MazePose target = sim::Maze::cell_centre(column, row);
-  const double heading = std::atan2(target.y_mm - pose_.y_mm, target.x_mm - pose_.x_mm);
+  const double heading =
+      std::atan2(target.y_mm - pose_.y_mm, target.x_mm - pose_.x_mm) + (backwards ? kWallPi : 0.0);
   for (int attempt = 0; attempt < 4; ++attempt) {
     const double off = wrap_rad(heading - pose_.theta_rad);
     if (std::fabs(off) < 0.5 * kSquareRad) {

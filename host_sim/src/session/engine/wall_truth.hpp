@@ -57,7 +57,16 @@ class WallTruth final : public MeasurementSource {
   /// Turns in place to face the centre of cell (column, row) (no run) and returns how far it is,
   /// m: a line aimed so keeps the robot on its corridor's centre line, whatever the lines before
   /// left it off it.
-  double aim_at(std::uint32_t column, std::uint32_t row);
+  double aim_at(std::uint32_t column, std::uint32_t row, bool backwards = false);
+
+  /// The calibration's `n`-th line (0-based): from the start cell up the corridor to its far
+  /// cell, or back down from there, aimed at the other end's centre. The four in turn: up
+  /// forwards, down in reverse, up in reverse, down forwards (the robot turned round in place
+  /// before the third and fifth, no run). Each end's walls reflect a little differently, which
+  /// puts the same small error on every stop in that cell; over the four it cancels from what
+  /// bends the lines (the wheels' ratio): forwards and in reverse it shows with opposite signs
+  /// across the run, up and down with opposite signs in its heading. `what` says it for the log.
+  Motion corridor_line(std::size_t n, double cruise_mps, double& expected_s, std::string& what);
 
   /// A move that is no run (getting to the verification's corridor): `command` driven from
   /// odometry zero, then a look. `expected_s`: its nominal duration.

@@ -114,7 +114,8 @@ class AutoSession {
   FitOptions fo_;
   FitResult fitted_;
   Precision p_;
-  WallTruth* walls_ = nullptr;  ///< the walls measure the runs (--truth walls), else a tape
+  WallTruth* walls_ = nullptr;   ///< the walls measure the runs (--truth walls), else a tape
+  std::size_t walls_lines_ = 0;  ///< lines driven with the walls (WallTruth::corridor_line)
 };
 
 void AutoSession::learn_the_walls(Outcome& out) {
@@ -159,31 +160,17 @@ void AutoSession::drive_one(Kind k, const std::string& why) {
     k = *recorded;
     motion = c_.options.replay[c_.runs.size()].motion;
   } else if (walls_ != nullptr && k == Kind::line) {
-    // Up the corridor from the start cell, or back down it from its far end: forwards both
-    // ways, the robot turned round first (no run), so that the wheels' ratio bends the lines to
-    // either side in turn and the robot stays in its corridor.
-    const bool up = walls_->in_start_cell();
-    const Corridor corridor = walls_->calibration_corridor();
-    const MazeKnowledge& maze = walls_->maze();
-    const double length_m = up ? walls_->aim_at(corridor.end_column, corridor.end_row)
-                               : walls_->aim_at(maze.start_column, maze.start_row);
-    motion = Motion::line(length_m);
-    expected_s = c_.path_seconds(length_m, 0.0, 1);
-    c_.log << fmt::format(
-        "Next: {} the corridor, a straight line of {:.3f} m aimed at the centre of cell ({}, {}) "
-        "({}).\n",
-        up ? "up" : "back down", motion.length_m, up ? corridor.end_column : maze.start_column,
-        up ? corridor.end_row : maze.start_row, why);
+    std::string what;
+    motion = walls_->corridor_line(walls_lines_++, plan_.cruise_mps, expected_s, what);
+    c_.log << fmt::format("Next: {} ({}).\n", what, why);
   } else {
     motion = motion_of(k, plan_, expected_s, c_);
-    c_.log << fmt::format(
-        "Next: {} ({}).\n",
-        walls_ != nullptr && k == Kind::line
-            ? fmt::format("up the corridor, a straight line of {:.2f} m", plan_.line_m)
-        : walls_ != nullptr ? fmt::format("{:.0f} turns in place {}", plan_.spin_turns,
-                                          k == Kind::spin_ccw ? "counter-clockwise" : "clockwise")
-                            : what_to_do(k, plan_),
-        why);
+    c_.log << fmt::format("Next: {} ({}).\n",
+                          walls_ != nullptr
+                              ? fmt::format("{:.0f} turns in place {}", plan_.spin_turns,
+                                            k == Kind::spin_ccw ? "counter-clockwise" : "clockwise")
+                              : what_to_do(k, plan_),
+                          why);
   }
   const RunRecord r = c_.run(kind_label(k), motion, expected_s, true);
   if (!r.measured.theta_deg) {

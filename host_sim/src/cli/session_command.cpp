@@ -8,7 +8,6 @@
 
 #include <cstdint>
 #include <ctime>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -19,7 +18,6 @@
 #include "odocal/host/bridge_console.hpp"
 #include "odocal/host/csv.hpp"
 #include "odocal/host/robot_client.hpp"
-#include "odocal/host/robot_file.hpp"
 #include "odocal/host/serial_port.hpp"
 #include "odocal/host/session.hpp"
 #include "odocal/host/sim_process.hpp"
@@ -130,36 +128,6 @@ nlohmann::json recorded_options(const SessionFlags& f) {
   return recorded;
 }
 
-/// A count of session.json's options (--runs, --seed, --baud, ...): an integer from 0 within 64
-/// bits, nothing else (InputError naming `file` and the key).
-std::uint64_t count_in(const nlohmann::json& options, const char* key, const std::string& file) {
-  const nlohmann::json& v = options.at(key);
-  if (v.is_number_unsigned()) {
-    return v.get<std::uint64_t>();
-  }
-  const double d = v.is_number() ? v.get<double>() : -1.0;
-  if (v.is_number_float() && d >= 0.0 && d == std::floor(d) && d < 18446744073709551616.0) {
-    return static_cast<std::uint64_t>(d);
-  }
-  throw InputError(file, 0, std::string("options.") + key,
-                   "not a whole number from 0 within 64 bits");
-}
-
-/// An interrupted session's session.json (`file`), refused unless it can be resumed.
-nlohmann::json interrupted_session(const std::string& file) {
-  nlohmann::json session = nlohmann::json::parse(read_text_file(file), nullptr, false);
-  if (!session.is_object() || !session.contains("options") || !session["options"].is_object()) {
-    throw InputError(file, 0, "", "not a session.json written by odocal session");
-  }
-  if (session.contains("complete") && !session["complete"].is_boolean()) {
-    throw InputError(file, 0, "complete", "not true or false");
-  }
-  if (session.value("complete", false)) {
-    throw InputError(file, 0, "complete", "this session is complete: nothing to resume");
-  }
-  return session;
-}
-
 /// --resume DIR: the options of the interrupted session, with the command line's where they
 /// agree. A conflicting option is refused: the result must be the one session's.
 SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
@@ -261,81 +229,6 @@ SessionFlags resumed_flags(const SessionFlags& given, const CLI::App& cmd,
   return f;
 }
 
-/// `{}` under --truth walls (DESIGN: "a usual mouse in a practice maze"): a robot file that says
-/// nothing of the robot's size is given a micromouse's (docs/simulation.md, "--truth walls").
-const nlohmann::json kUsualMouse = {{"wheel_diameter_mm", 32.0},
-                                    {"wheelbase_mm", 76.0},
-                                    {"true_left_diameter_mm", 31.95},
-                                    {"true_right_diameter_mm", 32.06},
-                                    {"true_wheelbase_mm", 77.1}};
-
-/// The robot file odocal-sim runs: `path` itself, or (--truth walls, a file that gives no size
-/// of the robot) `path` with the usual mouse's size, written to `out_dir`/robot.json.
-std::string walls_robot_file(const std::string& path, const std::string& out_dir) {
-  nlohmann::json doc = nlohmann::json::parse(read_text_file(path), nullptr, false);
-  if (!doc.is_object()) {
-    return path;  // odocal-sim names what is wrong with it
-  }
-  for (const auto& [key, value] : kUsualMouse.items()) {
-    if (doc.contains(key)) {
-      return path;
-    }
-  }
-  doc.update(kUsualMouse);
-  const std::string derived = out_dir + "/robot.json";
-  std::ofstream out(derived, std::ios::trunc);
-  out << doc.dump(2) << "\n";
-  if (!out.flush()) {
-    throw InputError(derived, 0, "", "cannot write the robot file for odocal-sim");
-  }
-  return derived;
-}
-
-/// What the session knows of the maze (--truth walls): with --sim the robot file's maze, start
-/// and sensor mounts; with --port `--maze` (the practice maze by default), the start cell (0, 0)
-/// facing north and the usual mouse's mounts.
-MazeKnowledge maze_knowledge(const SessionFlags& f, const std::string& sim_file) {
-  MazeKnowledge k;
-  sim::WallSensorLayout layout;
-  if (!f.sim_robot.empty()) {
-    RobotSpec spec;
-    std::string error;
-    if (!load_robot_file(sim_file, spec, error)) {
-      throw InputError(f.sim_robot, 0, "", error);
-    }
-    if (!spec.walls.present()) {
-      throw InputError(f.sim_robot, 0, "",
-                       "--truth walls: this robot stands in no maze (its wheelbase and wheel "
-                       "diameter come to more than a corridor's 168 mm, or the file says \"maze\": "
-                       "\"none\"); docs/simulation.md");
-    }
-    k.maze = spec.walls.maze;
-    k.start_column = spec.walls.start_column;
-    k.start_row = spec.walls.start_row;
-    k.start_heading_rad = spec.walls.start_pose().theta_rad;
-    layout = spec.walls.sensors;
-    k.name = spec.walls.source == MazeSource::file ? spec.walls.maze_file : "the practice maze";
-    k.simulator = true;
-  } else if (f.maze.empty() || f.maze == "practice") {
-    k.maze = sim::practice_maze();
-  } else {
-    const std::string text = read_text_file(f.maze);
-    sim::Maze maze(16u, 16u);
-    const sim::MazeTextStatus status = sim::parse_maze_text(text, maze);
-    if (!status.ok()) {
-      char why[160];
-      static_cast<void>(sim::describe(status, why, sizeof why));
-      throw InputError(f.maze, 0, "", std::string("--maze: ") + why);
-    }
-    k.maze = maze;
-    k.name = f.maze;
-  }
-  for (std::size_t i = 0; i < k.mounts.size(); ++i) {
-    k.mounts[i] = layout.sensors[i].mount;
-  }
-  return k;
-}
-
 /// The session's options from its flags, each checked against the procedure (InputError).
 SessionOptions options_of(const SessionFlags& f) {
   if (f.port.empty() && f.sim_robot.empty()) {
@@ -402,22 +295,9 @@ SessionOptions options_of(const SessionFlags& f) {
   options.log = &std::cerr;
   options.recorded = recorded_options(f);
   options.ros_velocity = ros_estimate(f.ros);
-  if (f.truth == "walls") {
-    if (options.procedure != Procedure::automatic) {
-      throw InputError("--truth", 0, "", "walls: only with --procedure auto");
-    }
-    if (!f.measurements.empty()) {
-      throw InputError("--measurements", 0, "",
-                       "--truth walls takes no tape reading; leave --measurements out");
-    }
-    if (bridge_protocol(f)) {
-      throw InputError("--truth", 0, "",
-                       "walls: the robot reads its wall sensors through odocal's console "
-                       "(`walls`); ROSArduinoBridge has no such command");
-    }
+  if (check_walls_flags(WallsFlags{f.truth, f.maze, f.sim_robot}, options.procedure,
+                        !f.measurements.empty(), bridge_protocol(f))) {
     options.walls.emplace();  // filled in by run(), once the robot file is known
-  } else if (!f.maze.empty()) {
-    throw InputError("--maze", 0, "", "only with --truth walls");
   }
   options.started_unix_s = static_cast<std::uint64_t>(std::time(nullptr));
   const bool terminal = ::isatty(STDIN_FILENO) == 1;
@@ -470,7 +350,7 @@ int run(const SessionFlags& given, const CLI::App& cmd) {
       prepare_out_dir(options.out_dir, true);
       sim_file = walls_robot_file(f.sim_robot, options.out_dir);
     }
-    options.walls = maze_knowledge(f, sim_file);
+    options.walls = maze_knowledge(WallsFlags{f.truth, f.maze, f.sim_robot}, sim_file);
   }
   if (!f.sim_robot.empty()) {
     sim = std::make_unique<SimProcess>(sibling_program("odocal-sim"), sim_file, f.seed, f.store,
@@ -589,15 +469,7 @@ void register_session_command(CLI::App& app, int& exit_code) {
                   "CSV x_mm,y_mm[,theta_deg] (or a session's measurements.csv, "
                   "run,x_mm,y_mm,theta_deg): the measured stop point of each run, in order "
                   "(default: --sim measures, else you are asked)");
-  cmd->add_option("--truth", flags->truth,
-                  "what measures the runs: tape (default: you, --measurements, or odocal-sim's "
-                  "measure) or walls (auto only: a maze robot measured by its wall sensors in "
-                  "its maze, no tape reading; docs/maze.md)")
-      ->check(CLI::IsMember({"tape", "walls"}));
-  cmd->add_option("--maze", flags->maze,
-                  "--truth walls with --port: the maze the robot stands in, `practice` (the "
-                  "default) or a maze text file (docs/maze.md); with --sim the robot file's")
-      ->needs(port);
+  add_walls_flags(*cmd, flags->truth, flags->maze, port);
   cmd->add_flag("--yes", flags->yes, "save the result on the robot without asking");
   cmd->add_flag("--json", flags->json, "print the session JSON on stdout");
   cmd->add_option("--out", flags->out,

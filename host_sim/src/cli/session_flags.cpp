@@ -152,4 +152,31 @@ void resume_ros_flags(const nlohmann::json& options, const std::string& file, co
   flags.window = recorded.window;
 }
 
+std::uint64_t count_in(const nlohmann::json& options, const char* key, const std::string& file) {
+  const nlohmann::json& v = options.at(key);
+  if (v.is_number_unsigned()) {
+    return v.get<std::uint64_t>();
+  }
+  const double d = v.is_number() ? v.get<double>() : -1.0;
+  if (v.is_number_float() && d >= 0.0 && d == std::floor(d) && d < 18446744073709551616.0) {
+    return static_cast<std::uint64_t>(d);
+  }
+  throw InputError(file, 0, std::string("options.") + key,
+                   "not a whole number from 0 within 64 bits");
+}
+
+nlohmann::json interrupted_session(const std::string& file) {
+  nlohmann::json session = nlohmann::json::parse(read_text_file(file), nullptr, false);
+  if (!session.is_object() || !session.contains("options") || !session["options"].is_object()) {
+    throw InputError(file, 0, "", "not a session.json written by odocal session");
+  }
+  if (session.contains("complete") && !session["complete"].is_boolean()) {
+    throw InputError(file, 0, "complete", "not true or false");
+  }
+  if (session.value("complete", false)) {
+    throw InputError(file, 0, "complete", "this session is complete: nothing to resume");
+  }
+  return session;
+}
+
 }  // namespace odocal::host

@@ -16,7 +16,8 @@
 
 namespace CLI {
 class App;
-}
+class Option;
+}  // namespace CLI
 
 namespace odocal::host {
 
@@ -75,5 +76,38 @@ void record_ros_flags(const RosFlags& flags, nlohmann::json& recorded);
 /// on the command line (`cmd`) that differs is refused (InputError).
 void resume_ros_flags(const nlohmann::json& options, const std::string& file, const CLI::App& cmd,
                       RosFlags& flags);
+
+/// A count of session.json's options (--runs, --seed, --baud, ...): an integer from 0 within 64
+/// bits, nothing else (InputError naming `file` and the key).
+[[nodiscard]] std::uint64_t count_in(const nlohmann::json& options, const char* key,
+                                     const std::string& file);
+
+/// An interrupted session's session.json (`file`), refused unless it can be resumed.
+[[nodiscard]] nlohmann::json interrupted_session(const std::string& file);
+
+/// `--truth` and `--maze` as given (session_walls.cpp).
+struct WallsFlags {
+  std::string truth;  ///< tape or walls
+  std::string maze;   ///< --maze (with --port): practice or a maze text file
+  std::string sim_robot;
+};
+
+/// Whether the walls measure (`--truth walls`), checked against the procedure (auto only), a
+/// measurement file and ROSArduinoBridge (refused); --maze without it is refused. InputError.
+[[nodiscard]] bool check_walls_flags(const WallsFlags& f, Procedure procedure, bool measurements,
+                                     bool bridge);
+
+/// The robot file odocal-sim runs under --truth walls: `path` itself, or, for a file that says
+/// nothing of the robot's size (`{}`), the file with a usual mouse's size (wheels 32 mm,
+/// wheelbase 76 mm, each a little off), written to `out_dir`/robot.json.
+[[nodiscard]] std::string walls_robot_file(const std::string& path, const std::string& out_dir);
+
+/// What the session knows of the maze: with --sim the robot file's (`sim_file`) maze, start and
+/// sensor mounts; with --port `--maze` (the practice maze by default), the start cell (0, 0)
+/// facing north and the usual mouse's mounts. InputError naming the file or flag at fault.
+[[nodiscard]] MazeKnowledge maze_knowledge(const WallsFlags& f, const std::string& sim_file);
+
+/// Registers --truth and --maze (--maze needs `port`).
+void add_walls_flags(CLI::App& cmd, std::string& truth, std::string& maze, CLI::Option* port);
 
 }  // namespace odocal::host

@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "auto_plan.hpp"
+#include "auto_session.hpp"
 #include "model_in_force.hpp"
 #include "odocal/drive/motion_executor.hpp"
 #include "odocal/drive/robot_model.hpp"
@@ -26,12 +27,9 @@
 #include "wall_truth.hpp"
 
 namespace odocal::host::session {
-namespace {
 
 using namespace auto_plan;
 
-/// `odocal fit`'s text without what is advice for its own command line (held-out logs, the
-/// console lines to type): auto applies the result itself.
 std::string fit_text_for_auto(const FitResult& r) {
   std::istringstream in(fit_result_text(r));
   std::string out;
@@ -43,88 +41,6 @@ std::string fit_text_for_auto(const FitResult& r) {
     out += line + "\n";
   }
   return out;
-}
-
-/// One auto session's state and its steps, in the order run_auto takes them.
-class AutoSession {
- public:
-  explicit AutoSession(Context& c) : c_(c), walls_(dynamic_cast<WallTruth*>(&c.source)) {}
-
-  /// `--truth walls`: the sensors learnt from the start cell before the first run (the owner's
-  /// one moment: the robot put down in the start cell).
-  void learn_the_walls(Outcome& out);
-
-  /// 1. The wiring: a miswired robot passes for a bad calibration. Throws when a fault stays.
-  void check_wiring(Outcome& out);
-  /// The runs: a first round that sees every parameter from two sides, then one at a time the
-  /// kind that lowers the unseen path's uncertainty the most, until the target or the budget.
-  void measure_until_known(Outcome& out);
-  /// 2. The final fit with its intervals, checked and applied (the one apply step).
-  void apply_final_fit(Outcome& out);
-  /// 3. Verification on the unseen path with the factors in force (the verify procedure's step).
-  void verify(Outcome& out);
-  /// 3. With the walls: a corridor the calibration never drove, judged by the walls.
-  void verify_by_walls(Outcome& out);
-
- private:
-  /// The runs' sizes, the budget of measurements and the count the target likely takes, said
-  /// before the first run.
-  void plan_the_budget();
-  void drive_one(Kind k, const std::string& why);
-  FitResult fit_with(const FitOptions& options);
-  FitResult fit_now();
-  /// The target met by the runs so far (their precision widened by its own uncertainty,
-  /// p_.stop_factor, and enough runs, p_.min_runs).
-  bool target_met() const {
-    return p_.stop_factor * p_.sigma_sys_mm <= p_.target_mm && in_use() >= p_.min_runs;
-  }
-  /// Calibration runs measured (each a tape measurement of the budget), and those the fit uses
-  /// (every one but those that disagreed and were driven again or left out).
-  std::size_t driven() const { return jury_->size(); }
-  std::size_t in_use() const { return jury_->runs_in_use().size(); }
-  /// Calibration measurements the budget has left.
-  std::size_t room() const { return budget_ > driven() ? budget_ - driven() : 0; }
-  /// --resume: the kind of the run the interrupted session drove next (nullopt: none, or a
-  /// verification run).
-  std::optional<Kind> recorded_kind() const {
-    if (c_.runs.size() >= c_.options.replay.size()) {
-      return std::nullopt;
-    }
-    return kind_of_label(c_.options.replay[c_.runs.size()].label);
-  }
-  bool recorded_verification_next() const {
-    return c_.runs.size() < c_.options.replay.size() && !recorded_kind();
-  }
-  /// Records and says the precision so far; true when measuring is done.
-  bool report();
-
-  Context& c_;
-  FitNominal nominal_;
-  Plan plan_;
-  std::size_t selftest_runs_ = 0;
-  std::size_t budget_ = 0;
-  std::size_t max_measurements_ = 0;
-  nlohmann::json expected_runs_ = nullptr;  ///< before the first run: runs the target likely takes
-  std::vector<SuspectRun> suspects_;        ///< runs the final fit cannot explain
-  std::unique_ptr<RunJury> jury_;           ///< every calibration run judged by the others
-  Factors applied_;                         ///< the factors the session applied
-  std::size_t arc_runs_ = 0;
-  nlohmann::json chosen_ = nlohmann::json::array();
-  nlohmann::json progress_ = nlohmann::json::array();
-  FitOptions fo_;
-  FitResult fitted_;
-  Precision p_;
-  WallTruth* walls_ = nullptr;   ///< the walls measure the runs (--truth walls), else a tape
-  std::size_t walls_lines_ = 0;  ///< lines driven with the walls (WallTruth::corridor_line)
-};
-
-void AutoSession::learn_the_walls(Outcome& out) {
-  out.result["truth"] = "walls";
-  c_.wait_for_enter("The walls: put the robot down in the start cell of " + walls_->maze().name +
-                        ", facing out of it (no mark, nothing to measure), hands off;",
-                    "the calibration turn");
-  walls_->calibrate();
-  c_.partial["walls"] = walls_->json();
 }
 
 void AutoSession::check_wiring(Outcome& out) {
@@ -536,114 +452,6 @@ void AutoSession::verify(Outcome& out) {
   c_.log << text.str();
   out.text += fit_text_for_auto(fitted_) + text.str();
 }
-
-void AutoSession::verify_by_walls(Outcome& out) {
-  // The unseen corridor: from the far end of the calibration's corridor, a corridor to a side
-  // that no calibration run drove, ending in a corner the walls can place the robot in.
-  const MazeKnowledge& maze = walls_->maze();
-  const Corridor out_corridor = walls_->calibration_corridor();
-  std::optional<Corridor> best;
-  double turn_rad = 0.0;
-  for (const double side : {-0.5 * kPi, 0.5 * kPi}) {
-    const Corridor k = corridor_from(maze.maze, out_corridor.end_column, out_corridor.end_row,
-                                     maze.start_heading_rad + side);
-    if (k.cells >= 2u && k.end_has_side_wall && (!best || k.cells > best->cells)) {
-      best = k;
-      turn_rad = side;
-    }
-  }
-  if (!best) {
-    c_.log << "Verify: the maze has no second corridor from the far end of the first (two cells "
-              "or more, ending in a corner): the verification is left out; the unseen path "
-              "(odocal session --procedure verify) checks the factors with a tape.\n";
-    out.result["verify"] = nullptr;
-    return;
-  }
-  const double length_m = best->length_mm() * 1e-3;
-  c_.log << fmt::format(
-      "Verify: {} runs with the new factors along a corridor no calibration run drove ({:.2f} m "
-      "from cell ({}, {}) to cell ({}, {})), judged by the walls: each should stop {:.0f} mm "
-      "ahead of where it starts, on the same line.\n",
-      auto_verify_runs, length_m, out_corridor.end_column, out_corridor.end_row, best->end_column,
-      best->end_row, length_m * 1e3);
-  const double along = maze.start_heading_rad + turn_rad;
-  if (walls_->in_start_cell()) {
-    walls_->face(maze.start_heading_rad);
-    walls_->move_and_look(Motion::line(plan_.line_m).command(),
-                          c_.path_seconds(plan_.line_m, 0.0, 1) + 2.0);
-  }
-  walls_->face(along);
-  c_.planned = c_.runs.size() + auto_verify_runs;
-  const FitGeometry before_g =
-      fit_geometry_of(geometry_in_force(c_.initial, nominal_.wheel_diameter_mm));
-  const FitGeometry after_g =
-      fit_geometry_of(geometry_in_force(applied_, nominal_.wheel_diameter_mm));
-  nlohmann::json stops = nlohmann::json::array();
-  double sum2 = 0.0;
-  double before2 = 0.0;
-  double odometry2 = 0.0;
-  for (std::size_t i = 0; i < auto_verify_runs; ++i) {
-    if (i > 0) {
-      // Back to the corridor's start (no run), to drive it again.
-      walls_->face(along + kPi);
-      walls_->move_and_look(Motion::line(length_m).command(),
-                            c_.path_seconds(length_m, 0.0, 1) + 2.0);
-    }
-    // Aimed at the far cell's centre: the goal is that far straight ahead.
-    const Motion aimed = Motion::line(walls_->aim_at(best->end_column, best->end_row));
-    const double goal_mm = aimed.length_m * 1e3;
-    const RunRecord r = c_.run("verify", aimed, c_.path_seconds(aimed.length_m, 0.0, 1), true);
-    const double ex = r.measured.x_mm - goal_mm;
-    const double ey = r.measured.y_mm;
-    sum2 += ex * ex + ey * ey;
-    odometry2 +=
-        std::pow(r.measured.x_mm - r.odom.x_mm, 2) + std::pow(r.measured.y_mm - r.odom.y_mm, 2);
-    const TickLog log = tick_log_of(r, false);
-    const std::size_t last = log.rows.size() - 1;
-    const EndSensitivity old_end = end_sensitivity(log, 0, last, nominal_, before_g);
-    const EndSensitivity new_end = end_sensitivity(log, 0, last, nominal_, after_g);
-    before2 += std::pow(ex - (old_end.end[0] - new_end.end[0]), 2) +
-               std::pow(ey - (old_end.end[1] - new_end.end[1]), 2);
-    stops.push_back({{"goal_x_mm", goal_mm},
-                     {"x_mm", r.measured.x_mm},
-                     {"y_mm", r.measured.y_mm},
-                     {"theta_deg", r.measured.theta_deg.value_or(0.0)},
-                     {"error_x_mm", ex},
-                     {"error_y_mm", ey},
-                     {"error_mm", std::hypot(ex, ey)}});
-  }
-  const double n = static_cast<double>(auto_verify_runs);
-  const double rms = std::sqrt(sum2 / n);
-  out.result["verify"] = {{"judged_by", "walls"},
-                          {"path", fmt::format("line {:.3f} m", length_m)},
-                          {"from_cell", {out_corridor.end_column, out_corridor.end_row}},
-                          {"to_cell", {best->end_column, best->end_row}},
-                          {"goal", {{"x_mm", length_m * 1e3}, {"y_mm", 0.0}}},
-                          {"stops", stops},
-                          {"rms_mm", rms},
-                          {"before_rms_mm", std::sqrt(before2 / n)},
-                          {"odometry_rms_mm", std::sqrt(odometry2 / n)},
-                          {"flagged", !suspects_.empty()}};
-  out.result["walls"] = walls_->json();
-  std::ostringstream text;
-  text << fmt::format(
-      "Auto (the walls): {} calibration runs, {} to verify, no tape reading. Model {}. The "
-      "unseen corridor's stops, judged by the walls, end {:.1f} mm RMS from the goal ({:.1f} mm "
-      "from where the calibrated odometry says they stopped); with the factors it had before the "
-      "session, about {:.1f} mm (their counts replayed).\n",
-      driven(), auto_verify_runs, model_name(fitted_.geometry.model), rms, std::sqrt(odometry2 / n),
-      std::sqrt(before2 / n));
-  if (!suspects_.empty()) {
-    text << fmt::format(
-        "WARNING: {} run(s) disagree with the others (result.suspect_runs): a look the walls "
-        "misread, or a run that went wrong.\n",
-        suspects_.size());
-  }
-  c_.log << text.str();
-  out.text += fit_text_for_auto(fitted_) + text.str();
-}
-
-}  // namespace
 
 Outcome run_auto(Context& c) {
   Outcome out;

@@ -2,7 +2,7 @@
 // alone, start-up clocking and switching on ADC1, a reading's register sequence (SMPR, SQR1, SQR3,
 // SWSTART, EOC, DR), the bounded EOC wait, read_lit_counts against a receiver that only sees the
 // emitter once it settled, the settle wait on the cycle counter (running, wrapping, standing
-// still). Every address and bit is RM0090's.
+// still), and the usual mouse's table of firmware/stm32f4. Every address and bit is RM0090's.
 
 #include "odocal/hal/stm32f4/adc_wall_sensor.hpp"
 
@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <initializer_list>
 
+#include "board_wall_sensors.hpp"
 #include "register_fake.hpp"
 
 namespace odocal::test {
@@ -387,6 +388,32 @@ TEST(AdcWallSensor, AWiringWithoutAnExternalChannelIsRefusedAndTouchesNothing) {
     EXPECT_EQ(sensor.read_lit_counts(), 0u);
     EXPECT_EQ(bus.registers.access_count(), 0u);
     EXPECT_EQ(bus.cyccnt_reads, 0u);
+  }
+}
+
+TEST(AdcWallSensor, TheUsualMousesFourSensorsEachSwitchTheirOwnEmitterAndConvertTheirOwnChannel) {
+  const auto& table = firmware::usual_mouse_wall_sensors;
+  for (std::size_t i = 0u; i < table.size(); ++i) {
+    SCOPED_TRACE(testing::Message() << "sensor " << i);
+    const f4::WallSensorWiring& w = table[i];
+    EXPECT_GE(w.settle_us, 20u);  // the simulator's 20 µs or more
+    EXPECT_LE(w.settle_us, 50u);
+    AdcBusFake bus{w.emitter};
+    Sensor sensor{bus, w, clock_168};
+    ASSERT_TRUE(sensor.valid());
+    sensor.start();
+    // Receiver analog on ADC1_IN<channel> = PA<channel> (channels 0..3 of the table).
+    ASSERT_LT(w.channel, 8u);
+    EXPECT_EQ((bus.registers.peek(gpioa_moder) >> (2u * w.channel)) & 0b11u, 0b11u);
+    bus.registers.clear_log();
+    sensor.set_emitter(true);
+    ASSERT_EQ(bus.registers.access_count(), 1u);
+    EXPECT_EQ(bus.registers.access(0u).address, f4::gpio::bsrr(w.emitter.port).address);
+    EXPECT_EQ(bus.registers.access(0u).value, 1u << w.emitter.number);
+    sensor.set_emitter(false);
+    bus.ambient_counts = 7u * (i + 1u);
+    EXPECT_EQ(sensor.read_counts(), 7u * (i + 1u));
+    EXPECT_EQ(bus.converted_channel, w.channel);
   }
 }
 

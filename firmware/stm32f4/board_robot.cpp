@@ -6,6 +6,7 @@
 #include <initializer_list>
 
 #include "board.hpp"
+#include "board_wall_sensors.hpp"
 #include "built_once.hpp"
 #include "odocal/hal/stm32f4/cortex_m4.hpp"
 #include "odocal/hal/stm32f4/encoder_edge.hpp"
@@ -42,6 +43,27 @@ constexpr Pin left_a_pin{encoder_port, 0u};   // EXTI0
 constexpr Pin left_b_pin{encoder_port, 1u};   // EXTI1
 constexpr Pin right_a_pin{encoder_port, 2u};  // EXTI2
 constexpr Pin right_b_pin{encoder_port, 3u};  // EXTI3
+
+/// The usual mouse's wall sensors (board_wall_sensors.hpp) are not built here (the image has no
+/// flash for them yet), but their pins stay free of this map, and of SWD, for the board that adds
+/// them.
+constexpr bool wall_sensor_pins_free() {
+  const Pin used[] = {console_tx,       console_rx,    left_pwm_pin,      right_pwm_pin,
+                      left_dir_pin,     right_dir_pin, driver_enable_pin, left_a_pin,
+                      left_b_pin,       right_a_pin,   right_b_pin,       Pin{Port::a, 13u},
+                      Pin{Port::a, 14u}};
+  for (const hal::stm32f4::WallSensorWiring& sensor : usual_mouse_wall_sensors) {
+    for (const Pin pin : {sensor.emitter, f4::adc::channel_pin(sensor.channel)}) {
+      for (const Pin taken : used) {
+        if (pin.port == taken.port && pin.number == taken.number) {
+          return false;
+        }
+      }
+    }
+  }
+  return true;
+}
+static_assert(wall_sensor_pins_free(), "the wall sensors' pins are taken by the robot's pin map");
 
 // --- clocks and peripherals ---
 constexpr f4::ClockPlan clock_plan{8'000'000u, 168'000'000u, 200'000u};

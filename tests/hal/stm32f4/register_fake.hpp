@@ -19,11 +19,13 @@ class RegisterFake {
     std::uintptr_t address;
     std::uint32_t value;  ///< written, or returned by the read
   };
-  static constexpr std::size_t max_registers = 16u;
-  static constexpr std::size_t max_accesses = 32u;
+  static constexpr std::size_t max_registers = 32u;
+  static constexpr std::size_t max_accesses = 64u;
 
   /// Test set-up: what the register at `address` reads from now on. Not logged.
   void set(std::uintptr_t address, std::uint32_t value) { cell(address) = value; }
+  /// What the register at `address` holds, for a test's assertion. Not logged.
+  [[nodiscard]] std::uint32_t peek(std::uintptr_t address) { return cell(address); }
 
   std::uint32_t read32(std::uintptr_t address) {
     const std::uint32_t value = cell(address);

@@ -58,6 +58,7 @@ inline constexpr Field apb1enr_pwr = bit(28);
 inline constexpr Register apb2enr = block.at(0x44);
 inline constexpr Field apb2enr_usart1 = bit(4);
 inline constexpr Field apb2enr_usart6 = bit(5);
+inline constexpr Field apb2enr_adc1 = bit(8);
 inline constexpr Field apb2enr_syscfg = bit(14);
 
 /// Clock control and status: LSI (the watchdog's clock) and the reset-cause flags.

@@ -315,6 +315,10 @@ std::string html_escape(const std::string& text);
 /// report.html's table and picture of every run against what the others predict
 /// (`result.run_checks`; "" without it), session_report_checks.cpp.
 std::string run_checks_section(const nlohmann::json& result);
+/// report.html's evidence of `--truth walls` (`result.walls`; "" without it): the sensors learnt,
+/// the maze with every look's place, each run's stop as the walls saw it
+/// (session_report_walls.cpp).
+std::string walls_section(const nlohmann::json& result);
 /// report.html's line of the unseen path before and after (`result.verify.before_rms_mm`; "").
 std::string before_after_line(const nlohmann::json& result);
 /// report.html: one self-contained page (inline SVG, no script, nothing from the network).

@@ -424,8 +424,9 @@ std::string factors_table(const ReportInput& in, const nlohmann::json* fit) {
 std::string report_html(const ReportInput& in) {
   ReportParts p = parts_of(in);
   std::ostringstream body;
-  body << run_checks_section(in.result) << paths_figure(in, p) << errors_figure(in)
-       << fit_figure(in, p) << verify_figure(in, p) << before_after_line(in.result);
+  body << walls_section(in.result) << run_checks_section(in.result) << paths_figure(in, p)
+       << errors_figure(in) << fit_figure(in, p) << verify_figure(in, p)
+       << before_after_line(in.result);
   const std::string table = factors_table(in, p.fit);
   std::ostringstream page;
   page << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
@@ -440,7 +441,11 @@ std::string report_html(const ReportInput& in) {
           "#ccc;padding:0.3em 0.6em;"
           "text-align:left}\n.warn{color:#a00}\n</style>\n</head>\n<body>\n<h1>"
        << escape(in.title) << "</h1>\n<p>" << escape(date_text(in.date_unix_s)) << " &middot; "
-       << in.runs.size() << (in.runs.size() == 1 ? " measurement" : " measurements") << " &middot; "
+       << (in.result.is_object() && in.result.value("truth", std::string()) == "walls"
+               ? std::to_string(in.runs.size()) + " runs measured by the walls, no tape reading"
+               : std::to_string(in.runs.size()) +
+                     (in.runs.size() == 1 ? " measurement" : " measurements"))
+       << " &middot; "
        << (in.complete ? "complete"
                        : "<span class=\"warn\">interrupted: " + escape(in.interruption) + "</span>")
        << (in.saved ? " &middot; saved on the robot" : "") << "</p>\n";

@@ -107,6 +107,8 @@ class WallTruth final : public MeasurementSource {
   /// Turns in place by about `turn_rad` and follows it in pose_.
   void turn_by(double turn_rad);
   void wait_done(double expected_s);
+  /// The maze's walls as segments [x1, y1, x2, y2], mm (report.html draws them).
+  [[nodiscard]] nlohmann::json wall_segments() const;
 
   RobotClient& robot_;
   MazeKnowledge maze_;

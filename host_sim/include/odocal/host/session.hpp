@@ -54,7 +54,10 @@ struct RunRecord {
   SessionPose measured;
   std::vector<TickSample> ticks;  ///< only when the run was logged (fit)
   Motion motion;                  ///< what it told the robot to do
-  bool replayed = false;          ///< taken from the session being resumed, not driven again
+  /// Motions driven after `motion` in the same run, each once the one before is over (`--truth
+  /// walls`: up one corridor, a quarter turn, along the next): one tick log, one measured end.
+  std::vector<Motion> then;
+  bool replayed = false;  ///< taken from the session being resumed, not driven again
 };
 
 /// A session that ended early: its reason is on the log already, with what was put back on the

@@ -159,7 +159,7 @@ nlohmann::json runs_json(const std::vector<RunRecord>& runs) {
     }
     out.push_back(
         {{"label", r.label},
-         {"command", r.motion.command()},
+         {"command", command_of(r)},
          {"ticks", ticks},
          {"trial", r.trial},
          {"path", r.path},

@@ -128,7 +128,7 @@ class Context {
   /// timeout from `expected_s` (the run's nominal duration), `trial`, then the measurement.
   /// With `log_ticks` the run is logged through `stream ticks`.
   RunRecord run(const std::string& label, const Motion& motion, double expected_s,
-                bool log_ticks = false);
+                bool log_ticks = false, const std::vector<Motion>& then = {});
 
   /// Nominal duration of a path of `length_m` metres and `turn_rad` radians of turning on the
   /// spot, in `segments` segments, at the robot's cruise speed, turn rate and settle time.
@@ -175,6 +175,12 @@ class Context {
   /// The measurement of the run `r` (index: 0-based over the session), checked before it is
   /// taken (reading_check.hpp) against the factors `in_force` and the repeats of its command.
   SessionPose measure(const RunRecord& r, std::size_t index, const Factors& in_force);
+  /// Before run `index` (0-based) with a tape: the user's moment to put the robot on the mark.
+  void ask_to_place(std::size_t index, const std::string& label);
+  /// A run's motions after its first (`then`), each started once the one before is `done`;
+  /// returns their trials' counts and time summed, `done` the last one's `# done`.
+  RunRecord drive_legs(const std::vector<Motion>& then, double expected_s,
+                       std::map<std::string, std::string>& done);
   /// Appends `r`'s measurement (run `number`) to measurements.csv and flushes it to the disk.
   void journal(const RunRecord& r, std::size_t number);
 };
@@ -197,6 +203,9 @@ class Context {
 /// report.html written, the reason and how to resume said. Throws SessionEnded (exit status 130
 /// after a signal, 2 otherwise).
 [[noreturn]] void end_early(Context& c, const std::exception& why);
+
+/// The console lines of a run: its motion's, and those it drove after it, joined by "; ".
+std::string command_of(const RunRecord& r);
 
 /// `{c_l, c_r, wheelbase_mm, f_lat, f_lon}`.
 nlohmann::json factors_json(const Factors& f);

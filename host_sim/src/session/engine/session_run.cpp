@@ -360,8 +360,44 @@ void Context::wait_for_enter(const std::string& prompt, const std::string& befor
   }
 }
 
+void Context::ask_to_place(std::size_t index, const std::string& label) {
+  // A tape measures from the start mark; the walls measure the robot wherever it stopped.
+  if (source.is_tape()) {
+    wait_for_enter(fmt::format("Run {}/{} ({}): put the robot on the start mark, aligned with the "
+                               "start line, hands off;",
+                               index + 1, planned, label),
+                   fmt::format("run {}", index + 1));
+  }
+}
+
+RunRecord Context::drive_legs(const std::vector<Motion>& then, double expected_s,
+                              std::map<std::string, std::string>& done) {
+  // Each after the one before is over; the counts and the time of their trials add up (the
+  // odometry runs on from the one `odom reset`).
+  RunRecord legs;
+  for (const Motion& next : then) {
+    RunRecord leg;
+    read_trial(robot, done, leg, last_trial);
+    last_trial = leg.trial;
+    legs.count_l += leg.count_l;
+    legs.count_r += leg.count_r;
+    legs.duration_ms += leg.duration_ms;
+    start_motion(next);
+    done = wait_done(*this, expected_s);
+  }
+  return legs;
+}
+
+std::string command_of(const RunRecord& r) {
+  std::string out = r.motion.command();
+  for (const Motion& next : r.then) {
+    out += "; " + next.command();
+  }
+  return out;
+}
+
 RunRecord Context::run(const std::string& label, const Motion& motion, double expected_s,
-                       bool log_ticks) {
+                       bool log_ticks, const std::vector<Motion>& then) {
   const std::size_t index = runs.size();
   planned = std::max(planned, index + 1);
   if (index < options.replay.size()) {
@@ -384,16 +420,12 @@ RunRecord Context::run(const std::string& label, const Motion& motion, double ex
     runs.push_back(r);
     return r;
   }
-  if (source.is_tape()) {
-    wait_for_enter(fmt::format("Run {}/{} ({}): put the robot on the start mark, aligned with the "
-                               "start line, hands off;",
-                               index + 1, planned, label),
-                   fmt::format("run {}", index + 1));
-  }
+  ask_to_place(index, label);
   check_still_up(index);
   RunRecord r;
   r.label = label;
   r.motion = motion;
+  r.then = then;
   robot.expect_ok("odom reset");
   TickLogging logging(robot);
   if (log_ticks) {
@@ -420,15 +452,19 @@ RunRecord Context::run(const std::string& label, const Motion& motion, double ex
     }
     r.ticks.erase(r.ticks.begin(), r.ticks.end() - 1);
   }
-  log << fmt::format("Run {}/{}: {} ({})\n", index + 1, planned, label, motion.command());
+  log << fmt::format("Run {}/{}: {} ({})\n", index + 1, planned, label, command_of(r));
   start_motion(motion);
-  const std::map<std::string, std::string> done = wait_done(*this, expected_s);
+  std::map<std::string, std::string> done = wait_done(*this, expected_s);
+  const RunRecord legs = drive_legs(then, expected_s, done);
   if (log_ticks) {
     robot.expect_ok("stream off");
     logging.stop();
   }
   read_trial(robot, done, r, last_trial);
   last_trial = r.trial;
+  r.count_l += legs.count_l;
+  r.count_r += legs.count_r;
+  r.duration_ms += legs.duration_ms;
   if (log_ticks) {
     // The end row at rest: the start row's counts plus what the trial moved (the robot stood
     // still from the start row to the motion), so no wait for a stream line after `# done`.

@@ -194,6 +194,57 @@ void WallTruth::face(double heading_rad) {
   square_up();
 }
 
+Motion WallTruth::turn_in_place(double turn_rad, double w_radps) {
+  // The firmware turns by time at what its geometry believes: rate_ (the walls') over its
+  // believed rate is how much the robot really turns per radian asked.
+  const double real_per_asked = rate_ / nominal_radians_per_count();
+  const double w = turn_rad < 0.0 ? -std::fabs(w_radps) : std::fabs(w_radps);
+  return Motion::timed(
+      0.0, w, std::round(1000.0 * std::fabs(turn_rad) / std::fabs(w_radps) / real_per_asked));
+}
+
+std::optional<Corridor> WallTruth::second_corridor(double& turn_rad) const {
+  const Corridor first = calibration_corridor();
+  std::optional<Corridor> best;
+  for (const double side : {-0.5 * kWallPi, 0.5 * kWallPi}) {
+    const Corridor k =
+        corridor_from(maze_.maze, first.end_column, first.end_row, maze_.start_heading_rad + side);
+    if (k.cells >= 2u && k.end_has_side_wall && (!best || k.cells > best->cells)) {
+      best = k;
+      turn_rad = side;
+    }
+  }
+  return best;
+}
+
+Motion WallTruth::route_run(double cruise_mps, double spin_radps, std::vector<Motion>& then,
+                            double& expected_s, std::string& what) {
+  double side = 0.0;
+  const Corridor first = calibration_corridor();
+  const Corridor second = *second_corridor(side);
+  const sim::MazePose start = sim::Maze::cell_centre(maze_.start_column, maze_.start_row);
+  const sim::MazePose corner = sim::Maze::cell_centre(first.end_column, first.end_row);
+  const sim::MazePose end = sim::Maze::cell_centre(second.end_column, second.end_row);
+  const bool out = in_start_cell();
+  // First leg aimed at the corner's centre from where the robot stands; the second leg's
+  // direction from the corner to where the run ends.
+  const double first_m = aim_at(first.end_column, first.end_row);
+  const sim::MazePose& to = out ? end : start;
+  const double second_heading = std::atan2(to.y_mm - corner.y_mm, to.x_mm - corner.x_mm);
+  const double second_m = std::hypot(to.y_mm - corner.y_mm, to.x_mm - corner.x_mm) * 1e-3;
+  // Slowly: a timed turn goes on a little after its time is up (the wheels' loop catching up),
+  // which grows with the square of the rate: at a third of the turns' rate it is a degree or so.
+  const Motion turn = turn_in_place(wrap_rad(second_heading - pose_.theta_rad), spin_radps / 3.0);
+  then = {turn, Motion::line(second_m)};
+  expected_s = (first_m + second_m) / cruise_mps + turn.ms / 1000.0 + 4.0;
+  what = fmt::format(
+      "{} the route: {:.3f} m to cell ({}, {}), a quarter turn, {:.3f} m to cell "
+      "({}, {})",
+      out ? "out along" : "back along", first_m, first.end_column, first.end_row, second_m,
+      out ? second.end_column : maze_.start_column, out ? second.end_row : maze_.start_row);
+  return Motion::line(first_m);
+}
+
 Motion WallTruth::corridor_line(std::size_t n, double cruise_mps, double& expected_s,
                                 std::string& what) {
   const Corridor corridor = calibration_corridor();

@@ -68,6 +68,24 @@ class WallTruth final : public MeasurementSource {
   /// across the run, up and down with opposite signs in its heading. `what` says it for the log.
   Motion corridor_line(std::size_t n, double cruise_mps, double& expected_s, std::string& what);
 
+  /// The second corridor of the calibration's route: from the far end of the start cell's
+  /// corridor, the longest one to a side (two cells or more, ending in a corner); `turn_rad` the
+  /// turn into it from the start heading. nullopt: the maze has none.
+  [[nodiscard]] std::optional<Corridor> second_corridor(double& turn_rad) const;
+
+  /// The calibration's run along the route, when the maze has a second corridor: up the start
+  /// cell's corridor, a quarter turn at its end, along the second corridor to its far corner (or
+  /// the same way back from there), one run measured at its end. The quarter turn carries the
+  /// first leg's heading error, bent by the wheels' ratio, into the second leg, which multiplies
+  /// what the run shows of that ratio; the turn is timed at the rate the calibration saw, so the
+  /// second leg keeps to its corridor. `then` receives the turn and the second leg.
+  Motion route_run(double cruise_mps, double spin_radps, std::vector<Motion>& then,
+                   double& expected_s, std::string& what);
+
+  /// A timed turn in place of about `turn_rad` (the robot's own, as the calibration saw it turn)
+  /// at `w_radps` (the rate asked of the firmware, whose wheelbase may be off).
+  Motion turn_in_place(double turn_rad, double w_radps);
+
   /// A move that is no run (getting to the verification's corridor): `command` driven from
   /// odometry zero, then a look. `expected_s`: its nominal duration.
   void move_and_look(const std::string& command, double expected_s);

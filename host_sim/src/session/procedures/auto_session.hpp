@@ -42,6 +42,10 @@ class AutoSession {
   void verify(Outcome& out);
   /// 3. With the walls: a corridor the calibration never drove, judged by the walls.
   void verify_by_walls(Outcome& out);
+  /// With the walls, after the first round: its fit put in force (no save), so that the robot
+  /// drives straight enough for the route's runs (a quarter turn between two corridors) to keep
+  /// to their corridors. The fit takes every run's counts whatever was in force.
+  void drive_straighter();
 
  private:
   /// The runs' sizes, the budget of measurements and the count the target likely takes, said
@@ -92,6 +96,7 @@ class AutoSession {
   FitResult fitted_;
   auto_plan::Precision p_;
   WallTruth* walls_ = nullptr;   ///< the walls measure the runs (--truth walls), else a tape
+  bool straighter_ = false;      ///< drive_straighter put the first round's fit in force
   std::size_t walls_lines_ = 0;  ///< lines driven with the walls (WallTruth::corridor_line)
 };
 

@@ -72,12 +72,17 @@ void AutoSession::drive_one(Kind k, const std::string& why) {
   const std::optional<Kind> recorded = recorded_kind();
   double expected_s = 0.0;
   Motion motion;
+  std::vector<Motion> then;  ///< with the walls, a route's quarter turn and second leg
   if (recorded) {
     k = *recorded;
     motion = c_.options.replay[c_.runs.size()].motion;
+    then = c_.options.replay[c_.runs.size()].then;
   } else if (walls_ != nullptr && k == Kind::line) {
     std::string what;
-    motion = walls_->corridor_line(walls_lines_++, plan_.cruise_mps, expected_s, what);
+    double side = 0.0;
+    motion = straighter_ && walls_->second_corridor(side)
+                 ? walls_->route_run(plan_.cruise_mps, plan_.spin_radps, then, expected_s, what)
+                 : walls_->corridor_line(walls_lines_++, plan_.cruise_mps, expected_s, what);
     c_.log << fmt::format("Next: {} ({}).\n", what, why);
   } else {
     motion = motion_of(k, plan_, expected_s, c_);
@@ -88,7 +93,7 @@ void AutoSession::drive_one(Kind k, const std::string& why) {
                               : what_to_do(k, plan_),
                           why);
   }
-  const RunRecord r = c_.run(kind_label(k), motion, expected_s, true);
+  const RunRecord r = c_.run(kind_label(k), motion, expected_s, true, then);
   if (!r.measured.theta_deg) {
     c_.log << "  (no heading given: this run counts with its position only)\n";
   }
@@ -278,6 +283,9 @@ void AutoSession::measure_until_known(Outcome& out) {
   fo_.max_relative_sd = 0.05;
   fo_.cluster_covariance = true;  // the runs' own scatter in the precision (precision_of)
   fitted_ = fit_now();
+  if (walls_ != nullptr) {
+    drive_straighter();
+  }
   p_ = precision_of(fitted_, nominal_, jury_->logs_in_use(), plan_, c_.options.target_mm, room(),
                     arc_runs_);
   while (!report() && !recorded_verification_next()) {

@@ -19,18 +19,18 @@ using namespace auto_plan;
 
 namespace {
 
-/// The unseen corridor: from the far end of the calibration's corridor, the longest corridor to
-/// a side (no calibration run drove it), two cells or more, ending in a corner the walls can
-/// place the robot in; `turn_rad` the turn into it. nullopt: the maze has none.
-std::optional<Corridor> unseen_corridor(const MazeKnowledge& maze, const Corridor& first,
-                                        double& turn_rad) {
+/// The unseen corridor: from the cell (column, row) where the calibration's route ends, the
+/// route arriving along `along_rad`, the longest corridor to a side (no calibration run drove
+/// it), two cells or more, ending in a corner the walls can place the robot in; `turn_rad` its
+/// heading. nullopt: the maze has none.
+std::optional<Corridor> unseen_corridor(const MazeKnowledge& maze, std::uint32_t column,
+                                        std::uint32_t row, double along_rad, double& turn_rad) {
   std::optional<Corridor> best;
   for (const double side : {-0.5 * kPi, 0.5 * kPi}) {
-    const Corridor k =
-        corridor_from(maze.maze, first.end_column, first.end_row, maze.start_heading_rad + side);
+    const Corridor k = corridor_from(maze.maze, column, row, along_rad + side);
     if (k.cells >= 2u && k.end_has_side_wall && (!best || k.cells > best->cells)) {
       best = k;
-      turn_rad = side;
+      turn_rad = along_rad + side;
     }
   }
   return best;
@@ -47,30 +47,52 @@ void AutoSession::learn_the_walls(Outcome& out) {
   c_.partial["walls"] = walls_->json();
 }
 
+void AutoSession::drive_straighter() {
+  const FitGeometry& g = fitted_.geometry;
+  const Factors next = factors_for_fit(
+      drive::model::Geometry<double>{g.wheel_diameter_left_mm, g.wheel_diameter_right_mm,
+                                     g.wheelbase_mm, 0.0},
+      nominal_.wheel_diameter_mm);
+  if (!implausible_factors(next, c_.initial.wheelbase_mm).empty()) {
+    return;  // the final fit says what is wrong; the runs stay in the start cell's corridor
+  }
+  c_.log << "The walls: the first round's factors put in force (not saved), so that the robot "
+            "drives straight enough for the runs along the route to keep to its corridors; the "
+            "fit takes every run's counts whatever was in force.\n";
+  static_cast<void>(apply_fit(c_, next, c_.log));
+  straighter_ = true;
+}
+
 void AutoSession::verify_by_walls(Outcome& out) {
   const MazeKnowledge& maze = walls_->maze();
-  const Corridor out_corridor = walls_->calibration_corridor();
-  double turn_rad = 0.0;
-  const std::optional<Corridor> best = unseen_corridor(maze, out_corridor, turn_rad);
+  double second_rad = 0.0;
+  const std::optional<Corridor> second = walls_->second_corridor(second_rad);
+  const double arriving = maze.start_heading_rad + (second ? second_rad : 0.0);
+  const Corridor first = walls_->calibration_corridor();
+  const Corridor route_end = second ? *second : first;
+  double along = 0.0;
+  const std::optional<Corridor> best =
+      unseen_corridor(maze, route_end.end_column, route_end.end_row, arriving, along);
   if (!best) {
-    c_.log << "Verify: the maze has no second corridor from the far end of the first (two cells "
-              "or more, ending in a corner): the verification is left out; the unseen path "
-              "(odocal session --procedure verify) checks the factors with a tape.\n";
+    c_.log << "Verify: no corridor to a side where the route ends (two cells or more, to a "
+              "corner): left out (--procedure verify checks the factors with a tape).\n";
     out.result["verify"] = nullptr;
     return;
   }
   const double length_m = best->length_mm() * 1e-3;
   c_.log << fmt::format(
-      "Verify: {} runs with the new factors along a corridor no calibration run drove ({:.2f} m "
-      "from cell ({}, {}) to cell ({}, {})), judged by the walls: each should stop {:.0f} mm "
-      "ahead of where it starts, on the same line.\n",
-      auto_verify_runs, length_m, out_corridor.end_column, out_corridor.end_row, best->end_column,
-      best->end_row, length_m * 1e3);
-  const double along = maze.start_heading_rad + turn_rad;
+      "Verify: {} runs with the new factors along a corridor no calibration run drove, from cell "
+      "({}, {}) to cell ({}, {}) ({:.2f} m), each judged by the walls at its end.\n",
+      auto_verify_runs, route_end.end_column, route_end.end_row, best->end_column, best->end_row,
+      length_m);
   if (walls_->in_start_cell()) {
-    walls_->face(maze.start_heading_rad);
-    walls_->move_and_look(Motion::line(plan_.line_m).command(),
-                          c_.path_seconds(plan_.line_m, 0.0, 1) + 2.0);
+    // To where the route ends (no run): each leg looked at.
+    for (const Corridor* leg : {&first, second ? &*second : nullptr}) {
+      if (leg != nullptr) {
+        const double m = walls_->aim_at(leg->end_column, leg->end_row);
+        walls_->move_and_look(Motion::line(m).command(), c_.path_seconds(m, 0.0, 1) + 2.0);
+      }
+    }
   }
   walls_->face(along);
   c_.planned = c_.runs.size() + auto_verify_runs;
@@ -79,9 +101,7 @@ void AutoSession::verify_by_walls(Outcome& out) {
   const FitGeometry after_g =
       fit_geometry_of(geometry_in_force(applied_, nominal_.wheel_diameter_mm));
   nlohmann::json stops = nlohmann::json::array();
-  double sum2 = 0.0;
-  double before2 = 0.0;
-  double odometry2 = 0.0;
+  double sum2 = 0.0, before2 = 0.0, odometry2 = 0.0;
   for (std::size_t i = 0; i < auto_verify_runs; ++i) {
     if (i > 0) {
       // Back to the corridor's start (no run), to drive it again.
@@ -116,7 +136,7 @@ void AutoSession::verify_by_walls(Outcome& out) {
   const double rms = std::sqrt(sum2 / n);
   out.result["verify"] = {{"judged_by", "walls"},
                           {"path", fmt::format("line {:.3f} m", length_m)},
-                          {"from_cell", {out_corridor.end_column, out_corridor.end_row}},
+                          {"from_cell", {route_end.end_column, route_end.end_row}},
                           {"to_cell", {best->end_column, best->end_row}},
                           {"goal", {{"x_mm", length_m * 1e3}, {"y_mm", 0.0}}},
                           {"stops", stops},

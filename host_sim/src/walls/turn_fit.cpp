@@ -344,6 +344,26 @@ void initial_strengths(const TurnProblem& problem, TurnParameters& q, std::size_
   }
 }
 
+// What a turn's fit (TurnCalibration or TurnLocation) says of its solution `q`: the readings
+// used and their residual, the centre, heading and rate, and their σ; returns the covariance.
+template <class Fit>
+TurnMatrix describe_fit(const TurnProblem& problem, const TurnParameters& q,
+                        const std::vector<TurnReading>& readings, const ReadingNoise& noise,
+                        Fit& out) {
+  const std::vector<double> r = residuals(problem, q, readings);
+  out.readings_used = readings.size();
+  out.rms_log_residual = std::sqrt(sum_of_squares(r) / static_cast<double>(r.size()));
+  out.centre_x_mm = q[0];
+  out.centre_y_mm = q[1];
+  out.start_heading_rad = q[2];
+  out.radians_per_count = q[3];
+  const TurnMatrix covariance = turn_covariance(problem, q, readings, noise);
+  out.centre_x_sd_mm = std::sqrt(covariance[0][0]);
+  out.centre_y_sd_mm = std::sqrt(covariance[1][1]);
+  out.start_heading_sd_rad = std::sqrt(covariance[2][2]);
+  return covariance;
+}
+
 }  // namespace
 
 TurnCalibration calibrate_from_turn(const sim::Maze& maze, const TurnSetup& setup,
@@ -374,17 +394,7 @@ TurnCalibration calibrate_from_turn(const sim::Maze& maze, const TurnSetup& setu
   }
   const std::vector<TurnReading> readings = select_readings(problem, q, samples.size() - 1u, true);
   out.iterations += levenberg_marquardt(problem, readings, q);
-  const std::vector<double> r = residuals(problem, q, readings);
-  out.readings_used = readings.size();
-  out.rms_log_residual = std::sqrt(sum_of_squares(r) / static_cast<double>(r.size()));
-  out.centre_x_mm = q[0];
-  out.centre_y_mm = q[1];
-  out.start_heading_rad = q[2];
-  out.radians_per_count = q[3];
-  const TurnMatrix covariance = turn_covariance(problem, q, readings, noise);
-  out.centre_x_sd_mm = std::sqrt(covariance[0][0]);
-  out.centre_y_sd_mm = std::sqrt(covariance[1][1]);
-  out.start_heading_sd_rad = std::sqrt(covariance[2][2]);
+  const TurnMatrix covariance = describe_fit(problem, q, readings, noise, out);
   out.radians_per_count_sd = std::sqrt(covariance[3][3]);
   out.sensors.mounts = mounts;
   for (std::size_t i = 0u; i < sensor_count; ++i) {
@@ -435,17 +445,7 @@ TurnLocation locate_by_turn(const sim::Maze& maze, const TurnSetup& setup, const
         "readings (is it in the cell it was thought to be in?)");
   }
   out.iterations += levenberg_marquardt(problem, readings, q);
-  const std::vector<double> r = residuals(problem, q, readings);
-  out.readings_used = readings.size();
-  out.rms_log_residual = std::sqrt(sum_of_squares(r) / static_cast<double>(r.size()));
-  out.centre_x_mm = q[0];
-  out.centre_y_mm = q[1];
-  out.start_heading_rad = q[2];
-  out.radians_per_count = q[3];
-  const TurnMatrix covariance = turn_covariance(problem, q, readings, noise);
-  out.centre_x_sd_mm = std::sqrt(covariance[0][0]);
-  out.centre_y_sd_mm = std::sqrt(covariance[1][1]);
-  out.start_heading_sd_rad = std::sqrt(covariance[2][2]);
+  static_cast<void>(describe_fit(problem, q, readings, noise, out));
   return out;
 }
 

@@ -33,19 +33,7 @@ using odocal::test::temp_file;
 std::vector<std::string> run_sim(const std::string& wiring, const std::string& script) {
   const std::string robot =
       temp_file("selftest_robot.json", "{\"wiring\": \"" + wiring + "\", \"slip_sigma\": 0}");
-  const std::string in = temp_file("selftest_in.txt", script);
-  const std::string out = ::testing::TempDir() + "selftest_out.txt";
-  const int status = std::system(
-      (sim_program() + " --speed 0 --robot " + robot + " <" + in + " >" + out + " 2>&1").c_str());
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
-  std::vector<std::string> replies;
-  std::ifstream o(out);
-  for (std::string l; std::getline(o, l);) {
-    if (!l.empty() && l[0] != '#') {
-      replies.push_back(l);
-    }
-  }
-  return replies;
+  return odocal::test::sim_replies("selftest", "--robot " + robot, script, true);
 }
 
 std::map<std::string, std::string> pairs(const std::string& line) {

@@ -20,19 +20,7 @@ using odocal::test::temp_file;
 
 /// Runs odocal-sim with `args` on `script`; its reply lines (not the `#` ones).
 std::vector<std::string> walls_replies(const std::string& args, const std::string& script) {
-  const std::string in = temp_file("odocal_sim_walls_in.txt", script);
-  const std::string out = ::testing::TempDir() + "odocal_sim_walls_out.txt";
-  const int status =
-      std::system((sim_program() + " --speed 0 " + args + " <" + in + " >" + out).c_str());
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
-  std::vector<std::string> replies;
-  std::ifstream o(out);
-  for (std::string l; std::getline(o, l);) {
-    if (!l.empty() && l[0] != '#') {
-      replies.push_back(l);
-    }
-  }
-  return replies;
+  return odocal::test::sim_replies("odocal_sim_walls", args, script);
 }
 
 /// The four readings of a `walls` reply, by key (asserting it has exactly those, in order).

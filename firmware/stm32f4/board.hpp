@@ -1,11 +1,14 @@
 #pragma once
 /// @file
 /// What the application needs from a board. One board file per image implements these:
-/// board_robot.cpp (the real robot) and board_qemu.cpp (QEMU netduinoplus2). The image is chosen
-/// by which one is linked.
+/// board_robot.cpp (the real robot) and board_qemu.cpp (QEMU netduinoplus2, with the robot it
+/// simulates from qemu_twin_robot.cpp or qemu_twin_mouse.cpp). The image is chosen by which one
+/// is linked.
 
+#include <array>
 #include <cstdint>
 
+#include "odocal/console/console.hpp"
 #include "odocal/drive/quadrature_decoder.hpp"
 #include "odocal/hal/block_store.hpp"
 #include "odocal/hal/byte_stream.hpp"
@@ -15,6 +18,7 @@
 #include "odocal/hal/stm32f4/clock.hpp"
 #include "odocal/hal/stm32f4/mmio.hpp"
 #include "odocal/hal/stm32f4/systick_timer.hpp"
+#include "odocal/hal/wall_sensor.hpp"
 
 /// The vectors of EXTI lines 0 and 1 (one function for both) and of lines 2 and 3, which the
 /// board serves itself (the vector table points at them, not at the HAL's dispatch table): the
@@ -30,7 +34,7 @@ namespace odocal::firmware {
 
 /// Constants the application reads from the board.
 struct BoardInfo {
-  const char* name;                   ///< "robot" or "qemu"
+  const char* name;                   ///< "robot", "qemu" or "qemu-mouse"
   hal::stm32f4::ClockReport clock;    ///< after `board_init`
   hal::stm32f4::Block console_usart;  ///< for fault reports by polling
 };
@@ -43,6 +47,13 @@ extern const bool board_has_cycle_counter;
 /// A constant of the board, as above.
 extern const bool board_ends_session;
 
+/// The board has wall sensors (BoardParts::wall_sensors holds one at least). A constant of the
+/// board, as above: the robot image links no copy of the empty table.
+extern const bool board_has_wall_sensors;
+
+/// A board's wall sensors in the console's order (ConsoleOptions::wall_sensors).
+using BoardWallSensors = std::array<hal::WallSensor*, console::wall_sensor_slots>;
+
 /// The board's HAL objects, for the application to wire into the core.
 struct BoardParts {
   hal::ByteStream& console;
@@ -51,6 +62,9 @@ struct BoardParts {
   hal::DigitalOutput& left_forward;
   hal::PwmOutput& right_pwm;
   hal::DigitalOutput& right_forward;
+  /// The wall sensors `walls` reads (ConsoleOptions::wall_sensors), nullptr where there is none:
+  /// none on the robot board today (docs/stm32f4.md), the simulated four on the QEMU mouse twin.
+  BoardWallSensors wall_sensors{};
 };
 
 /// Clock tree, pins, console, PWM, store. Interrupts still disabled. Called once, first.

@@ -2,7 +2,9 @@
 // EXTI and SYSCFG, but no GPIO, RCC, flash controller, IWDG or DWT (reads 0, writes ignored).
 // So this image skips the clock set-up (QEMU's core clock is 168 MHz), keeps the parameter store
 // in RAM, and makes the encoder edges with the simulated plant of hal/sim, advanced in a TIM2
-// interrupt and wired to the real decoders. Everything else is the robot image.
+// interrupt and wired to the real decoders. Which robot the plant is, and the wall sensors it
+// carries, comes from the twin file linked beside this one (qemu_twin.hpp). Everything else is the
+// robot image.
 
 #include <cstdint>
 
@@ -17,6 +19,7 @@
 #include "odocal/sim/encoder_wiring.hpp"
 #include "odocal/sim/plant.hpp"
 #include "odocal/sim/ram_block_store.hpp"
+#include "qemu_twin.hpp"
 #include "runtime.hpp"
 
 namespace odocal::firmware {
@@ -40,13 +43,13 @@ constexpr std::size_t store_sector_bytes = 4096u;
 constexpr f4::UsartConfig console_config{f4::usart::usart1, f4::irq::usart1, core_hz / 2u, 115200u,
                                          f4::irq::priority_console};
 
-const BoardInfo info{"qemu",
+const BoardInfo info{twin_name,
                      f4::ClockReport{f4::ClockSource::hse_pll, core_hz, core_hz / 4u, core_hz / 2u},
                      f4::usart::usart1};
 
 f4::UsartStream console{console_config};
 sim::StaticRamBlockStore<store_sector_bytes, 2u, 4u> store;
-sim::Plant plant{sim::RobotModel{}, plant_seed};
+sim::Plant plant{twin_robot_model(), plant_seed};
 
 /// Plant time follows the firmware clock: 64-bit ns built from wrapping µs differences.
 struct PlantDriver {
@@ -93,6 +96,7 @@ void on_plant_timer(void* context) {
 
 const bool board_has_cycle_counter = false;
 const bool board_ends_session = true;
+const bool board_has_wall_sensors = twin_has_wall_sensors;
 
 const BoardInfo& board_info() {
   return info;
@@ -105,7 +109,8 @@ BoardParts board_init() {
                     plant.left().pwm(),
                     plant.left().forward(),
                     plant.right().pwm(),
-                    plant.right().forward()};
+                    plant.right().forward(),
+                    twin_wall_sensors(plant)};
 }
 
 extern "C" void board_exti01_vector() {

@@ -121,6 +121,7 @@ extern "C" [[gnu::flatten]] void board_exti23_vector() {
 
 const bool board_has_cycle_counter = true;
 const bool board_ends_session = false;
+const bool board_has_wall_sensors = false;
 
 const BoardInfo& board_info() {
   return info;

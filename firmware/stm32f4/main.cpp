@@ -119,9 +119,11 @@ BuiltOnce<console::Console> console_storage;
                               watchdog_reset ? " reset=watchdog" : " reset=power"};
   write_boot_note(boot, sizeof(boot) / sizeof(boot[0]));
   // Echo switches itself on when a person types (picocom/screen send CR for Enter).
-  console::Console& console = console_storage.make(
-      console_stream, loop, store,
-      console::ConsoleOptions{console::EchoMode::automatic, true, true, boot_note});
+  console::ConsoleOptions options{console::EchoMode::automatic, true, true, boot_note};
+  if (board_has_wall_sensors) {  // the robot image links no copy of the empty table
+    options.wall_sensors = parts.wall_sensors;
+  }
+  console::Console& console = console_storage.make(console_stream, loop, store, options);
 
   if (board_has_cycle_counter) {
     f4::CycleCounter::start();

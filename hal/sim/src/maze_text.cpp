@@ -22,12 +22,20 @@ bool is_cell_inside(char c) {
   return c >= ' ' && c <= '~' && c != '|' && c != '-' && c != '+';
 }
 
+// Up to `count` characters of `text` from `pos` (none when `pos` is past its end): substr without
+// its out-of-range throw, which would link libstdc++'s abort path into the QEMU image.
+std::string_view slice(std::string_view text, std::size_t pos, std::size_t count) {
+  pos = pos < text.size() ? pos : text.size();
+  const std::size_t left = text.size() - pos;
+  return std::string_view(text.data() + pos, count < left ? count : left);
+}
+
 // The next line of `text` from `offset` without its '\n' and a trailing '\r'; moves `offset`
 // past it.
 std::string_view next_line(std::string_view text, std::size_t& offset) {
   const std::size_t end = text.find('\n', offset);
   std::string_view line =
-      text.substr(offset, end == std::string_view::npos ? text.npos : end - offset);
+      slice(text, offset, end == std::string_view::npos ? text.npos : end - offset);
   offset = end == std::string_view::npos ? text.size() : end + 1u;
   if (!line.empty() && line.back() == '\r') {
     line.remove_suffix(1u);
@@ -86,7 +94,7 @@ MazeTextStatus read_posts(std::string_view line, std::size_t index, std::uint32_
     if (c == width) {
       break;
     }
-    const std::string_view span = line.substr(at + 1u, 3u);
+    const std::string_view span = slice(line, at + 1u, 3u);
     const bool wall = span == "---";
     if (!wall && span != "   ") {
       const std::size_t odd = span.find_first_not_of(span[0] == '-' ? '-' : ' ');

@@ -9,6 +9,7 @@
 
 #include "odocal/host/csv.hpp"
 #include "odocal/host/robot_file.hpp"
+#include "odocal/sim/usual_mouse.hpp"
 #include "session_flags.hpp"
 
 namespace odocal::host {
@@ -16,11 +17,12 @@ namespace {
 
 /// `{}` under --truth walls (DESIGN: "a usual mouse in a practice maze"): a robot file that says
 /// nothing of the robot's size is given a micromouse's (docs/simulation.md, "--truth walls").
-const nlohmann::json kUsualMouse = {{"wheel_diameter_mm", 32.0},
-                                    {"wheelbase_mm", 76.0},
-                                    {"true_left_diameter_mm", 31.95},
-                                    {"true_right_diameter_mm", 32.06},
-                                    {"true_wheelbase_mm", 77.1}};
+const nlohmann::json kUsualMouse = {
+    {"wheel_diameter_mm", sim::usual_mouse_wheel_diameter_mm},
+    {"wheelbase_mm", sim::usual_mouse_wheelbase_mm},
+    {"true_left_diameter_mm", sim::usual_mouse_true_left_diameter_mm},
+    {"true_right_diameter_mm", sim::usual_mouse_true_right_diameter_mm},
+    {"true_wheelbase_mm", sim::usual_mouse_true_wheelbase_mm}};
 
 }  // namespace
 

@@ -1,8 +1,8 @@
 // The console without its target options (ConsoleOptions: a target's own command, its status
-// pairs, its defaults, its wall sensors), for the images that use none (the STM32F4 ones;
-// core/CMakeLists.txt): no target command, no pairs of its own, the built-in defaults, no wall
-// sensors (`walls` answers its refusal). The code that would serve them is not linked (226 B of
-// the robot's flash, and the walls' reply).
+// pairs, its defaults), for the images that use none (the STM32F4 ones; core/CMakeLists.txt): no
+// target command, no pairs of its own, the built-in defaults. The code that would serve them is
+// not linked (226 B of the robot's flash). Each image chooses its wall sensors' code apart
+// (walls_read.cpp or walls_none.cpp).
 
 #include "odocal/console/console.hpp"
 #include "odocal/console/settings.hpp"
@@ -18,10 +18,6 @@ const char* Console::target_usage() const {
 }
 
 void Console::append_target_status(Reply& /*reply*/) {}
-
-void Console::cmd_walls() {
-  send_error(ErrorCode::no_sensors, no_wall_sensors);
-}
 
 const params::ParamSet* Settings::usable_defaults(const params::ParamSet* /*defaults*/) {
   return nullptr;

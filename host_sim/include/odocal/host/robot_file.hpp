@@ -10,6 +10,7 @@
 #include "odocal/sim/encoder_wiring.hpp"
 #include "odocal/sim/maze.hpp"
 #include "odocal/sim/robot_model.hpp"
+#include "odocal/sim/usual_mouse.hpp"
 #include "odocal/sim/wall_sensor_model.hpp"
 
 namespace odocal::host {
@@ -58,8 +59,8 @@ struct WallsSpec {
   [[nodiscard]] sim::MazePose start_pose() const;
 };
 
-/// The spread of the wall sensors' gains a robot file leaves out: each uniform in 1 ± 20 %.
-inline constexpr double default_wall_sensor_gain_spread = 0.20;
+/// The spread of the wall sensors' gains a robot file leaves out: the usual mouse's, 1 ± 20 %.
+inline constexpr double default_wall_sensor_gain_spread = sim::usual_wall_sensor_gain_spread;
 /// The widest robot put in a maze by default: a corridor's clear width (180 − 12 mm). A robot is
 /// taken to be as wide as its wheelbase plus one wheel diameter (tyres, body and clearance).
 inline constexpr double maze_clear_width_mm = sim::cell_pitch_mm - sim::wall_thickness_mm;

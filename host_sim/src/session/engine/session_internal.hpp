@@ -141,6 +141,11 @@ class Context {
   std::optional<std::int64_t> last_ticks;
   /// The trial number of the last run driven (0: none yet).
   std::int64_t last_trial = 0;
+  /// Before a run where the measurement source drives the robot itself between runs (the walls'
+  /// looks: trials of their own): the robot's latest trial into `last_trial`, so that the run's
+  /// own trial, and no look's, is the one taken as its end (a robot in real time answers `trial`
+  /// with the look's last step until the run's trial is over).
+  void note_latest_trial();
   /// Before run `index` (0-based) moves the robot: `status`; a tick count that went back since the
   /// last check throws RobotRestarted (the robot restarted while it waited for the run).
   void check_still_up(std::size_t index);

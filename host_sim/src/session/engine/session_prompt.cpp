@@ -4,6 +4,8 @@
 #include <istream>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "odocal/host/csv.hpp"
 #include "session_internal.hpp"
 
@@ -55,6 +57,32 @@ bool confirmed(Context& c) {
   }
   c.log << "Not saved. The factors are in force until the robot restarts.\n";
   return false;
+}
+
+void Context::wait_for_enter(const std::string& prompt, const std::string& before) {
+  if (options.start_in == nullptr) {
+    return;
+  }
+  log << "\n" << prompt << " press Enter to start (Ctrl-C ends the session): " << std::flush;
+  std::string line;
+  const bool got = read_typed_line(*options.start_in, line);
+  if (got && options.confirm_in == nullptr) {
+    log << "\n";  // input from a pipe: the Enter did not show
+  }
+  if (!got) {
+    throw InputError("standard input", 0, "",
+                     "end of input while waiting for Enter before " + before);
+  }
+}
+
+void Context::ask_to_place(std::size_t index, const std::string& label) {
+  // A tape measures from the start mark; the walls measure the robot wherever it stopped.
+  if (source.is_tape()) {
+    wait_for_enter(fmt::format("Run {}/{} ({}): put the robot on the start mark, aligned with the "
+                               "start line, hands off;",
+                               index + 1, planned, label),
+                   fmt::format("run {}", index + 1));
+  }
 }
 
 }  // namespace odocal::host::session

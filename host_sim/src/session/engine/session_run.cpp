@@ -320,6 +320,19 @@ void Context::start_motion(const Motion& motion) {
   throw LinkError("the replies to '" + command + "' kept coming damaged on the line");
 }
 
+void Context::note_latest_trial() {
+  if (source.is_tape()) {
+    return;  // nothing drives between runs: the last run's trial is the latest
+  }
+  const Reply trial = robot.query("trial");
+  const auto number = trial.ok && trial.pairs.count("trial") != 0u
+                          ? toolkit::parse_integer(trial.pairs.at("trial"))
+                          : std::nullopt;
+  if (number && *number > last_trial) {
+    last_trial = *number;
+  }
+}
+
 void Context::check_still_up(std::size_t index) {
   // The control tick counts up from power-up (1 kHz: 49 days to wrap its 32 bits); between two
   // runs it has moved on. Back or still: the robot restarted, if the count says so again (a
@@ -341,32 +354,6 @@ void Context::check_still_up(std::size_t index) {
   }
   if (ticks) {
     last_ticks = *ticks;  // firmware that does not count its ticks: the start-up line alone
-  }
-}
-
-void Context::wait_for_enter(const std::string& prompt, const std::string& before) {
-  if (options.start_in == nullptr) {
-    return;
-  }
-  log << "\n" << prompt << " press Enter to start (Ctrl-C ends the session): " << std::flush;
-  std::string line;
-  const bool got = read_typed_line(*options.start_in, line);
-  if (got && options.confirm_in == nullptr) {
-    log << "\n";  // input from a pipe: the Enter did not show
-  }
-  if (!got) {
-    throw InputError("standard input", 0, "",
-                     "end of input while waiting for Enter before " + before);
-  }
-}
-
-void Context::ask_to_place(std::size_t index, const std::string& label) {
-  // A tape measures from the start mark; the walls measure the robot wherever it stopped.
-  if (source.is_tape()) {
-    wait_for_enter(fmt::format("Run {}/{} ({}): put the robot on the start mark, aligned with the "
-                               "start line, hands off;",
-                               index + 1, planned, label),
-                   fmt::format("run {}", index + 1));
   }
 }
 
@@ -422,6 +409,7 @@ RunRecord Context::run(const std::string& label, const Motion& motion, double ex
   }
   ask_to_place(index, label);
   check_still_up(index);
+  note_latest_trial();
   RunRecord r;
   r.label = label;
   r.motion = motion;

@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "dense_solve.hpp"
 #include "odocal/host/walls.hpp"
 
 namespace odocal::host::walls {
@@ -25,6 +26,9 @@ constexpr double max_turn_distance_mm = 160.0;
 // A reading this far from the model (in ln) is taken for a ray near a corner or an edge.
 constexpr double max_log_residual = 0.35;
 constexpr std::size_t min_readings_per_sensor = 20u;
+// A look's reading's ln error (ADC noise and the model's misfit: the looks' residual, about 0.02),
+// against which a face's reflectivity prior is weighed (TurnProblem::face_weight).
+constexpr double look_reading_sigma = 0.02;
 
 struct TurnReading {
   std::size_t sample = 0u;
@@ -38,6 +42,10 @@ struct TurnProblem {
   const std::vector<TurnSample>& samples;
   /// The parameters the fit moves (the others stay as given: a look with the sensors known).
   std::array<bool, turn_parameters> free{true, true, true, true, true, true, true, true, true};
+  /// A look: each face's or post's reflectivity (ln, one per surface the readings meet) fitted
+  /// with the pose, drawn towards 0 by its prior: face_weight = (σ of a reading / σ of a face)²,
+  /// 0 for none (the calibration: the start cell's faces are in the strengths).
+  double face_weight = 0.0;
 };
 
 // The model's ln(lit) for one reading, false when the axis meets nothing close.
@@ -89,14 +97,50 @@ std::vector<TurnReading> select_readings(const TurnProblem& problem, const TurnP
   return readings;
 }
 
-// Residuals (measured − model); a reading the model no longer sees weighs as the cut-off.
+// Residuals (measured − model); a reading the model no longer sees weighs as the cut-off. With
+// face offsets (TurnProblem::face_weight), each surface's ln reflectivity is solved for at `q`
+// (the mean of its readings' residuals shrunk by the prior: variable projection) and taken out;
+// the second half of the vector is the prior's share of each reading, so that the sum of squares
+// is the readings' plus face_weight times the offsets'.
 std::vector<double> residuals(const TurnProblem& problem, const TurnParameters& q,
                               const std::vector<TurnReading>& readings) {
-  std::vector<double> out(readings.size());
+  const bool faces = problem.face_weight > 0.0;
+  std::vector<double> out(faces ? 2u * readings.size() : readings.size(), 0.0);
+  std::vector<std::uint32_t> surface_of(readings.size(), UINT32_MAX);
   for (std::size_t k = 0u; k < readings.size(); ++k) {
     double model = 0.0;
-    out[k] = model_log_lit(problem, q, readings[k], model) ? readings[k].log_lit - model
-                                                           : max_log_residual;
+    std::uint32_t surface = UINT32_MAX;
+    out[k] = model_log_lit(problem, q, readings[k], model, &surface) ? readings[k].log_lit - model
+                                                                     : max_log_residual;
+    surface_of[k] = out[k] == max_log_residual ? UINT32_MAX : surface;
+  }
+  if (!faces) {
+    return out;
+  }
+  std::vector<std::pair<std::uint32_t, std::pair<double, double>>> sums;  // surface: Σr, n
+  for (std::size_t k = 0u; k < readings.size(); ++k) {
+    if (surface_of[k] == UINT32_MAX) {
+      continue;
+    }
+    auto it = std::find_if(sums.begin(), sums.end(),
+                           [&](const auto& entry) { return entry.first == surface_of[k]; });
+    if (it == sums.end()) {
+      sums.push_back({surface_of[k], {0.0, 0.0}});
+      it = sums.end() - 1;
+    }
+    it->second.first += out[k];
+    it->second.second += 1.0;
+  }
+  for (std::size_t k = 0u; k < readings.size(); ++k) {
+    if (surface_of[k] == UINT32_MAX) {
+      continue;
+    }
+    const auto it = std::find_if(sums.begin(), sums.end(),
+                                 [&](const auto& entry) { return entry.first == surface_of[k]; });
+    const double n = it->second.second;
+    const double offset = it->second.first / (n + problem.face_weight);
+    out[k] -= offset;
+    out[readings.size() + k] = std::sqrt(problem.face_weight / n) * offset;
   }
   return out;
 }
@@ -107,39 +151,6 @@ double sum_of_squares(const std::vector<double>& r) {
     sum += value * value;
   }
   return sum;
-}
-
-// Solves the small dense system A x = b in place (Gaussian elimination, partial pivoting).
-bool solve_dense(std::array<std::array<double, turn_parameters>, turn_parameters> a,
-                 TurnParameters& b) {
-  constexpr std::size_t n = turn_parameters;
-  for (std::size_t col = 0u; col < n; ++col) {
-    std::size_t pivot = col;
-    for (std::size_t row = col + 1u; row < n; ++row) {
-      if (std::fabs(a[row][col]) > std::fabs(a[pivot][col])) {
-        pivot = row;
-      }
-    }
-    if (!(std::fabs(a[pivot][col]) > 1e-300)) {
-      return false;
-    }
-    std::swap(a[pivot], a[col]);
-    std::swap(b[pivot], b[col]);
-    for (std::size_t row = col + 1u; row < n; ++row) {
-      const double factor = a[row][col] / a[col][col];
-      for (std::size_t k = col; k < n; ++k) {
-        a[row][k] -= factor * a[col][k];
-      }
-      b[row] -= factor * b[col];
-    }
-  }
-  for (std::size_t col = n; col-- > 0u;) {
-    for (std::size_t k = col + 1u; k < n; ++k) {
-      b[col] -= a[col][k] * b[k];
-    }
-    b[col] /= a[col][col];
-  }
-  return true;
 }
 
 // Numerical derivative steps, per parameter.
@@ -191,6 +202,18 @@ TurnMatrix turn_covariance(const TurnProblem& problem, const TurnParameters& q,
   TurnMatrix a{};
   TurnMatrix b{};
   std::vector<std::pair<std::uint32_t, TurnParameters>> faces;
+  // With face offsets (a look) the residuals' second half is their prior: rows of A, and of B
+  // with the reading σ the prior was weighed against; the faces are then in the fit, not in B.
+  const bool fitted_faces = problem.face_weight > 0.0;
+  for (std::size_t k = readings.size(); k < r.size(); ++k) {
+    const double sigma2 = look_reading_sigma * look_reading_sigma;
+    for (std::size_t p = 0u; p < turn_parameters; ++p) {
+      for (std::size_t m = 0u; m < turn_parameters; ++m) {
+        a[p][m] += jacobian[p][k] * jacobian[m][k];
+        b[p][m] += sigma2 * jacobian[p][k] * jacobian[m][k];
+      }
+    }
+  }
   for (std::size_t k = 0u; k < readings.size(); ++k) {
     TurnParameters row{};
     for (std::size_t p = 0u; p < turn_parameters; ++p) {
@@ -219,7 +242,7 @@ TurnMatrix turn_covariance(const TurnProblem& problem, const TurnParameters& q,
   for (std::size_t p = 0u; p < turn_parameters; ++p) {
     a[p][p] += problem.free[p] ? 0.0 : 1.0;  // a fixed parameter: no variance of its own
   }
-  const double face_variance = noise.common_relative * noise.common_relative;
+  const double face_variance = fitted_faces ? 0.0 : noise.common_relative * noise.common_relative;
   for (const auto& [surface, g] : faces) {
     for (std::size_t p = 0u; p < turn_parameters; ++p) {
       for (std::size_t m = 0u; m < turn_parameters; ++m) {
@@ -352,7 +375,12 @@ TurnMatrix describe_fit(const TurnProblem& problem, const TurnParameters& q,
                         Fit& out) {
   const std::vector<double> r = residuals(problem, q, readings);
   out.readings_used = readings.size();
-  out.rms_log_residual = std::sqrt(sum_of_squares(r) / static_cast<double>(r.size()));
+  // The readings' own residuals (a look's second half is the faces' prior).
+  double sum = 0.0;
+  for (std::size_t k = 0u; k < readings.size(); ++k) {
+    sum += r[k] * r[k];
+  }
+  out.rms_log_residual = std::sqrt(sum / static_cast<double>(readings.size()));
   out.centre_x_mm = q[0];
   out.centre_y_mm = q[1];
   out.start_heading_rad = q[2];
@@ -413,6 +441,7 @@ TurnLocation locate_by_turn(const sim::Maze& maze, const TurnSetup& setup, const
     problem.free[p] = false;
   }
   problem.free[3] = setup.fit_rate;
+  problem.face_weight = std::pow(look_reading_sigma / noise.common_relative, 2.0);
   const sim::MazePose centre = sim::Maze::cell_centre(setup.column, setup.row);
   TurnParameters q{};
   q[0] = centre.x_mm + setup.offset_x_mm;

@@ -157,6 +157,9 @@ TEST(SessionWalls, CtrlCInALookStopsTheRobotAndPutsBackWhatItChanged) {
   p.signal(SIGINT);
   EXPECT_EQ(p.finish(), 130) << p.err;
   EXPECT_NE(p.err.find("interrupted by SIGINT"), std::string::npos) << p.err;
+  // A walls session is not resumed (--resume refuses it): the way out does not offer it.
+  EXPECT_EQ(p.err.find("--resume"), std::string::npos) << p.err;
+  EXPECT_NE(p.err.find("start a new one"), std::string::npos) << p.err;
   EXPECT_NE(ask_robot(sim.path(), "status", "mode").find("mode=idle"), std::string::npos);
   EXPECT_DOUBLE_EQ(value_of(ask_robot(sim.path(), "get c_l", "c_l"), "c_l"), 1.0);
   const json doc = read_json(out + "/session.json");

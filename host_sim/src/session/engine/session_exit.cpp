@@ -179,8 +179,15 @@ void end_early(Context& c, const std::exception& why) {
     // One command to go on: after a hang-up the adapter may come back under another name.
     const bool hung_up = dynamic_cast<const LinkLost*>(&why) != nullptr;
     c.log << "What was measured is in " << c.options.out_dir
-          << "/measurements.csv and session.json; continue with: odocal session --resume "
-          << c.options.out_dir << (hung_up ? " --port DEV (DEV: the port it has now)" : "") << "\n";
+          << "/measurements.csv and session.json";
+    if (c.source.is_tape()) {
+      c.log << "; continue with: odocal session --resume " << c.options.out_dir
+            << (hung_up ? " --port DEV (DEV: the port it has now)" : "") << "\n";
+    } else {
+      // The walls' session is not resumed (session_command.cpp refuses it).
+      c.log << "; the robot's place in the maze went with the session: start a new one to go on "
+               "(nothing was saved).\n";
+    }
   } catch (const std::exception& write_error) {
     c.log << "WARNING: " << write_error.what() << "\n";
   }

@@ -21,18 +21,26 @@ namespace {
 /// Gains, wall reflectivities and each sensor's noise come from this seed (every boot the same).
 constexpr std::uint64_t sensor_seed = 1u;
 
-/// The plant's true pose in the maze, copied with interrupts masked: the plant advances in an
-/// interrupt (board_qemu.cpp) while the console reads the sensors from the main loop.
+/// The plant's true pose in the maze: the plant advances in an interrupt (board_qemu.cpp) while
+/// the console reads the sensors from the main loop, so its pose is copied with interrupts masked
+/// (PRIMASK saved and restored: nesting inside the application's own critical sections is safe),
+/// and put into the maze outside.
 class GuardedPose final : public sim::PoseSource {
  public:
-  GuardedPose(const sim::Plant& plant, const sim::MazePose& origin) : inner_(plant, origin) {}
+  GuardedPose(const sim::Plant& plant, const sim::MazePose& origin)
+      : plant_(plant), origin_(origin) {}
 
  private:
   [[nodiscard]] sim::MazePose do_pose_in_maze() const override {
-    const hal::CriticalGuard guard(critical_);
-    return inner_.pose_in_maze();
+    sim::WorldPose world;
+    {
+      const hal::CriticalGuard guard(critical_);
+      world = plant_.pose();
+    }
+    return sim::world_to_maze(world, origin_);
   }
-  sim::PlantInMaze inner_;
+  const sim::Plant& plant_;
+  sim::MazePose origin_;
   mutable hal::stm32f4::InterruptCriticalSection critical_;
 };
 

@@ -48,7 +48,8 @@ VIRTUAL_BY_CALLER = [
     ("odocal::params::", r"do_erase|do_program|do_read\(unsigned|do_sector|do_program_gran"),
     ("odocal::hal::BlockStore", r"do_erase|do_program|do_read\(unsigned|do_sector|do_program_gran"),
     ("odocal::hal::stm32f4::FlashStore", r"do_now_us"),
-    ("odocal::console::", r"do_read\(unsigned char|do_write|do_enter|do_exit"),
+    ("odocal::console::", r"do_read\(unsigned char|do_write|do_enter|do_exit|do_read_counts|"
+                          r"do_set_emitter|do_wait_settle"),
     ("odocal::firmware::SessionStream", r"do_read\(unsigned char|do_write"),
     ("odocal::hal::CriticalGuard", r"do_enter|do_exit"),
 ]
@@ -257,8 +258,11 @@ def main():
         for prefix, pattern in HANDLER_TARGETS.items():
             if d.startswith(prefix):
                 return [n for n in functions if re.search(pattern, names[n])]
+        # The console's stream and critical-section virtuals, and (`walls`, where an image
+        # links the reading) the wall sensors'.
         streams = [n for n in virtual
-                   if re.search(r"do_read\(unsigned char|do_write|do_enter|do_exit", names[n])]
+                   if re.search(r"do_read\(unsigned char|do_write|do_enter|do_exit|"
+                                r"do_read_counts|do_set_emitter|do_wait_settle", names[n])]
         if d.startswith("odocal::console::Console::cmd_"):
             return streams  # a handler writes replies; it dispatches nothing
         if (d.startswith("odocal::console::Console::") or

@@ -103,14 +103,17 @@ std::uint16_t SensorScene::convert(const WallSensorSpec& spec, const MazePose& r
   return static_cast<std::uint16_t>(std::lround(counts));
 }
 
-MazePose PlantInMaze::do_pose_in_maze() const {
-  const WorldPose& world = plant_.pose();
-  const double c = std::cos(origin_.theta_rad);
-  const double s = std::sin(origin_.theta_rad);
+MazePose world_to_maze(const WorldPose& world, const MazePose& origin) {
+  const double c = std::cos(origin.theta_rad);
+  const double s = std::sin(origin.theta_rad);
   const double x_mm = world.x_m * 1000.0;
   const double y_mm = world.y_m * 1000.0;
-  return MazePose{origin_.x_mm + c * x_mm - s * y_mm, origin_.y_mm + s * x_mm + c * y_mm,
-                  origin_.theta_rad + world.theta_rad};
+  return MazePose{origin.x_mm + c * x_mm - s * y_mm, origin.y_mm + s * x_mm + c * y_mm,
+                  origin.theta_rad + world.theta_rad};
+}
+
+MazePose PlantInMaze::do_pose_in_maze() const {
+  return world_to_maze(plant_.pose(), origin_);
 }
 
 }  // namespace odocal::sim

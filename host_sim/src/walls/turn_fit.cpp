@@ -110,9 +110,9 @@ std::vector<double> residuals(const TurnProblem& problem, const TurnParameters& 
   for (std::size_t k = 0u; k < readings.size(); ++k) {
     double model = 0.0;
     std::uint32_t surface = UINT32_MAX;
-    out[k] = model_log_lit(problem, q, readings[k], model, &surface) ? readings[k].log_lit - model
-                                                                     : max_log_residual;
-    surface_of[k] = out[k] == max_log_residual ? UINT32_MAX : surface;
+    const bool seen = model_log_lit(problem, q, readings[k], model, &surface);
+    out[k] = seen ? readings[k].log_lit - model : max_log_residual;
+    surface_of[k] = seen ? surface : UINT32_MAX;
   }
   if (!faces) {
     return out;
@@ -194,7 +194,9 @@ using TurnMatrix = std::array<std::array<double, turn_parameters>, turn_paramete
 // The fit's covariance from the noise model (the sandwich of least squares, ln lit unweighted):
 // C = A⁻¹ B A⁻¹, A = JᵀJ, B = Σ_k σ_k² j_k j_kᵀ (each reading's ADC noise, σ_k = σ / lit_k) +
 // σ_face² Σ_s g_s g_sᵀ (one reflectivity per face or post s shared by its readings, g_s the sum of
-// their rows). Empty (all zero) when A is singular.
+// their rows). A look, which fits each face's reflectivity (TurnProblem::face_weight), has no
+// face term: its prior's rows join A, and B with the reading σ they were weighed against. Empty
+// (all zero) when A is singular.
 TurnMatrix turn_covariance(const TurnProblem& problem, const TurnParameters& q,
                            const std::vector<TurnReading>& readings, const ReadingNoise& noise) {
   const std::vector<double> r = residuals(problem, q, readings);
@@ -441,7 +443,9 @@ TurnLocation locate_by_turn(const sim::Maze& maze, const TurnSetup& setup, const
     problem.free[p] = false;
   }
   problem.free[3] = setup.fit_rate;
-  problem.face_weight = std::pow(look_reading_sigma / noise.common_relative, 2.0);
+  // No spread between the faces (common_relative 0): one reflectivity for all, none fitted.
+  problem.face_weight =
+      noise.common_relative > 0.0 ? std::pow(look_reading_sigma / noise.common_relative, 2.0) : 0.0;
   const sim::MazePose centre = sim::Maze::cell_centre(setup.column, setup.row);
   TurnParameters q{};
   q[0] = centre.x_mm + setup.offset_x_mm;

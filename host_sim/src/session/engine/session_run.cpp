@@ -325,12 +325,17 @@ void Context::note_latest_trial() {
     return;  // nothing drives between runs: the last run's trial is the latest
   }
   const Reply trial = robot.query("trial");
+  if (!trial.ok && trial.code == "no_trial") {
+    return;  // none yet
+  }
   const auto number = trial.ok && trial.pairs.count("trial") != 0u
                           ? toolkit::parse_integer(trial.pairs.at("trial"))
                           : std::nullopt;
-  if (number && *number > last_trial) {
-    last_trial = *number;
+  if (!number) {
+    // Without it a look's trial could be taken for the run's own: no run on a guess.
+    throw LinkError("the robot's latest trial before a run: '" + trial.line + "'");
   }
+  last_trial = std::max(last_trial, *number);
 }
 
 void Context::check_still_up(std::size_t index) {

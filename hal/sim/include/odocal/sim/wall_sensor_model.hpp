@@ -135,6 +135,10 @@ class PoseSource {
   [[nodiscard]] virtual MazePose do_pose_in_maze() const = 0;
 };
 
+/// A pose in the plant's world (m, rad) put into the maze (mm, rad), the world's origin lying at
+/// `origin` in the maze frame.
+[[nodiscard]] MazePose world_to_maze(const WorldPose& world, const MazePose& origin);
+
 /// The plant's true pose put into the maze: the plant's world origin (where `Plant::place` put it
 /// down with the default pose) lies at `origin` in the maze frame.
 class PlantInMaze final : public PoseSource {

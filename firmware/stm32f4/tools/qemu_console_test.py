@@ -66,6 +66,16 @@ class Guest:
         self.process.stdin.write(text.encode())
         self.process.stdin.flush()
 
+    def end_session(self):
+        """Ctrl-D: the guest exits through semihosting (status 0). Returns QEMU's exit status,
+        -1 when it had not exited within 20 s (then killed)."""
+        self.send("\x04")
+        try:
+            return self.process.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            return -1
+
     def command(self, line, timeout_s=10.0):
         """Types one command line (LF-terminated: a script, not a terminal); returns the reply."""
         self.send(line + "\n")
@@ -337,12 +347,7 @@ def main():
                            "tick_avg": round(float(second.get("tick_us_avg", "nan")) * 1000.0),
                            "elf_sha256": hashlib.sha256(elf.read()).hexdigest()}, out)
 
-    guest.send("\x04")  # Ctrl-D: the guest exits through semihosting with status 0
-    try:
-        status_code = guest.process.wait(timeout=20)
-    except subprocess.TimeoutExpired:
-        guest.process.kill()
-        status_code = -1
+    status_code = guest.end_session()
     checks.check(status_code == 0, "guest exits with status 0", str(status_code))
     # Tick rate: the QEMU board counts ticks against TIM2's counter (QEMU's virtual clock at
     # 1 GHz, independent of SysTick) and prints both when the session ends.

@@ -13,7 +13,6 @@ Exit status: 0 when every check passed, 1 when one failed, 2 when QEMU could not
 import argparse
 import math
 import os
-import subprocess
 import sys
 import time
 
@@ -135,12 +134,7 @@ def main():
                  back["right_front"] <= 5.0 * LIT_NOISE,
                  "turned back up the corridor, the front sensors see nothing again", str(back))
 
-    guest.send("\x04")  # Ctrl-D: the guest exits through semihosting with status 0
-    try:
-        status_code = guest.process.wait(timeout=20)
-    except subprocess.TimeoutExpired:
-        guest.process.kill()
-        status_code = -1
+    status_code = guest.end_session()
     checks.check(status_code == 0, "guest exits with status 0", str(status_code))
     if checks.failures:
         print("---- console transcript ----")

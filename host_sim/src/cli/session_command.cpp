@@ -379,7 +379,10 @@ int run(const SessionFlags& given, const CLI::App& cmd) {
   RobotClient robot(bridge ? static_cast<LineChannel&>(*bridge) : *channel);
   std::unique_ptr<MeasurementSource> source;
   if (options.walls) {
-    source = wall_measurements(robot, *options.walls, std::cerr);
+    // The tape for what the walls cannot tell (the session says when it needs it).
+    source = wall_measurements(
+        robot, *options.walls, std::cerr,
+        sim ? robot_measurements(robot) : prompt_measurements(std::cin, std::cerr, !terminal));
   } else if (file_source) {
     source = std::move(file_source);
   } else if (sim) {

@@ -141,6 +141,13 @@ class MeasurementSource {
   /// none), and the robot is not put back on a start mark before each run: it is measured where
   /// it stops and starts the next run from there.
   [[nodiscard]] virtual bool is_tape() const { return true; }
+  /// How many of the first `runs` runs' readings a tape gave (session.json's `measurements`).
+  [[nodiscard]] virtual std::size_t tape_readings(std::size_t runs) const {
+    return is_tape() ? runs : 0u;
+  }
+  /// Whether an interrupted session measured so can go on with --resume (the walls' cannot: the
+  /// robot's place in the maze goes with the session).
+  [[nodiscard]] virtual bool resumable() const { return is_tape(); }
   /// The measured stop pose of `run` (index: 0-based over the whole session). Throws
   /// InputError / LinkError when there is none.
   virtual SessionPose take(const RunRecord& run, std::size_t index, std::size_t planned) = 0;
@@ -152,10 +159,12 @@ class MeasurementSource {
 
 /// The walls of the maze as the measurements (`--truth walls`, DESIGN "No tape measure"): the
 /// robot learns its sensors in the start cell and looks after every run (wall_truth.hpp). Log:
-/// what it learnt and found.
-[[nodiscard]] std::unique_ptr<MeasurementSource> wall_measurements(RobotClient& robot,
-                                                                   const MazeKnowledge& maze,
-                                                                   std::ostream& log);
+/// what it learnt and found. `tape`: what measures the runs the walls cannot (the lines that
+/// give the wheels' scale in a maze without a corridor for them, on an open floor): a person's
+/// tape on a port, the simulator's `measure` with --sim.
+[[nodiscard]] std::unique_ptr<MeasurementSource> wall_measurements(
+    RobotClient& robot, const MazeKnowledge& maze, std::ostream& log,
+    std::unique_ptr<MeasurementSource> tape);
 
 /// The simulator's tape measure: `measure` on the console.
 [[nodiscard]] std::unique_ptr<MeasurementSource> robot_measurements(RobotClient& robot);

@@ -180,7 +180,7 @@ void end_early(Context& c, const std::exception& why) {
     const bool hung_up = dynamic_cast<const LinkLost*>(&why) != nullptr;
     c.log << "What was measured is in " << c.options.out_dir
           << "/measurements.csv and session.json";
-    if (c.source.is_tape()) {
+    if (c.source.resumable()) {
       c.log << "; continue with: odocal session --resume " << c.options.out_dir
             << (hung_up ? " --port DEV (DEV: the port it has now)" : "") << "\n";
     } else {

@@ -81,17 +81,16 @@ nlohmann::json Context::write_session_json(bool complete, const nlohmann::json& 
                                            bool applied, bool saved,
                                            const std::string& interruption) {
   const std::vector<RunRecord> kept = kept_runs();
-  nlohmann::json doc = {{"procedure", to_string(options.procedure)},
-                        {"complete", complete},
-                        {"date", options.started_unix_s},
-                        {"options", options.recorded},
-                        {"runs", runs_json(complete ? runs : kept)},
-                        {"measurements", !source.is_tape() ? 0u
-                                         : complete        ? runs.size()
-                                                           : kept.size()},
-                        {"result", result},
-                        {"applied", applied},
-                        {"saved", saved}};
+  nlohmann::json doc = {
+      {"procedure", to_string(options.procedure)},
+      {"complete", complete},
+      {"date", options.started_unix_s},
+      {"options", options.recorded},
+      {"runs", runs_json(complete ? runs : kept)},
+      {"measurements", source.tape_readings(complete ? runs.size() : kept.size())},
+      {"result", result},
+      {"applied", applied},
+      {"saved", saved}};
   if (!interruption.empty()) {
     doc["interrupted"] = interruption;
   }

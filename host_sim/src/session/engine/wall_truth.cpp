@@ -338,7 +338,11 @@ sim::MazePose WallTruth::look(const sim::MazePose& guess, const std::string& why
 }
 
 SessionPose WallTruth::take(const RunRecord& run, std::size_t index, std::size_t planned) {
-  static_cast<void>(planned);
+  if (on_floor_) {
+    const SessionPose taken = tape_->take(run, index, planned);
+    taped_.push_back(index);
+    return taken;
+  }
   if (!calibration_) {
     calibrate();  // a run before the calibration (the self-test's measured run)
   }
@@ -470,10 +474,5 @@ nlohmann::json WallTruth::json() const {
 }
 
 }  // namespace session
-
-std::unique_ptr<MeasurementSource> wall_measurements(RobotClient& robot, const MazeKnowledge& maze,
-                                                     std::ostream& log) {
-  return std::make_unique<session::WallTruth>(robot, maze, log);
-}
 
 }  // namespace odocal::host

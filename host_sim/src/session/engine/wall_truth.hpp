@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstddef>
+#include <memory>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -99,12 +100,28 @@ class WallTruth final : public MeasurementSource {
   /// What the walls found, for session.json's result: the sensors learnt and every look.
   [[nodiscard]] nlohmann::json json() const;
 
-  // MeasurementSource
-  [[nodiscard]] bool by_hand() const override { return false; }
-  [[nodiscard]] bool is_tape() const override { return false; }
+  /// Where the walls cannot tell the wheels' scale: from now on the runs are driven on an open
+  /// floor and the tape measures them (the robot leaves the maze; no look again). False when the
+  /// session has no tape to ask.
+  bool to_the_floor();
+  [[nodiscard]] bool on_the_floor() const { return on_floor_; }
+  [[nodiscard]] bool has_tape() const { return tape_ != nullptr; }
+
+  // MeasurementSource: the walls', or on the floor the tape's.
+  bool check_next(const ReadingCheck& check, bool heading_needed) override;
+  std::optional<std::string> ask(const std::string& question) override;
+  std::optional<SessionPose> retype(const RunRecord& run, std::size_t number,
+                                    const ReadingCheck& check, bool heading_needed) override;
+  [[nodiscard]] bool by_hand() const override { return on_floor_ && tape_->by_hand(); }
+  [[nodiscard]] bool is_tape() const override { return on_floor_; }
+  [[nodiscard]] std::size_t tape_readings(std::size_t runs) const override;
+  [[nodiscard]] bool resumable() const override { return false; }
   SessionPose take(const RunRecord& run, std::size_t index, std::size_t planned) override;
   [[nodiscard]] std::size_t available(std::size_t) const override { return SIZE_MAX; }
-  [[nodiscard]] std::string describe() const override { return "the walls of " + maze_.name; }
+  [[nodiscard]] std::string describe() const override {
+    return on_floor_ ? tape_->describe() : "the walls of " + maze_.name;
+  }
+  void set_tape(std::unique_ptr<MeasurementSource> tape) { tape_ = std::move(tape); }
 
  private:
   /// Turns in place in steps (`drive 0 w ms`, each a trial), reading the trial's counts and the
@@ -138,6 +155,9 @@ class WallTruth final : public MeasurementSource {
   nlohmann::json looks_ = nlohmann::json::array();
   /// Per run (with MazeKnowledge::simulator): the walls' reading minus the simulator's tape.
   std::vector<std::array<double, 3>> errors_;
+  std::unique_ptr<MeasurementSource> tape_;  ///< for what the walls cannot tell (to_the_floor)
+  bool on_floor_ = false;
+  std::vector<std::size_t> taped_;  ///< the runs (0-based session index) the tape measured
 };
 
 }  // namespace odocal::host::session

@@ -69,6 +69,10 @@ struct Plan {
   double cruise_mps = 0.3;
   /// Arcs among the runs (not in a maze: its corridors leave room for lines and turns in place).
   bool arcs = true;
+  /// With the walls, in a maze whose start corridor cannot give the wheels' scale: the turns in
+  /// place measured by the walls in the start cell, the lines (and every run after the first
+  /// round) by a tape on an open floor.
+  bool floor_lines = false;
 };
 
 /// The first round: every parameter seen from two sides. With the walls (no arcs in a maze's
@@ -78,8 +82,14 @@ constexpr Kind kTapeFirstRound[kFirstRound] = {Kind::line, Kind::spin_ccw, Kind:
                                                Kind::line, Kind::spin_cw,  Kind::arc_right};
 constexpr Kind kWallsFirstRound[kFirstRound] = {Kind::line,    Kind::spin_ccw, Kind::line,
                                                 Kind::spin_cw, Kind::line,     Kind::line};
+/// With the walls and a tape for the scale (Plan::floor_lines): the turns first, in the start
+/// cell, for nothing (the walls measure them); then the two lines the scale and the wheels' ratio
+/// need at least, each a tape reading.
+constexpr std::size_t kFloorFirstTurns = 4;
+constexpr Kind kFloorFirstRound[kFirstRound] = {Kind::spin_ccw, Kind::spin_cw, Kind::spin_ccw,
+                                                Kind::spin_cw,  Kind::line,    Kind::line};
 [[nodiscard]] constexpr const Kind* first_round_of(const Plan& p) {
-  return p.arcs ? kTapeFirstRound : kWallsFirstRound;
+  return p.arcs ? kTapeFirstRound : p.floor_lines ? kFloorFirstRound : kWallsFirstRound;
 }
 
 /// The drive command of a run of `k`, and its nominal duration (`expected_s`).

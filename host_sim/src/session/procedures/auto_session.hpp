@@ -21,6 +21,8 @@ namespace odocal::host::session {
 /// `odocal fit`'s text without what is advice for its own command line (held-out logs, the
 /// console lines to type): auto applies the result itself.
 std::string fit_text_for_auto(const FitResult& r);
+/// How a tape measures a run's stop (the start mark, the two marks on the robot, x, y, heading).
+std::string tape_how_to();
 
 /// One auto session's state and its steps, in the order run_auto takes them.
 class AutoSession {
@@ -46,6 +48,15 @@ class AutoSession {
   /// drives straight enough for the route's runs (a quarter turn between two corridors) to keep
   /// to their corridors. The fit takes every run's counts whatever was in force.
   void drive_straighter();
+
+ private:
+  /// With the walls, when the start cell's `corridor` cannot give the wheels' scale (under two
+  /// cells, or no corner at its end): says so and plans the fewest tape readings that can (the
+  /// turns in place still by the walls, then lines on an open floor), or throws when the session
+  /// has no tape to ask.
+  void scale_by_tape(const Corridor& corridor);
+  /// The owner takes the robot out of the maze to an open floor; the tape measures from here on.
+  void to_the_floor();
 
  private:
   /// The runs' sizes, the budget of measurements and the count the target likely takes, said
@@ -98,6 +109,7 @@ class AutoSession {
   WallTruth* walls_ = nullptr;   ///< the walls measure the runs (--truth walls), else a tape
   bool straighter_ = false;      ///< drive_straighter put the first round's fit in force
   std::size_t walls_lines_ = 0;  ///< lines driven with the walls (WallTruth::corridor_line)
+  std::string tape_why_;         ///< what the walls cannot tell, when a tape gives it
 };
 
 }  // namespace odocal::host::session

@@ -43,6 +43,15 @@ std::string fit_text_for_auto(const FitResult& r) {
   return out;
 }
 
+std::string tape_how_to() {
+  return "How to measure: mark the start on the floor and two points on the robot, one over the "
+         "middle of the axle and one ahead of it (as far as the robot allows). After each run, "
+         "measure the axle mark's position from the start mark along the start line (x, ahead) "
+         "and across it (y, left), and the heading: the angle of the line through the two marks "
+         "(atan2 of their across and along differences), in degrees, counter-clockwise "
+         "positive.\n";
+}
+
 void AutoSession::check_wiring(Outcome& out) {
   c_.log << "Auto calibration: the wiring self-test first.\n";
   c_.planned = auto_first_round + auto_verify_runs;
@@ -77,7 +86,7 @@ void AutoSession::drive_one(Kind k, const std::string& why) {
     k = *recorded;
     motion = c_.options.replay[c_.runs.size()].motion;
     then = c_.options.replay[c_.runs.size()].then;
-  } else if (walls_ != nullptr && k == Kind::line) {
+  } else if (walls_ != nullptr && !plan_.floor_lines && k == Kind::line) {
     std::string what;
     double side = 0.0;
     motion = straighter_ && walls_->second_corridor(side)
@@ -85,9 +94,12 @@ void AutoSession::drive_one(Kind k, const std::string& why) {
                  : walls_->corridor_line(walls_lines_++, plan_.cruise_mps, expected_s, what);
     c_.log << fmt::format("Next: {} ({}).\n", what, why);
   } else {
+    if (plan_.floor_lines && k == Kind::line && !walls_->on_the_floor()) {
+      to_the_floor();  // the first line: everything from here on is on the floor, by the tape
+    }
     motion = motion_of(k, plan_, expected_s, c_);
     c_.log << fmt::format("Next: {} ({}).\n",
-                          walls_ != nullptr
+                          walls_ != nullptr && !walls_->on_the_floor()
                               ? fmt::format("{:.0f} turns in place {}", plan_.spin_turns,
                                             k == Kind::spin_ccw ? "counter-clockwise" : "clockwise")
                               : what_to_do(k, plan_),
@@ -197,78 +209,19 @@ bool AutoSession::report() {
   return done;
 }
 
-void AutoSession::plan_the_budget() {
-  nominal_.wheel_diameter_mm = c_.get(ParamId::wheel_diameter_mm);
-  nominal_.wheelbase_mm = c_.get(ParamId::wheelbase_mm);
-  nominal_.counts_per_rev = c_.get(ParamId::counts_per_rev);
-  plan_ = plan_for(c_, nominal_.wheelbase_mm);
-  if (walls_ != nullptr) {
-    // The lines run the start cell's corridor to the wall at its end; a look there fixes both
-    // coordinates only with a wall to a side too. Without such a corridor the walls cannot give
-    // the wheels' scale (a turn in place has no distance in it).
-    const Corridor corridor = walls_->calibration_corridor();
-    if (corridor.cells < 2u || !corridor.end_has_side_wall) {
-      throw std::runtime_error(fmt::format(
-          "--truth walls: the start cell's corridor in {} runs {} cell(s) and {} at its end: "
-          "the walls cannot give the wheels' scale without a straight corridor of two cells or "
-          "more that ends in a corner (calibrate with a tape: leave --truth out)",
-          walls_->maze().name, corridor.cells,
-          corridor.end_has_side_wall ? "has a side wall" : "has no side wall"));
-    }
-    plan_.arcs = false;
-    plan_.line_m = corridor.length_mm() * 1e-3;
-  }
-  // The jury judges every run about the geometry in force when the session started.
-  jury_ = std::make_unique<RunJury>(
-      c_, nominal_, fit_geometry_of(geometry_in_force(c_.initial, nominal_.wheel_diameter_mm)));
-  // The budget: every tape measurement of the session (--max-measurements), the self-test's
-  // and the verification's included; the first round always fits.
-  const std::size_t total = c_.options.max_measurements.value_or(kDefaultMaxMeasurements);
-  const std::size_t spent = selftest_runs_ + auto_verify_runs;
-  budget_ = std::max(auto_first_round, total > spent ? total - spent : 0);
-  const double target = target_in_force(c_.options.target_mm, 0.0);
-  const Expectation likely = expected_before_runs(plan_, nominal_, target, auto_first_round, 200);
-  const Expectation at_budget =
-      expected_before_runs(plan_, nominal_, target, auto_first_round, budget_);
-  // "Run N/M": M the runs the forecast expects within the budget, from the first run on.
-  c_.planned = selftest_runs_ + std::min(budget_, std::max(auto_first_round, likely.runs)) +
-               auto_verify_runs;
-  c_.log << fmt::format(
-      "Auto: {} measured runs first (a {:.2f} m line, {:.0f} turns in place each way, arcs of "
-      "{:.2f} m radius each way, a second line), more only where they buy precision, then {} "
-      "runs of the unseen path to verify.\n"
-      "Budget: {} measurements in all (--max-measurements): {} for the self-test, {} to "
-      "calibrate, {} to verify. A robot this size that scatters no more than the tape would "
-      "reach the target ({:.1f} mm on the unseen path, 1 sigma) in about {} calibration runs{}; "
-      "a robot that slips more needs more, and the count is updated after every run.{}\n",
-      auto_first_round, plan_.line_m, plan_.spin_turns, plan_.arc_radius_m, auto_verify_runs,
-      std::max(total, spent + budget_), selftest_runs_, budget_, auto_verify_runs, target,
-      likely.runs,
-      likely.reached ? (likely.runs > budget_
-                            ? fmt::format(": more than the budget, which leaves about {:.1f} mm "
-                                          "(--max-measurements {} would do)",
-                                          at_budget.sigma_sys_mm, likely.runs + spent)
-                            : std::string())
-                     : std::string(" or more (not within 200)"),
-      std::string());
-  expected_runs_ = likely.reached ? nlohmann::json(likely.runs) : nlohmann::json(nullptr);
-  max_measurements_ = std::max(total, spent + budget_);
-}
-
 void AutoSession::measure_until_known(Outcome& out) {
   plan_the_budget();
-  if (walls_ != nullptr) {
+  if (walls_ != nullptr && plan_.floor_lines) {
+    c_.log << "How it is measured: the turns in place by the walls (after each the robot looks, "
+              "a turn in place stopping every few degrees to read its sensors), in the start "
+              "cell; then the lines by a tape on an open floor (the session says when).\n";
+  } else if (walls_ != nullptr) {
     c_.log << "How it is measured: by the walls. After each run the robot looks (a turn in "
               "place, stopping every few degrees to read its sensors) and the walls around it "
               "say where it stopped and which way it faces. Nothing to type, nothing to measure; "
               "the robot starts each run where the last one left it.\n";
   } else {
-    c_.log << "How to measure: mark the start on the floor and two points on the robot, one "
-              "over the middle of the axle and one ahead of it (as far as the robot allows). "
-              "After each run, measure the axle mark's position from the start mark along the "
-              "start line (x, ahead) and across it (y, left), and the heading: the angle of the "
-              "line through the two marks (atan2 of their across and along differences), in "
-              "degrees, counter-clockwise positive.\n";
+    c_.log << tape_how_to();
   }
   static_assert(kFirstRound == auto_first_round, "the first round's kinds, one per run");
   const Kind* first_round = first_round_of(plan_);
@@ -283,7 +236,7 @@ void AutoSession::measure_until_known(Outcome& out) {
   fo_.max_relative_sd = 0.05;
   fo_.cluster_covariance = true;  // the runs' own scatter in the precision (precision_of)
   fitted_ = fit_now();
-  if (walls_ != nullptr) {
+  if (walls_ != nullptr && !plan_.floor_lines) {
     drive_straighter();
   }
   p_ = precision_of(fitted_, nominal_, jury_->logs_in_use(), plan_, c_.options.target_mm, room(),
@@ -296,6 +249,10 @@ void AutoSession::measure_until_known(Outcome& out) {
     fitted_ = fit_now();
     p_ = precision_of(fitted_, nominal_, jury_->logs_in_use(), plan_, c_.options.target_mm, room(),
                       arc_runs_);
+  }
+  if (plan_.floor_lines) {
+    out.result["tape"] = {{"why", tape_why_},
+                          {"calibration_readings", c_.source.tape_readings(c_.runs.size())}};
   }
   out.result["runs_chosen"] = chosen_;
   out.result["disagreeing_runs"] = jury_->record();
@@ -442,8 +399,9 @@ void AutoSession::verify(Outcome& out) {
       "on top of it at the goal).\n"
       "With the factors it had before the session, the robot would have ended about {:.1f} mm RMS "
       "from the goal on the same runs (their counts replayed; no extra measurement).\n",
-      driven(), auto_verify_runs, c_.runs.size(), model_name(fitted_.geometry.model), rms,
-      odometry_rms, expected, p_.sigma_random_mm, p_.sigma_sys_mm, before_rms);
+      driven(), auto_verify_runs, c_.source.tape_readings(c_.runs.size()),
+      model_name(fitted_.geometry.model), rms, odometry_rms, expected, p_.sigma_random_mm,
+      p_.sigma_sys_mm, before_rms);
   const bool far_off =
       expected > 0.0 && odometry_rms > 3.0 * std::max(expected, 2.0 * kMeasureSigmaMm);
   if (far_off) {
@@ -465,16 +423,19 @@ Outcome run_auto(Context& c) {
   Outcome out;
   AutoSession session(c);
   session.check_wiring(out);
-  const bool walls = dynamic_cast<WallTruth*>(&c.source) != nullptr;
-  if (walls) {
+  const auto* walls = dynamic_cast<WallTruth*>(&c.source);
+  if (walls != nullptr) {
     session.learn_the_walls(out);
   }
   session.measure_until_known(out);
   session.apply_final_fit(out);
-  if (walls) {
+  if (walls != nullptr && !walls->on_the_floor()) {
     session.verify_by_walls(out);
   } else {
-    session.verify(out);
+    session.verify(out);  // with the tape: on the floor, where the robot is
+  }
+  if (walls != nullptr) {
+    out.result["walls"] = walls->json();
   }
   return out;
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -45,6 +46,38 @@ void AutoSession::learn_the_walls(Outcome& out) {
                     "the calibration turn");
   walls_->calibrate();
   c_.partial["walls"] = walls_->json();
+}
+
+void AutoSession::scale_by_tape(const Corridor& corridor) {
+  tape_why_ = fmt::format(
+      "the start cell's corridor in {} runs {} cell(s) and {} at its end: the walls cannot give "
+      "the wheels' scale without a straight corridor of two cells or more that ends in a corner "
+      "(a turn in place has no distance in it)",
+      walls_->maze().name, corridor.cells,
+      corridor.end_has_side_wall ? "has a side wall" : "has no side wall");
+  if (!walls_->has_tape()) {
+    throw std::runtime_error("--truth walls: " + tape_why_ +
+                             " (calibrate with a tape: leave --truth out)");
+  }
+  plan_.floor_lines = true;
+  c_.log << fmt::format(
+      "The walls cannot tell everything here: {}. They still measure the turns in place, in the "
+      "start cell. The scale takes a tape: {:.2f} m lines on an open floor, two at least (the "
+      "scale and the wheels' ratio), more only while they buy the most precision, then the "
+      "verification there ({} readings); --side-m sets the lines' length to the floor there "
+      "is.\n",
+      tape_why_, plan_.line_m, auto_verify_runs);
+}
+
+void AutoSession::to_the_floor() {
+  static_cast<void>(walls_->to_the_floor());
+  c_.log << fmt::format(
+      "The tape: the turns in the maze are done. Take the robot out of the maze to an open floor "
+      "with {:.1f} m clear ahead of a start mark (and half a metre to either side): a tape "
+      "measures every run from here on, the verification's too.\n",
+      plan_.line_m + 0.3);
+  c_.log << tape_how_to();
+  c_.wait_for_enter("The tape: the robot on the open floor,", "the lines on the floor");
 }
 
 void AutoSession::drive_straighter() {
@@ -144,7 +177,6 @@ void AutoSession::verify_by_walls(Outcome& out) {
                           {"before_rms_mm", std::sqrt(before2 / n)},
                           {"odometry_rms_mm", std::sqrt(odometry2 / n)},
                           {"flagged", !suspects_.empty()}};
-  out.result["walls"] = walls_->json();
   std::ostringstream text;
   text << fmt::format(
       "Auto (the walls): {} calibration runs, {} to verify, no tape reading. Model {}. The "

@@ -184,6 +184,7 @@ void write_report(Context& c, const nlohmann::json& result, const std::string& s
   in.interruption = interruption;
   in.saved = saved;
   in.runs = c.runs;
+  in.tape_readings = c.source.tape_readings(c.runs.size());
   in.result = result;
   in.summary = summary;
   in.side_m = c.options.side_m.value_or(4.0);

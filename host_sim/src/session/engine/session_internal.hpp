@@ -311,6 +311,7 @@ struct ReportInput {
   std::string interruption;
   bool saved = false;
   std::vector<RunRecord> runs;
+  std::size_t tape_readings = 0;  ///< of the runs, those a tape measured (session.json's count)
   nlohmann::json result = nlohmann::json::object();
   Factors factors;
   std::map<std::string, std::string> provenance;  ///< the console's `provenance` pairs

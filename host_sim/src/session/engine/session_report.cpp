@@ -442,7 +442,12 @@ std::string report_html(const ReportInput& in) {
           "text-align:left}\n.warn{color:#a00}\n</style>\n</head>\n<body>\n<h1>"
        << escape(in.title) << "</h1>\n<p>" << escape(date_text(in.date_unix_s)) << " &middot; "
        << (in.result.is_object() && in.result.value("truth", std::string()) == "walls"
-               ? std::to_string(in.runs.size()) + " runs measured by the walls, no tape reading"
+               ? std::to_string(in.runs.size()) +
+                     (in.tape_readings == 0
+                          ? std::string(" runs measured by the walls, no tape reading")
+                          : " runs: the turns in the maze measured by the walls, " +
+                                std::to_string(in.tape_readings) + " tape reading" +
+                                (in.tape_readings == 1 ? "" : "s") + " on the floor")
                : std::to_string(in.runs.size()) +
                      (in.runs.size() == 1 ? " measurement" : " measurements"))
        << " &middot; "

@@ -110,10 +110,17 @@ std::string walls_section(const nlohmann::json& result) {
   }
   const nlohmann::json& walls = result["walls"];
   std::ostringstream out;
-  out << "<h2>The walls as the tape</h2>\n<p>No tape reading: the robot learnt its sensors in "
+  const bool taped = result.contains("tape") && result["tape"].is_object();
+  out << "<h2>The walls as the tape</h2>\n<p>"
+      << (taped ? "The turns in place measured by the walls: the robot learnt its sensors in "
+                : "No tape reading: the robot learnt its sensors in ")
       << html_escape(walls.value("maze", std::string("the maze")))
-      << "'s start cell, and after every run it looked round (a turn in place there and back) "
-         "and the walls said where it stopped.</p>\n";
+      << "'s start cell, and after every run there it looked round (a turn in place there and "
+         "back) and the walls said where it stopped.</p>\n";
+  if (taped) {
+    out << "<p>A tape measured the rest, on an open floor: "
+        << html_escape(result["tape"].value("why", std::string())) << ".</p>\n";
+  }
   if (walls.contains("calibration")) {
     out << "<h3>Its sensors, learnt from the start cell</h3>\n"
         << sensors_table(walls["calibration"]);

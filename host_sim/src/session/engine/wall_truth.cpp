@@ -137,6 +137,7 @@ void WallTruth::calibrate() {
        << ", cell (" << maze_.start_column << ", " << maze_.start_row
        << ")): a turn and a quarter in place, reading its four sensors every few degrees.\n";
   rate_ = nominal_radians_per_count();
+  nominal_rate_ = rate_;
   const double nominal_rate = rate_;
   const std::vector<walls::TurnSample> samples = turn_and_read(kCalibrationTurnRad, false);
   const walls::TurnSetup setup{maze_.start_column, maze_.start_row, maze_.start_heading_rad, rate_};
@@ -460,15 +461,19 @@ nlohmann::json WallTruth::json() const {
     for (const walls::SensorResponse& r : cal.sensors.responses) {
       sensors.push_back({{"a_counts_mm2", r.a_counts_mm2}, {"incidence_power", r.incidence_power}});
     }
-    out["calibration"] = {{"sensors", sensors},
-                          {"centre_x_mm", cal.centre_x_mm},
-                          {"centre_y_mm", cal.centre_y_mm},
-                          {"start_heading_deg", cal.start_heading_rad / kWallDeg},
-                          {"start_heading_sd_deg", cal.start_heading_sd_rad / kWallDeg},
-                          {"true_rad_per_odometry_rad", cal.radians_per_count},
-                          {"true_rad_per_odometry_rad_sd", cal.radians_per_count_sd},
-                          {"readings", cal.readings_used},
-                          {"rms_log_residual", cal.rms_log_residual}};
+    out["calibration"] = {
+        {"sensors", sensors},
+        {"centre_x_mm", cal.centre_x_mm},
+        {"centre_y_mm", cal.centre_y_mm},
+        {"start_heading_deg", cal.start_heading_rad / kWallDeg},
+        {"start_heading_sd_deg", cal.start_heading_sd_rad / kWallDeg},
+        // The turn per raw count over the nominal geometry's (a ratio),
+        // and the turn per count itself.
+        {"true_rad_per_odometry_rad", cal.radians_per_count / nominal_rate_},
+        {"true_rad_per_odometry_rad_sd", cal.radians_per_count_sd / nominal_rate_},
+        {"radians_per_count", cal.radians_per_count},
+        {"readings", cal.readings_used},
+        {"rms_log_residual", cal.rms_log_residual}};
   }
   return out;
 }

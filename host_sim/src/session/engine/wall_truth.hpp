@@ -152,6 +152,8 @@ class WallTruth final : public MeasurementSource {
   sim::MazePose pose_{};
   /// Radians the robot turns in place per turn count (right counts minus left), the calibration's.
   double rate_ = 0.0;
+  /// The same by the nominal geometry, when the calibration began (rate_ over it: the ratio).
+  double nominal_rate_ = 1.0;
   nlohmann::json looks_ = nlohmann::json::array();
   /// Per run (with MazeKnowledge::simulator): the walls' reading minus the simulator's tape.
   std::vector<std::array<double, 3>> errors_;

@@ -22,6 +22,10 @@ constexpr double kHeadingLengthMm = 286.4789;  ///< 2 mm per 0.4 degree, as odoc
 /// --max-measurements' default: every tape measurement of the session (self-test, calibration,
 /// verification). docs/calibration.md "The budget" says where it comes from.
 constexpr std::size_t kDefaultMaxMeasurements = 20;
+/// Its default with the walls and a tape for the scale (Plan::floor_lines): the fewest the option
+/// allows, eight lines and the verification's two. Past the first lines a mouse's own drift
+/// outweighs the tape's error, and more lines buy little (docs/maze.md).
+constexpr std::size_t kFloorMaxMeasurements = 10;
 /// --target's floor: the factors add no more to the unseen path's end than one tape
 /// measurement's error (docs/calibration.md).
 constexpr double kDefaultTargetMm = 2.0;

@@ -39,7 +39,8 @@ void AutoSession::plan_the_budget() {
       c_, nominal_, fit_geometry_of(geometry_in_force(c_.initial, nominal_.wheel_diameter_mm)));
   // The budget: every tape measurement of the session (--max-measurements), the self-test's
   // and the verification's included; the first round always fits.
-  const std::size_t total = c_.options.max_measurements.value_or(kDefaultMaxMeasurements);
+  const std::size_t total = c_.options.max_measurements.value_or(
+      plan_.floor_lines ? kFloorMaxMeasurements : kDefaultMaxMeasurements);
   // With the walls and a tape for the scale the self-test and the first turns were looked at:
   // no tape reading (the budget's room counts the turns as runs, so they are added to it).
   const std::size_t spent =
@@ -56,7 +57,8 @@ void AutoSession::plan_the_budget() {
   c_.planned = selftest_runs_ + std::min(budget_, std::max(auto_first_round, likely.runs)) +
                auto_verify_runs;
   // The free turns of a floor_lines plan are runs, not tape readings.
-  const std::size_t tape_budget = budget_ - (plan_.floor_lines ? kFloorFirstTurns : 0u);
+  const std::size_t free = plan_.floor_lines ? kFloorFirstTurns : 0u;
+  const std::size_t tape_budget = budget_ - free;
   const std::string first =
       plan_.floor_lines
           ? fmt::format(
@@ -77,17 +79,18 @@ void AutoSession::plan_the_budget() {
       "verify.\n"
       "Budget: {} measurements in all (--max-measurements): {} for the self-test, {} to "
       "calibrate, {} to verify. A robot this size that scatters no more than the tape would "
-      "reach the target ({:.1f} mm on the unseen path, 1 sigma) in about {} calibration runs{}; "
+      "reach the target ({:.1f} mm on the unseen path, 1 sigma) in about {} calibration runs{}{}; "
       "a robot that slips more needs more, and the count is updated after every run.{}\n",
       auto_first_round, first, auto_verify_runs,
       walls_ != nullptr && !plan_.floor_lines ? "along a corridor no run drove"
                                               : "of the unseen path",
       std::max(total, spent + tape_budget), plan_.floor_lines ? 0u : selftest_runs_, tape_budget,
       auto_verify_runs, target, likely.runs,
+      plan_.floor_lines ? " (the first four the walls' turns)" : "",
       likely.reached ? (likely.runs > budget_
                             ? fmt::format(": more than the budget, which leaves about {:.1f} mm "
                                           "(--max-measurements {} would do)",
-                                          at_budget.sigma_sys_mm, likely.runs + spent)
+                                          at_budget.sigma_sys_mm, likely.runs + spent - free)
                             : std::string())
                      : std::string(" or more (not within 200)"),
       std::string());

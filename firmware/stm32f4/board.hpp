@@ -63,7 +63,8 @@ struct BoardParts {
   hal::PwmOutput& right_pwm;
   hal::DigitalOutput& right_forward;
   /// The wall sensors `walls` reads (ConsoleOptions::wall_sensors), nullptr where there is none:
-  /// none on the robot board today (docs/stm32f4.md), the simulated four on the QEMU mouse twin.
+  /// the robot board has none (docs/stm32f4.md), the mouse image four on ADC1, the QEMU mouse twin
+  /// four simulated.
   BoardWallSensors wall_sensors{};
 };
 

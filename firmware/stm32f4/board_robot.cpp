@@ -1,13 +1,21 @@
 // Board: the robot. An STM32F405/407 at 168 MHz from an 8 MHz crystal, two H-bridges
 // (PWM + direction, one shared enable), two quadrature encoders on EXTI lines, the console on
-// USART1, the parameters in flash sectors 1 and 2. docs/wiring.md draws it.
+// USART1, the parameters in flash sectors 1 and 2. docs/wiring.md draws it. Built with
+// ODOCAL_MOUSE_BOARD=1 (odocal-fw-mouse) it is a maze mouse: the same board with the usual
+// mouse's four wall sensors (board_wall_sensors.hpp), which `walls` reads.
 
+#ifndef ODOCAL_MOUSE_BOARD
+#define ODOCAL_MOUSE_BOARD 0
+#endif
+
+#include <cstddef>
 #include <cstdint>
 #include <initializer_list>
 
 #include "board.hpp"
 #include "board_wall_sensors.hpp"
 #include "built_once.hpp"
+#include "odocal/hal/stm32f4/adc_wall_sensor.hpp"
 #include "odocal/hal/stm32f4/cortex_m4.hpp"
 #include "odocal/hal/stm32f4/encoder_edge.hpp"
 #include "odocal/hal/stm32f4/flash_store.hpp"
@@ -44,9 +52,8 @@ constexpr Pin left_b_pin{encoder_port, 1u};   // EXTI1
 constexpr Pin right_a_pin{encoder_port, 2u};  // EXTI2
 constexpr Pin right_b_pin{encoder_port, 3u};  // EXTI3
 
-/// The usual mouse's wall sensors (board_wall_sensors.hpp) are not built here (the image has no
-/// flash for them yet), but their pins stay free of this map, and of SWD, for the board that adds
-/// them.
+/// The usual mouse's wall sensors (board_wall_sensors.hpp, built in the mouse image): their pins
+/// stay free of this map, and of SWD.
 constexpr bool wall_sensor_pins_free() {
   const Pin used[] = {console_tx,       console_rx,    left_pwm_pin,      right_pwm_pin,
                       left_dir_pin,     right_dir_pin, driver_enable_pin, left_a_pin,
@@ -73,7 +80,11 @@ constexpr std::uint8_t right_pwm_channel = 2u;
 constexpr std::size_t store_first_sector = 1u;  // sectors 1 and 2, 16 KiB each (linker script)
 constexpr std::size_t store_sectors = 2u;
 
-BoardInfo info{"robot", f4::ClockReport{}, f4::usart::usart1};
+/// The mouse image: this board with the usual mouse's wall sensors. The robot image has no flash
+/// for them and the console's reading loop (docs/stm32f4.md): its `walls` answers err no_sensors.
+constexpr bool mouse = ODOCAL_MOUSE_BOARD != 0;
+
+BoardInfo info{mouse ? "mouse" : "robot", f4::ClockReport{}, f4::usart::usart1};
 
 f4::GpioOutput left_forward{left_dir_pin, true};
 f4::GpioOutput right_forward{right_dir_pin, true};
@@ -100,6 +111,9 @@ inline void serve_edge(drive::QuadratureDecoder& decoder) {
 
 // What board_init builds once, from the clock it reached (BuiltOnce: no guard variables).
 BuiltOnce<f4::UsartStream> console_storage;
+/// The mouse's wall sensors (the robot image links none of them).
+using WallSensor = f4::AdcWallSensor<f4::MemoryBus>;
+BuiltOnce<WallSensor> wall_sensor_storage[usual_mouse_wall_sensors.size()];
 BuiltOnce<f4::TimerPwm> left_pwm_storage;
 BuiltOnce<f4::TimerPwm> right_pwm_storage;
 
@@ -121,7 +135,7 @@ extern "C" [[gnu::flatten]] void board_exti23_vector() {
 
 const bool board_has_cycle_counter = true;
 const bool board_ends_session = false;
-const bool board_has_wall_sensors = false;
+const bool board_has_wall_sensors = mouse;
 
 const BoardInfo& board_info() {
   return info;
@@ -156,7 +170,18 @@ BoardParts board_init() {
                       af_tim3);
   }
   driver_enable.set(true);
-  return BoardParts{console, store, left_pwm, left_forward, right_pwm, right_forward};
+  BoardParts parts{console, store, left_pwm, left_forward, right_pwm, right_forward};
+  if constexpr (mouse) {
+    // Each sensor from the clock reached: its settle wait counts core cycles, its ADC prescaler
+    // divides PCLK2.
+    for (std::size_t i = 0u; i < usual_mouse_wall_sensors.size(); ++i) {
+      WallSensor& sensor =
+          wall_sensor_storage[i].make(memory_bus, usual_mouse_wall_sensors[i], info.clock);
+      sensor.start();
+      parts.wall_sensors[i] = &sensor;
+    }
+  }
+  return parts;
 }
 
 hal::MonotonicClock& board_clock(f4::SysTickTimer& /*systick*/) {

@@ -1,10 +1,10 @@
 #pragma once
 /// @file
 /// The wall sensors a board can carry, as wiring tables for hal::stm32f4::AdcWallSensor: the usual
-/// maze mouse's four. No image builds them yet: the robot image has not the flash for the sensors
-/// and the console's reading loop (docs/stm32f4.md), so both images' `walls` answers
-/// `err no_sensors`. A board that adds them builds one AdcWallSensor per entry from the clock it
-/// reached, starts each, and passes them to the console (ConsoleOptions::wall_sensors).
+/// maze mouse's four. The mouse image (board_robot.cpp with ODOCAL_MOUSE_BOARD=1) builds one
+/// AdcWallSensor per entry from the clock it reached, starts each, and passes them to the console
+/// (ConsoleOptions::wall_sensors); the robot image has not the flash for them and the console's
+/// reading loop (docs/stm32f4.md): its `walls` answers `err no_sensors`.
 
 #include <array>
 #include <cstddef>

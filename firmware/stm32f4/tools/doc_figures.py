@@ -119,18 +119,19 @@ def images_table(build, tick):
     flash, static, stack = build.sizes("odocal-fw")
     qflash, qstatic, qstack = build.sizes("odocal-fw-qemu")
     mflash, mstatic, mstack = build.sizes("odocal-fw-qemu-mouse")
+    wflash, wstatic, wstack = build.sizes("odocal-fw-mouse")
     budget_flash, budget_ram = build.budget("ODOCAL_FW_FLASH_BUDGET"), build.budget(
         "ODOCAL_FW_RAM_BUDGET")
     edge_run, edge_all, edge_calls = build.edge()
     tick_max, tick_avg = tick
     return f"""\
-| | robot `odocal-fw` | budget (goal) | QEMU `odocal-fw-qemu` (budget) | QEMU mouse twin `odocal-fw-qemu-mouse` (budget) |
-| --- | --- | --- | --- | --- |
-| flash (vectors + code + constants + .data image) | {n(flash)} B ({flash / 1024:.1f} KiB), {n(budget_flash - flash)} B to spare | {n(budget_flash)} B ({budget_flash / 1024:g} KiB) | {n(qflash)} B ({n(build.budget("ODOCAL_FW_QEMU_FLASH_BUDGET"))} B) | {n(mflash)} B ({n(build.budget("ODOCAL_FW_QEMU_MOUSE_FLASH_BUDGET"))} B) |
-| RAM: static (.data + .bss) + reserved main stack | {n(static)} + {n(stack)} = {n(static + stack)} B, {n(budget_ram - static - stack)} B to spare | {n(budget_ram)} B ({budget_ram / 1024:g} KiB) | {n(qstatic)} + {n(qstack)} = {n(qstatic + qstack)} B ({n(build.budget("ODOCAL_FW_QEMU_RAM_BUDGET"))} B) | {n(mstatic)} + {n(mstack)} = {n(mstatic + mstack)} B ({n(build.budget("ODOCAL_FW_QEMU_MOUSE_RAM_BUDGET"))} B) |
-| control tick, QEMU, the console test's script (a UMBmark square, an arc with `wheelbase_arc_mm` set, the self-test); max ±{TICK_MAX_TOLERANCE * 100:g} %, average ±{TICK_AVG_TOLERANCE * 100:g} % from run to run | {n(tick_max)} instructions max, {n(tick_avg)} average | {n(build.budget("ODOCAL_FW_TICK_BUDGET"))} (the QEMU test fails above it) | (measured in QEMU) | (not measured) |
-| encoder edge: the whole path from the EXTI vector (pending clear, pin sample, TIM5 stamp, decoder inlined), longest way through | {edge_run} instructions ({edge_all} in all), {edge_calls or "no"} call{"s" if edge_calls != 1 else ""} | {build.budget("ODOCAL_FW_EDGE_MAX")} (the report test fails above it, or on a call) | plant instead | plant instead |
-| double arithmetic, 64-bit division | none (the build fails if linked) | none | the plant is double | the plant and the wall sensors are double |
+| | robot `odocal-fw` | budget (goal) | mouse `odocal-fw-mouse` (budget) | QEMU `odocal-fw-qemu` (budget) | QEMU mouse twin `odocal-fw-qemu-mouse` (budget) |
+| --- | --- | --- | --- | --- | --- |
+| flash (vectors + code + constants + .data image) | {n(flash)} B ({flash / 1024:.1f} KiB), {n(budget_flash - flash)} B to spare | {n(budget_flash)} B ({budget_flash / 1024:g} KiB) | {n(wflash)} B ({n(build.budget("ODOCAL_FW_MOUSE_FLASH_BUDGET"))} B) | {n(qflash)} B ({n(build.budget("ODOCAL_FW_QEMU_FLASH_BUDGET"))} B) | {n(mflash)} B ({n(build.budget("ODOCAL_FW_QEMU_MOUSE_FLASH_BUDGET"))} B) |
+| RAM: static (.data + .bss) + reserved main stack | {n(static)} + {n(stack)} = {n(static + stack)} B, {n(budget_ram - static - stack)} B to spare | {n(budget_ram)} B ({budget_ram / 1024:g} KiB) | {n(wstatic)} + {n(wstack)} = {n(wstatic + wstack)} B ({n(build.budget("ODOCAL_FW_MOUSE_RAM_BUDGET"))} B) | {n(qstatic)} + {n(qstack)} = {n(qstatic + qstack)} B ({n(build.budget("ODOCAL_FW_QEMU_RAM_BUDGET"))} B) | {n(mstatic)} + {n(mstack)} = {n(mstatic + mstack)} B ({n(build.budget("ODOCAL_FW_QEMU_MOUSE_RAM_BUDGET"))} B) |
+| control tick, QEMU, the console test's script (a UMBmark square, an arc with `wheelbase_arc_mm` set, the self-test); max ±{TICK_MAX_TOLERANCE * 100:g} %, average ±{TICK_AVG_TOLERANCE * 100:g} % from run to run | {n(tick_max)} instructions max, {n(tick_avg)} average | {n(build.budget("ODOCAL_FW_TICK_BUDGET"))} (the QEMU test fails above it) | the robot's loop | (measured in QEMU) | (not measured) |
+| encoder edge: the whole path from the EXTI vector (pending clear, pin sample, TIM5 stamp, decoder inlined), longest way through | {edge_run} instructions ({edge_all} in all), {edge_calls or "no"} call{"s" if edge_calls != 1 else ""} | {build.budget("ODOCAL_FW_EDGE_MAX")} (the report test fails above it, or on a call) | the robot's path, under the same limit | plant instead | plant instead |
+| double arithmetic, 64-bit division | none (the build fails if linked) | none | none (as the robot) | the plant is double | the plant and the wall sensors are double |
 """
 
 

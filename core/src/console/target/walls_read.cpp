@@ -1,6 +1,7 @@
 // `walls` where the robot has wall sensors (ConsoleOptions::wall_sensors): one reading of the
-// reflected light per sensor present. Linked by the host programs, the Linux board and the QEMU
-// mouse twin; walls_none.cpp stands in for it in the images without sensors (core/CMakeLists.txt).
+// reflected light per sensor present. Linked by the host programs, the Linux board, the mouse image
+// and the QEMU mouse twin; walls_none.cpp stands in for it in the images without sensors
+// (core/CMakeLists.txt).
 
 #include "odocal/console/console.hpp"
 #include "odocal/name_list.hpp"

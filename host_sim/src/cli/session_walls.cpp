@@ -100,7 +100,9 @@ bool check_walls_flags(const WallsFlags& f, Procedure procedure, bool measuremen
   }
   if (measurements) {
     throw InputError("--measurements", 0, "",
-                     "--truth walls takes no tape reading; leave --measurements out");
+                     "--truth walls takes no tape reading from a file (where its maze cannot give "
+                     "the scale it asks for the lines' readings as it drives them); leave "
+                     "--measurements out");
   }
   if (bridge) {
     throw InputError("--truth", 0, "",

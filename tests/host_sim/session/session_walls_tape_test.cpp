@@ -211,37 +211,56 @@ TEST(SessionWallsTape, ThroughAPtyThePersonTypesOnlyTheFloorsReadings) {
       value_of(ask_robot(sim.path(), "get wheelbase_mm", "wheelbase_mm"), "wheelbase_mm"));
 }
 
-// Ctrl-C with the robot on the floor, at a reading's prompt: the robot idle, nothing the session
-// changed left in force, what was measured written, and no --resume offered (a walls session
-// starts anew).
+// Ctrl-C with the robot on the floor: at the Enter that takes it there, and at the second line's
+// reading. Each time the robot idle, nothing the session changed left in force, what was measured
+// written (the tape readings counted), and no --resume offered (a walls session starts anew).
 TEST(SessionWallsTape, CtrlCOnTheFloorEndsTheSessionAsEveryWallsSession) {
   const std::string maze = write("one_cell_ctrlc_maze.txt", one_cell_maze);
   const std::string robot =
       mouse_file("one_cell_ctrlc.json", one_cell_mouse, maze, R"(, "measure_sigma_mm": 2)");
-  SimOnPty sim(robot, "");
-  ASSERT_FALSE(sim.path().empty());
-  const std::string out = temp("one_cell_ctrlc");
-  std::system(("rm -rf " + out).c_str());
-  Person p({"--port", sim.path(), "--procedure", "auto", "--truth", "walls", "--maze", maze,
-            "--no-wait", "--out", out});
-  ASSERT_TRUE(p.wait_for("Measured stop point", 1, 300.0)) << p.err;
-  const std::string tape = ask_robot(sim.path(), "measure", "theta_deg");
-  char first[96];
-  std::snprintf(first, sizeof first, "%.1f %.1f %.2f", value_of(tape, "x_mm"),
-                value_of(tape, "y_mm"), value_of(tape, "theta_deg"));
-  p.type(first);  // the first line's reading
-  ASSERT_TRUE(p.wait_for("Measured stop point", 2, 120.0)) << p.err;
-  p.signal(SIGINT);
-  EXPECT_EQ(p.finish(), 130) << p.err;
-  EXPECT_NE(p.err.find("interrupted by SIGINT"), std::string::npos) << p.err;
-  EXPECT_EQ(p.err.find("--resume"), std::string::npos) << p.err;
-  EXPECT_NE(p.err.find("start a new one"), std::string::npos) << p.err;
-  EXPECT_NE(ask_robot(sim.path(), "status", "mode").find("mode=idle"), std::string::npos);
-  EXPECT_DOUBLE_EQ(value_of(ask_robot(sim.path(), "get c_l", "c_l"), "c_l"), 1.0);
-  const json doc = read_json(out + "/session.json");
-  ASSERT_TRUE(doc.is_object());
-  EXPECT_FALSE(doc["complete"].get<bool>());
-  EXPECT_EQ(doc["measurements"], 1) << "the one line measured on the floor";
+  for (const bool at_the_floors_enter : {true, false}) {
+    SCOPED_TRACE(at_the_floors_enter ? "Ctrl-C at the floor's Enter" : "Ctrl-C at a reading");
+    SimOnPty sim(robot, "");
+    ASSERT_FALSE(sim.path().empty());
+    const std::string out = temp("one_cell_ctrlc");
+    std::system(("rm -rf " + out).c_str());
+    Person p({"--port", sim.path(), "--procedure", "auto", "--truth", "walls", "--maze", maze,
+              "--out", out});
+    // Enter in the start cell, before the self-test and the calibration turn.
+    for (std::size_t moment = 1; moment <= 2; ++moment) {
+      ASSERT_TRUE(p.wait_for("press Enter to start", moment, 120.0)) << p.err;
+      p.type("");
+    }
+    ASSERT_TRUE(p.wait_for("The tape: the robot on the open floor, press Enter", 1, 300.0))
+        << p.err;
+    std::size_t readings = 0;
+    if (!at_the_floors_enter) {
+      p.type("");
+      ASSERT_TRUE(p.wait_for("press Enter to start", 4, 60.0)) << p.err;  // line 1's mark
+      p.type("");
+      ASSERT_TRUE(p.wait_for("Measured stop point", 1, 120.0)) << p.err;
+      const std::string tape = ask_robot(sim.path(), "measure", "theta_deg");
+      char first[96];
+      std::snprintf(first, sizeof first, "%.1f %.1f %.2f", value_of(tape, "x_mm"),
+                    value_of(tape, "y_mm"), value_of(tape, "theta_deg"));
+      p.type(first);  // the first line's reading
+      readings = 1;
+      ASSERT_TRUE(p.wait_for("press Enter to start", 5, 60.0)) << p.err;  // line 2's mark
+      p.type("");
+      ASSERT_TRUE(p.wait_for("Measured stop point", 2, 120.0)) << p.err;
+    }
+    p.signal(SIGINT);
+    EXPECT_EQ(p.finish(), 130) << p.err;
+    EXPECT_NE(p.err.find("interrupted by SIGINT"), std::string::npos) << p.err;
+    EXPECT_EQ(p.err.find("--resume"), std::string::npos) << p.err;
+    EXPECT_NE(p.err.find("start a new one"), std::string::npos) << p.err;
+    EXPECT_NE(ask_robot(sim.path(), "status", "mode").find("mode=idle"), std::string::npos);
+    EXPECT_DOUBLE_EQ(value_of(ask_robot(sim.path(), "get c_l", "c_l"), "c_l"), 1.0);
+    const json doc = read_json(out + "/session.json");
+    ASSERT_TRUE(doc.is_object());
+    EXPECT_FALSE(doc["complete"].get<bool>());
+    EXPECT_EQ(doc["measurements"], readings) << "the lines measured on the floor";
+  }
 }
 
 }  // namespace

@@ -444,7 +444,8 @@ void register_session_command(CLI::App& app, int& exit_code) {
       ->check(toolkit::range_check(0.1, 1000.0, "mm"));
   cmd->add_option("--max-measurements", flags->max_measurements,
                   "auto: every tape measurement the session may take, self-test and "
-                  "verification included (default 20; at least 10)")
+                  "verification included (default 20; 10 with --truth walls where a tape gives "
+                  "the scale; at least 10)")
       ->check(toolkit::whole_check(10u, 1000u));
   cmd->add_option("--resume", flags->resume,
                   "continue the interrupted session in this directory: runs already measured "

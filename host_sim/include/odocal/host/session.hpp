@@ -145,6 +145,15 @@ class MeasurementSource {
   [[nodiscard]] virtual std::size_t tape_readings(std::size_t runs) const {
     return is_tape() ? runs : 0u;
   }
+  /// Whether run `index`'s reading (0-based over the session) can be typed again (retype): a
+  /// person's, not the walls'.
+  [[nodiscard]] virtual bool retypable(std::size_t index) const {
+    static_cast<void>(index);
+    return by_hand();
+  }
+  /// Whether the robot drives between its runs for the measurements (the walls' looks): each run
+  /// then first notes the robot's latest trial (Context::note_latest_trial).
+  [[nodiscard]] virtual bool drives_between_runs() const { return !is_tape(); }
   /// Whether an interrupted session measured so can go on with --resume (the walls' cannot: the
   /// robot's place in the maze goes with the session).
   [[nodiscard]] virtual bool resumable() const { return is_tape(); }

@@ -414,14 +414,20 @@ std::vector<std::size_t> RunJury::settle() {
     const std::size_t number = runs_[member].run_index + 1;
     const Shown shown = show(d);
     const std::string& likely = shown.likely;
-    std::string question = fmt::format("What now? r: type run {}'s reading again", number);
+    // Only a reading someone typed is typed again (not one the walls took).
+    std::string question = "What now?";
+    if (c_.source.retypable(number - 1)) {
+      question += fmt::format(" r: type run {}'s reading again,", number);
+    }
     std::string kept_runs = fmt::format("run {}", number);
     for (const std::size_t p : shown.partners) {
-      question += fmt::format(", r {0}: type run {0}'s again", runs_[p].run_index + 1);
+      if (c_.source.retypable(runs_[p].run_index)) {
+        question += fmt::format(" r {0}: type run {0}'s again,", runs_[p].run_index + 1);
+      }
       kept_runs += fmt::format(" and run {}", runs_[p].run_index + 1);
     }
     question += fmt::format(
-        ", k: keep {} as read (you checked), d: drive run {} again (this reading is left out): ",
+        " k: keep {} as read (you checked), d: drive run {} again (this reading is left out): ",
         kept_runs, number);
     bool settled = false;
     while (!settled) {
@@ -459,6 +465,11 @@ std::vector<std::size_t> RunJury::settle() {
         settled = true;
       } else if (word == "r") {
         const std::size_t target = with_number ? which : number;
+        if (target > 0u && !c_.source.retypable(target - 1u)) {
+          c_.log << fmt::format("  Run {}'s reading was not typed ({}): answer k or d.\n", target,
+                                c_.source.describe());
+          continue;
+        }
         for (std::size_t i = 0; i < runs_.size() && !settled; ++i) {
           if (runs_[i].run_index + 1 == target) {
             retype(i, number);

@@ -185,8 +185,8 @@ void end_early(Context& c, const std::exception& why) {
             << (hung_up ? " --port DEV (DEV: the port it has now)" : "") << "\n";
     } else {
       // The walls' session is not resumed (session_command.cpp refuses it).
-      c.log << "; the robot's place in the maze went with the session: start a new one to go on "
-               "(nothing was saved).\n";
+      c.log << "; a session measured by the walls is not resumed (where the robot stood in the "
+               "maze went with it): start a new one to go on (nothing was saved).\n";
     }
   } catch (const std::exception& write_error) {
     c.log << "WARNING: " << write_error.what() << "\n";

@@ -118,7 +118,7 @@ std::string walls_section(const nlohmann::json& result) {
       << "'s start cell, and after every run there it looked round (a turn in place there and "
          "back) and the walls said where it stopped.</p>\n";
   if (taped) {
-    out << "<p>A tape measured the rest, on an open floor: "
+    out << "<p>A tape measures the rest, on an open floor: "
         << html_escape(result["tape"].value("why", std::string())) << ".</p>\n";
   }
   if (walls.contains("calibration")) {

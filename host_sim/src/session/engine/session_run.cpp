@@ -321,7 +321,7 @@ void Context::start_motion(const Motion& motion) {
 }
 
 void Context::note_latest_trial() {
-  if (source.is_tape()) {
+  if (!source.drives_between_runs()) {
     return;  // nothing drives between runs: the last run's trial is the latest
   }
   const Reply trial = robot.query("trial");

@@ -116,6 +116,10 @@ class WallTruth final : public MeasurementSource {
   [[nodiscard]] bool is_tape() const override { return on_floor_; }
   [[nodiscard]] std::size_t tape_readings(std::size_t runs) const override;
   [[nodiscard]] bool resumable() const override { return false; }
+  [[nodiscard]] bool retypable(std::size_t index) const override;
+  /// The looks drive between runs, and the calibration turn and the first round's turns before
+  /// the first floor run.
+  [[nodiscard]] bool drives_between_runs() const override { return true; }
   SessionPose take(const RunRecord& run, std::size_t index, std::size_t planned) override;
   [[nodiscard]] std::size_t available(std::size_t) const override { return SIZE_MAX; }
   [[nodiscard]] std::string describe() const override {

@@ -27,8 +27,12 @@ std::optional<std::string> WallTruth::ask(const std::string& question) {
 std::optional<SessionPose> WallTruth::retype(const RunRecord& run, std::size_t number,
                                              const ReadingCheck& check, bool heading_needed) {
   // Only a tape's reading is typed again: a look is what the walls said.
-  const bool taped = std::find(taped_.begin(), taped_.end(), number - 1) != taped_.end();
-  return taped ? tape_->retype(run, number, check, heading_needed) : std::nullopt;
+  return retypable(number - 1) ? tape_->retype(run, number, check, heading_needed) : std::nullopt;
+}
+
+bool WallTruth::retypable(std::size_t index) const {
+  return tape_ != nullptr && tape_->by_hand() &&
+         std::find(taped_.begin(), taped_.end(), index) != taped_.end();
 }
 
 std::size_t WallTruth::tape_readings(std::size_t runs) const {

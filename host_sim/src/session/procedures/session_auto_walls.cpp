@@ -41,6 +41,7 @@ std::optional<Corridor> unseen_corridor(const MazeKnowledge& maze, std::uint32_t
 
 void AutoSession::learn_the_walls(Outcome& out) {
   out.result["truth"] = "walls";
+  c_.partial["truth"] = "walls";
   c_.wait_for_enter("The walls: put the robot down in the start cell of " + walls_->maze().name +
                         ", facing out of it (no mark, nothing to measure), hands off;",
                     "the calibration turn");
@@ -60,6 +61,7 @@ void AutoSession::scale_by_tape(const Corridor& corridor) {
                              " (calibrate with a tape: leave --truth out)");
   }
   plan_.floor_lines = true;
+  c_.partial["tape"] = {{"why", tape_why_}};  // an interrupted session's report says it too
   c_.log << fmt::format(
       "The walls cannot tell everything here: {}. They still measure the turns in place, in the "
       "start cell. The scale takes a tape: {:.2f} m lines on an open floor, two at least (the "
@@ -71,13 +73,22 @@ void AutoSession::scale_by_tape(const Corridor& corridor) {
 
 void AutoSession::to_the_floor() {
   static_cast<void>(walls_->to_the_floor());
+  // The unseen path (verification) turns left: a 1 m square and triangle ahead, a 0.8 m
+  // semicircle behind the start to 1.6 m on its left (unseen_path.hpp).
   c_.log << fmt::format(
-      "The tape: the turns in the maze are done. Take the robot out of the maze to an open floor "
-      "with {:.1f} m clear ahead of a start mark (and half a metre to either side): a tape "
-      "measures every run from here on, the verification's too.\n",
+      "The tape: the turns in the maze are done. Take the robot out of the maze to an open "
+      "floor: {:.1f} m clear ahead of a start mark and half a metre to its right for the lines, "
+      "1.8 m to its left and 1 m behind it for the verification's path. A tape measures every "
+      "run from here on.\n",
       plan_.line_m + 0.3);
   c_.log << tape_how_to();
-  c_.wait_for_enter("The tape: the robot on the open floor,", "the lines on the floor");
+  if (c_.options.start_in == nullptr && walls_->by_hand()) {
+    // --no-wait starts each run without an Enter, but the robot has to leave the maze first:
+    // the person who types the readings says when.
+    static_cast<void>(walls_->ask(
+        "The tape: press Enter when the robot stands on the open floor (Ctrl-C ends the "
+        "session): "));
+  }
 }
 
 void AutoSession::drive_straighter() {

@@ -35,15 +35,15 @@ target_compile_definitions(odocal_eigen INTERFACE EIGEN_NO_IO EIGEN_DONT_VECTORI
 
 # odocal_core_area(NAME [DEPS ...]): a library from core/src/NAME/*.cpp. One library per area so a
 # half-written area never breaks the build of another.
+# The core's own rules, applied to its sources only (consumers keep their own flags).
+set(ODOCAL_CORE_RULES -Wdouble-promotion -Wfloat-conversion -Wshadow -fno-exceptions -fno-rtti)
 function(odocal_core_area name)
   cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
   file(GLOB srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/${name}/*.cpp)
   if(srcs)
     add_library(odocal_${name} STATIC ${srcs})
     target_link_libraries(odocal_${name} PUBLIC odocal_core_headers ${ARG_DEPS})
-    # The core's own rules, applied to its sources only (consumers keep their own flags).
-    target_compile_options(odocal_${name} PRIVATE -Wdouble-promotion -Wfloat-conversion -Wshadow
-                                                  -fno-exceptions -fno-rtti)
+    target_compile_options(odocal_${name} PRIVATE ${ODOCAL_CORE_RULES})
   else()
     add_library(odocal_${name} INTERFACE)
     target_link_libraries(odocal_${name} INTERFACE odocal_core_headers ${ARG_DEPS})

@@ -57,8 +57,8 @@ class AutoSession {
   void scale_by_tape(const Corridor& corridor);
   /// The owner takes the robot out of the maze to an open floor; the tape measures from here on.
   void to_the_floor();
-
- private:
+  /// The walls measure the lines too: the maze's corridors give the scale (no floor_lines).
+  [[nodiscard]] bool lines_in_the_maze() const { return walls_ != nullptr && !plan_.floor_lines; }
   /// The runs' sizes, the budget of measurements and the count the target likely takes, said
   /// before the first run.
   void plan_the_budget();

@@ -86,7 +86,7 @@ void AutoSession::drive_one(Kind k, const std::string& why) {
     k = *recorded;
     motion = c_.options.replay[c_.runs.size()].motion;
     then = c_.options.replay[c_.runs.size()].then;
-  } else if (walls_ != nullptr && !plan_.floor_lines && k == Kind::line) {
+  } else if (lines_in_the_maze() && k == Kind::line) {
     std::string what;
     double side = 0.0;
     motion = straighter_ && walls_->second_corridor(side)
@@ -236,7 +236,7 @@ void AutoSession::measure_until_known(Outcome& out) {
   fo_.max_relative_sd = 0.05;
   fo_.cluster_covariance = true;  // the runs' own scatter in the precision (precision_of)
   fitted_ = fit_now();
-  if (walls_ != nullptr && !plan_.floor_lines) {
+  if (lines_in_the_maze()) {
     drive_straighter();
   }
   p_ = precision_of(fitted_, nominal_, jury_->logs_in_use(), plan_, c_.options.target_mm, room(),

@@ -82,8 +82,7 @@ void AutoSession::plan_the_budget() {
       "reach the target ({:.1f} mm on the unseen path, 1 sigma) in about {} calibration runs{}{}; "
       "a robot that slips more needs more, and the count is updated after every run.{}\n",
       auto_first_round, first, auto_verify_runs,
-      walls_ != nullptr && !plan_.floor_lines ? "along a corridor no run drove"
-                                              : "of the unseen path",
+      lines_in_the_maze() ? "along a corridor no run drove" : "of the unseen path",
       std::max(total, spent + tape_budget), plan_.floor_lines ? 0u : selftest_runs_, tape_budget,
       auto_verify_runs, target, likely.runs,
       plan_.floor_lines ? " (the first four the walls' turns)" : "",
